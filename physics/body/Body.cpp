@@ -1,0 +1,37 @@
+#include "physics/body/Body.h"
+
+namespace strata {
+
+void Body::Reset(const BodyCreationSettings& settings, BodyID id) {
+  *this = Body();
+  id_ = id;
+  shape_ = settings.shape;
+  pose_ = {settings.position, settings.rotation.normalized()};
+  motion_type_ = settings.motion_type;
+  object_layer_ = settings.object_layer;
+  friction_ = settings.friction;
+  restitution_ = settings.restitution;
+  linear_damping_ = settings.linear_damping;
+  angular_damping_ = settings.angular_damping;
+  gravity_factor_ = settings.gravity_factor;
+  max_linear_velocity_ = settings.max_linear_velocity;
+  max_angular_velocity_ = settings.max_angular_velocity;
+  allow_sleeping_ = settings.allow_sleeping;
+  user_data_ = settings.user_data;
+  if (motion_type_ != MotionType::kStatic) {
+    linear_velocity_ = settings.linear_velocity;
+    angular_velocity_ = settings.angular_velocity;
+  }
+  if (shape_->IsConvex()) {
+    MassProperties properties = shape_->ComputeMassProperties(settings.density);
+    if (settings.mass) properties = properties.WithMass(*settings.mass);
+    center_of_mass_local_ = properties.center_of_mass;
+    if (motion_type_ == MotionType::kDynamic) {
+      inverse_mass_ = 1.0f / properties.mass;
+      inverse_inertia_local_ = properties.inertia.inverse();
+    }
+  }
+  UpdateWorldBounds();
+}
+
+}  // namespace strata

@@ -1,0 +1,94 @@
+// Body: the state of one rigid body. Lives in the BodyManager's slot array; read it under the body's read
+// lock (BodyLockRead) and change it under its write lock (BodyLockWrite) or from inside the step.
+#pragma once
+
+#include "physics/body/BodyCreationSettings.h"
+#include "physics/body/BodyID.h"
+
+namespace strata {
+
+/// One rigid body. The pose is that of the shape origin; velocities are those of the centre of mass.
+class Body {
+ public:
+  BodyID id() const { return id_; }
+  const ShapeRef& shape() const { return shape_; }
+  MotionType motion_type() const { return motion_type_; }
+  ObjectLayer object_layer() const { return object_layer_; }
+  bool IsDynamic() const { return motion_type_ == MotionType::kDynamic; }
+  bool IsStatic() const { return motion_type_ == MotionType::kStatic; }
+  bool in_world() const { return in_world_; }
+  bool sleeping() const { return sleeping_; }
+  /// Dynamic or kinematic and awake: the step moves it.
+  bool IsActive() const { return in_world_ && !sleeping_ && motion_type_ != MotionType::kStatic; }
+
+  const Pose& pose() const { return pose_; }
+  const Vec3& position() const { return pose_.position; }
+  const Quat& rotation() const { return pose_.rotation; }
+  Vec3 CenterOfMass() const { return pose_.ToWorld(center_of_mass_local_); }
+  const Vec3& center_of_mass_local() const { return center_of_mass_local_; }
+  const Vec3& linear_velocity() const { return linear_velocity_; }
+  const Vec3& angular_velocity() const { return angular_velocity_; }
+  /// Velocity of a world-space point attached to the body.
+  Vec3 PointVelocity(const Vec3& point) const {
+    return linear_velocity_ + angular_velocity_.cross(point - CenterOfMass());
+  }
+
+  float inverse_mass() const { return inverse_mass_; }
+  float mass() const { return inverse_mass_ > 0.0f ? 1.0f / inverse_mass_ : 0.0f; }
+  /// Inverse inertia in world space (zero for static and kinematic bodies).
+  Mat3 InverseInertiaWorld() const {
+    const Mat3 rotation = pose_.rotation.toRotationMatrix();
+    return rotation * inverse_inertia_local_ * rotation.transpose();
+  }
+  const Mat3& inverse_inertia_local() const { return inverse_inertia_local_; }
+
+  float friction() const { return friction_; }
+  float restitution() const { return restitution_; }
+  float linear_damping() const { return linear_damping_; }
+  float angular_damping() const { return angular_damping_; }
+  float gravity_factor() const { return gravity_factor_; }
+  float max_linear_velocity() const { return max_linear_velocity_; }
+  float max_angular_velocity() const { return max_angular_velocity_; }
+  bool allow_sleeping() const { return allow_sleeping_; }
+  const AABB& world_bounds() const { return world_bounds_; }
+  std::uint64_t user_data() const { return user_data_; }
+  const Vec3& accumulated_force() const { return force_; }
+  const Vec3& accumulated_torque() const { return torque_; }
+
+ private:
+  friend class BodyManager;
+  friend class PhysicsSystem;
+  friend class BodyInterface;
+
+  void Reset(const BodyCreationSettings& settings, BodyID id);
+  void UpdateWorldBounds() { world_bounds_ = shape_->WorldBounds(pose_); }
+
+  BodyID id_;
+  ShapeRef shape_;
+  Pose pose_;
+  Vec3 center_of_mass_local_ = Vec3::Zero();
+  Vec3 linear_velocity_ = Vec3::Zero();
+  Vec3 angular_velocity_ = Vec3::Zero();
+  Vec3 force_ = Vec3::Zero();
+  Vec3 torque_ = Vec3::Zero();
+  Mat3 inverse_inertia_local_ = Mat3::Zero();
+  AABB world_bounds_;
+  float inverse_mass_ = 0.0f;
+  float friction_ = 0.2f;
+  float restitution_ = 0.0f;
+  float linear_damping_ = 0.0f;
+  float angular_damping_ = 0.0f;
+  float gravity_factor_ = 1.0f;
+  float max_linear_velocity_ = 500.0f;
+  float max_angular_velocity_ = 0.0f;
+  float sleep_timer_ = 0.0f;
+  std::uint32_t sleep_island_ = 0;  // island key shared by bodies that fell asleep together
+  std::uint64_t user_data_ = 0;
+  MotionType motion_type_ = MotionType::kStatic;
+  ObjectLayer object_layer_ = layers::kNonMoving;
+  bool in_world_ = false;
+  bool sleeping_ = false;
+  bool allow_sleeping_ = true;
+};
+
+}  // namespace strata

@@ -1,0 +1,269 @@
+#include "physics/body/BodyInterface.h"
+
+#include <shared_mutex>
+#include <string>
+
+#include "physics/world/PhysicsSystem.h"
+
+namespace strata {
+
+namespace {
+Status NotFinite(const char* what) {
+  return MakeError(ErrorCode::kInvalidArgument, std::string(what) + " is not finite");
+}
+}  // namespace
+
+template <class Function>
+auto BodyInterface::Read(BodyID id, Function&& function) const
+    -> Result<decltype(function(std::declval<const Body&>()))> {
+  std::shared_lock step(system_.step_mutex_);
+  BodyLockRead lock(system_.body_manager_, id);
+  if (!lock.Succeeded()) return lock.status().error();
+  return function(lock.body());
+}
+
+template <class Function>
+Status BodyInterface::Write(BodyID id, Function&& function) {
+  std::shared_lock step(system_.step_mutex_);
+  BodyLockWrite lock(system_.body_manager_, id);
+  if (!lock.Succeeded()) return lock.status();
+  return function(lock.body());
+}
+
+void BodyInterface::WakeLocked(Body& body) {
+  if (!body.in_world_ || body.IsStatic()) return;
+  body.sleep_timer_ = 0.0f;
+  if (!body.sleeping_) return;
+  body.sleeping_ = false;
+  // The rest of its island is woken at the start of the next step (we only hold this body's lock).
+  system_.RequestWake(body.sleep_island_);
+}
+
+void BodyInterface::RefreshBounds(const Body& body) {
+  if (body.in_world_) system_.broad_phase_->UpdateBody(body.id_, system_.BroadPhaseBounds(body, 0.0f));
+}
+
+Result<BodyID> BodyInterface::CreateBody(const BodyCreationSettings& settings) {
+  if (settings.object_layer >= system_.layers_->ObjectLayerCount())
+    return MakeError(ErrorCode::kInvalidArgument,
+                     "object layer " + std::to_string(settings.object_layer) + " is not in the layer setup");
+  return system_.body_manager_.CreateBody(settings);
+}
+
+Result<BodyID> BodyInterface::CreateAndAddBody(const BodyCreationSettings& settings, Activation activation) {
+  Result<BodyID> id = CreateBody(settings);
+  if (!id) return id;
+  if (Status added = AddBody(*id, activation); !added) {
+    (void)system_.body_manager_.DestroyBody(*id);
+    return added.error();
+  }
+  return id;
+}
+
+Status BodyInterface::AddBody(BodyID id, Activation activation) { return AddBodies({&id, 1}, activation); }
+
+Status BodyInterface::AddBodies(std::span<const BodyID> ids, Activation activation) {
+  std::shared_lock step(system_.step_mutex_);
+  std::lock_guard membership(system_.membership_mutex_);
+  // Check everything before changing anything: all or nothing.
+  for (std::size_t i = 0; i < ids.size(); ++i) {
+    BodyLockRead lock(system_.body_manager_, ids[i]);
+    if (!lock.Succeeded()) return lock.status();
+    if (lock.body().in_world())
+      return MakeError(ErrorCode::kInvalidState, "body " + std::to_string(ids[i].index) + " is already in the world");
+    for (std::size_t j = 0; j < i; ++j)
+      if (ids[j] == ids[i])
+        return MakeError(ErrorCode::kInvalidArgument, "body " + std::to_string(ids[i].index) + " is listed twice");
+  }
+  for (const BodyID id : ids) {
+    BodyLockWrite lock(system_.body_manager_, id);
+    Body& body = lock.body();
+    body.in_world_ = true;
+    body.sleeping_ = activation == Activation::kDontActivate && !body.IsStatic();
+    body.sleep_timer_ = 0.0f;
+    if (body.sleeping_) body.sleep_island_ = system_.next_island_key_++;
+    body.UpdateWorldBounds();
+    system_.broad_phase_->AddBody(id, system_.BroadPhaseBounds(body, 0.0f), body.object_layer());
+    system_.AddToWorldList(id.index);
+  }
+  return Status::Ok();
+}
+
+Status BodyInterface::RemoveBody(BodyID id) {
+  std::shared_lock step(system_.step_mutex_);
+  std::lock_guard membership(system_.membership_mutex_);
+  BodyLockWrite lock(system_.body_manager_, id);
+  if (!lock.Succeeded()) return lock.status();
+  Body& body = lock.body();
+  if (!body.in_world())
+    return MakeError(ErrorCode::kInvalidState, "body " + std::to_string(id.index) + " is not in the world");
+  system_.broad_phase_->RemoveBody(id);
+  system_.RemoveFromWorldList(id.index);
+  body.in_world_ = false;
+  body.sleeping_ = false;
+  return Status::Ok();
+}
+
+Status BodyInterface::DestroyBody(BodyID id) {
+  std::shared_lock step(system_.step_mutex_);
+  std::lock_guard membership(system_.membership_mutex_);
+  return system_.body_manager_.DestroyBody(id);
+}
+
+Status BodyInterface::RemoveAndDestroyBody(BodyID id) {
+  Result<bool> in_world = IsInWorld(id);
+  if (!in_world) return in_world.status();
+  if (*in_world)
+    if (Status removed = RemoveBody(id); !removed) return removed;
+  return DestroyBody(id);
+}
+
+bool BodyInterface::IsValid(BodyID id) const { return Read(id, [](const Body&) { return true; }).ok(); }
+Result<bool> BodyInterface::IsInWorld(BodyID id) const {
+  return Read(id, [](const Body& b) { return b.in_world(); });
+}
+Result<bool> BodyInterface::IsActive(BodyID id) const {
+  return Read(id, [](const Body& b) { return b.IsActive(); });
+}
+Result<Vec3> BodyInterface::GetPosition(BodyID id) const {
+  return Read(id, [](const Body& b) { return b.position(); });
+}
+Result<Quat> BodyInterface::GetRotation(BodyID id) const {
+  return Read(id, [](const Body& b) { return b.rotation(); });
+}
+Result<Vec3> BodyInterface::GetCenterOfMass(BodyID id) const {
+  return Read(id, [](const Body& b) { return b.CenterOfMass(); });
+}
+Result<Vec3> BodyInterface::GetLinearVelocity(BodyID id) const {
+  return Read(id, [](const Body& b) { return b.linear_velocity(); });
+}
+Result<Vec3> BodyInterface::GetAngularVelocity(BodyID id) const {
+  return Read(id, [](const Body& b) { return b.angular_velocity(); });
+}
+Result<AABB> BodyInterface::GetWorldBounds(BodyID id) const {
+  return Read(id, [](const Body& b) { return b.world_bounds(); });
+}
+Result<ShapeRef> BodyInterface::GetShape(BodyID id) const {
+  return Read(id, [](const Body& b) { return b.shape(); });
+}
+Result<MotionType> BodyInterface::GetMotionType(BodyID id) const {
+  return Read(id, [](const Body& b) { return b.motion_type(); });
+}
+
+Status BodyInterface::SetPosition(BodyID id, const Vec3& position) {
+  if (!IsFinite(position)) return NotFinite("position");
+  return Write(id, [&](Body& body) {
+    body.pose_.position = position;
+    body.UpdateWorldBounds();
+    RefreshBounds(body);
+    WakeLocked(body);
+    return Status::Ok();
+  });
+}
+
+Status BodyInterface::SetRotation(BodyID id, const Quat& rotation) {
+  if (!IsFinite(rotation) || rotation.norm() < 1e-6f) return NotFinite("rotation");
+  return Write(id, [&](Body& body) {
+    body.pose_.rotation = rotation.normalized();
+    body.UpdateWorldBounds();
+    RefreshBounds(body);
+    WakeLocked(body);
+    return Status::Ok();
+  });
+}
+
+Status BodyInterface::SetPositionAndRotation(BodyID id, const Vec3& position, const Quat& rotation) {
+  if (!IsFinite(position)) return NotFinite("position");
+  if (!IsFinite(rotation) || rotation.norm() < 1e-6f) return NotFinite("rotation");
+  return Write(id, [&](Body& body) {
+    body.pose_ = {position, rotation.normalized()};
+    body.UpdateWorldBounds();
+    RefreshBounds(body);
+    WakeLocked(body);
+    return Status::Ok();
+  });
+}
+
+Status BodyInterface::SetLinearVelocity(BodyID id, const Vec3& velocity) {
+  if (!IsFinite(velocity)) return NotFinite("linear velocity");
+  return Write(id, [&](Body& body) -> Status {
+    if (body.IsStatic()) return MakeError(ErrorCode::kInvalidState, "a static body cannot have a velocity");
+    body.linear_velocity_ = velocity;
+    WakeLocked(body);
+    return Status::Ok();
+  });
+}
+
+Status BodyInterface::SetAngularVelocity(BodyID id, const Vec3& velocity) {
+  if (!IsFinite(velocity)) return NotFinite("angular velocity");
+  return Write(id, [&](Body& body) -> Status {
+    if (body.IsStatic()) return MakeError(ErrorCode::kInvalidState, "a static body cannot have a velocity");
+    body.angular_velocity_ = velocity;
+    WakeLocked(body);
+    return Status::Ok();
+  });
+}
+
+Status BodyInterface::AddForce(BodyID id, const Vec3& force) {
+  if (!IsFinite(force)) return NotFinite("force");
+  return Write(id, [&](Body& body) {
+    if (!body.IsDynamic()) return Status::Ok();
+    body.force_ += force;
+    WakeLocked(body);
+    return Status::Ok();
+  });
+}
+
+Status BodyInterface::AddForce(BodyID id, const Vec3& force, const Vec3& point) {
+  if (!IsFinite(force)) return NotFinite("force");
+  if (!IsFinite(point)) return NotFinite("point");
+  return Write(id, [&](Body& body) {
+    if (!body.IsDynamic()) return Status::Ok();
+    body.force_ += force;
+    body.torque_ += (point - body.CenterOfMass()).cross(force);
+    WakeLocked(body);
+    return Status::Ok();
+  });
+}
+
+Status BodyInterface::AddTorque(BodyID id, const Vec3& torque) {
+  if (!IsFinite(torque)) return NotFinite("torque");
+  return Write(id, [&](Body& body) {
+    if (!body.IsDynamic()) return Status::Ok();
+    body.torque_ += torque;
+    WakeLocked(body);
+    return Status::Ok();
+  });
+}
+
+Status BodyInterface::AddImpulse(BodyID id, const Vec3& impulse) {
+  if (!IsFinite(impulse)) return NotFinite("impulse");
+  return Write(id, [&](Body& body) {
+    if (!body.IsDynamic()) return Status::Ok();
+    body.linear_velocity_ += body.inverse_mass_ * impulse;
+    WakeLocked(body);
+    return Status::Ok();
+  });
+}
+
+Status BodyInterface::AddImpulse(BodyID id, const Vec3& impulse, const Vec3& point) {
+  if (!IsFinite(impulse)) return NotFinite("impulse");
+  if (!IsFinite(point)) return NotFinite("point");
+  return Write(id, [&](Body& body) {
+    if (!body.IsDynamic()) return Status::Ok();
+    body.linear_velocity_ += body.inverse_mass_ * impulse;
+    body.angular_velocity_ += body.InverseInertiaWorld() * (point - body.CenterOfMass()).cross(impulse);
+    WakeLocked(body);
+    return Status::Ok();
+  });
+}
+
+Status BodyInterface::ActivateBody(BodyID id) {
+  return Write(id, [&](Body& body) -> Status {
+    if (!body.in_world()) return MakeError(ErrorCode::kInvalidState, "body is not in the world");
+    WakeLocked(body);
+    return Status::Ok();
+  });
+}
+
+}  // namespace strata

@@ -1,0 +1,79 @@
+// BodyInterface: the thread-safe front door to bodies: create, add, remove, destroy, and read or change
+// their state. Every call validates its input and returns an error (world unchanged) for stale ids,
+// NaN/Inf values or wrong states. Calls from many threads run at once; they wait while a step runs.
+#pragma once
+
+#include <span>
+
+#include "physics/body/Body.h"
+
+namespace strata {
+
+class PhysicsSystem;
+
+/// Whether a body added to the world starts awake.
+enum class Activation { kActivate, kDontActivate };
+
+/// Thread-safe access to the bodies of one PhysicsSystem.
+class BodyInterface {
+ public:
+  explicit BodyInterface(PhysicsSystem& system) : system_(system) {}
+
+  /// Creates a body outside the world.
+  Result<BodyID> CreateBody(const BodyCreationSettings& settings);
+  /// Creates a body and adds it to the world.
+  Result<BodyID> CreateAndAddBody(const BodyCreationSettings& settings, Activation activation = Activation::kActivate);
+  /// Puts a created body into the world (broad phase and step).
+  Status AddBody(BodyID id, Activation activation = Activation::kActivate);
+  /// Adds several bodies; all ids are checked first, so either all are added or none.
+  Status AddBodies(std::span<const BodyID> ids, Activation activation = Activation::kActivate);
+  /// Takes a body out of the world; it keeps its state and can be added again.
+  Status RemoveBody(BodyID id);
+  /// Frees a body that is not in the world; its id goes stale.
+  Status DestroyBody(BodyID id);
+  /// Removes (if needed) and destroys.
+  Status RemoveAndDestroyBody(BodyID id);
+
+  bool IsValid(BodyID id) const;
+  Result<bool> IsInWorld(BodyID id) const;
+  Result<bool> IsActive(BodyID id) const;
+
+  Result<Vec3> GetPosition(BodyID id) const;
+  Result<Quat> GetRotation(BodyID id) const;
+  Result<Vec3> GetCenterOfMass(BodyID id) const;
+  Result<Vec3> GetLinearVelocity(BodyID id) const;
+  Result<Vec3> GetAngularVelocity(BodyID id) const;
+  Result<AABB> GetWorldBounds(BodyID id) const;
+  Result<ShapeRef> GetShape(BodyID id) const;
+  Result<MotionType> GetMotionType(BodyID id) const;
+
+  /// Teleports the body (waking it when in the world).
+  Status SetPosition(BodyID id, const Vec3& position);
+  Status SetRotation(BodyID id, const Quat& rotation);
+  Status SetPositionAndRotation(BodyID id, const Vec3& position, const Quat& rotation);
+  Status SetLinearVelocity(BodyID id, const Vec3& velocity);
+  Status SetAngularVelocity(BodyID id, const Vec3& velocity);
+  /// Force (N) at the centre of mass for the next step.
+  Status AddForce(BodyID id, const Vec3& force);
+  /// Force (N) at a world point for the next step.
+  Status AddForce(BodyID id, const Vec3& force, const Vec3& point);
+  Status AddTorque(BodyID id, const Vec3& torque);
+  /// Instant change of momentum (N s) at the centre of mass.
+  Status AddImpulse(BodyID id, const Vec3& impulse);
+  /// Instant change of momentum (N s) at a world point.
+  Status AddImpulse(BodyID id, const Vec3& impulse, const Vec3& point);
+  /// Wakes the body and its sleeping island.
+  Status ActivateBody(BodyID id);
+
+ private:
+  template <class Function>
+  auto Read(BodyID id, Function&& function) const -> Result<decltype(function(std::declval<const Body&>()))>;
+  template <class Function>
+  Status Write(BodyID id, Function&& function);
+  void WakeLocked(Body& body);
+  void RefreshBounds(const Body& body);
+
+  PhysicsSystem& system_;
+};
+
+}  // namespace strata

@@ -1,0 +1,83 @@
+#include "physics/body/BodyManager.h"
+
+#include <string>
+
+namespace strata {
+
+namespace {
+std::string Describe(BodyID id) {
+  return "body " + std::to_string(id.index) + "#" + std::to_string(id.generation);
+}
+}  // namespace
+
+BodyManager::BodyManager(std::uint32_t capacity, std::uint32_t mutex_count)
+    : bodies_(capacity), generations_(capacity, 1), mutexes_(mutex_count == 0 ? 1 : mutex_count) {
+  free_slots_.reserve(capacity);
+  // Hand out low indices first so small worlds stay compact.
+  for (std::uint32_t i = capacity; i > 0; --i) free_slots_.push_back(i - 1);
+}
+
+std::uint32_t BodyManager::body_count() const {
+  std::lock_guard lock(allocation_mutex_);
+  return capacity() - static_cast<std::uint32_t>(free_slots_.size());
+}
+
+Result<BodyID> BodyManager::CreateBody(const BodyCreationSettings& settings) {
+  if (Status valid = settings.Validate(); !valid) return valid.error();
+  BodyID id;
+  {
+    std::lock_guard lock(allocation_mutex_);
+    if (free_slots_.empty())
+      return MakeError(ErrorCode::kCapacityExceeded,
+                       "body manager is full (capacity " + std::to_string(capacity()) + ")");
+    id.index = free_slots_.back();
+    free_slots_.pop_back();
+    id.generation = generations_[id.index];
+  }
+  std::unique_lock lock(MutexFor(id.index));
+  bodies_[id.index].Reset(settings, id);
+  return id;
+}
+
+Status BodyManager::CheckId(BodyID id) const {
+  if (id.IsInvalid() || id.index >= capacity())
+    return MakeError(ErrorCode::kStaleBodyId, Describe(id) + " does not exist");
+  if (bodies_[id.index].id() != id)
+    return MakeError(ErrorCode::kStaleBodyId, Describe(id) + " is stale (destroyed or never created)");
+  return Status::Ok();
+}
+
+Status BodyManager::DestroyBody(BodyID id) {
+  {
+    std::unique_lock lock(MutexFor(id.index < capacity() ? id.index : 0));
+    if (Status valid = CheckId(id); !valid) return valid;
+    if (bodies_[id.index].in_world())
+      return MakeError(ErrorCode::kInvalidState, Describe(id) + " is still in the world; remove it first");
+    bodies_[id.index] = Body();
+  }
+  std::lock_guard lock(allocation_mutex_);
+  // Skip generation 0 on wrap so a zeroed id never matches a live body.
+  generations_[id.index] = generations_[id.index] + 1 == 0 ? 1 : generations_[id.index] + 1;
+  free_slots_.push_back(id.index);
+  return Status::Ok();
+}
+
+void BodyManager::LockAll() {
+  for (std::shared_mutex& mutex : mutexes_) mutex.lock();
+}
+
+void BodyManager::UnlockAll() {
+  for (std::shared_mutex& mutex : mutexes_) mutex.unlock();
+}
+
+BodyLockRead::BodyLockRead(const BodyManager& manager, BodyID id)
+    : lock_(manager.MutexFor(id.index < manager.capacity() ? id.index : 0)), status_(manager.CheckId(id)) {
+  if (status_.ok()) body_ = &manager.BodyAt(id.index);
+}
+
+BodyLockWrite::BodyLockWrite(BodyManager& manager, BodyID id)
+    : lock_(manager.MutexFor(id.index < manager.capacity() ? id.index : 0)), status_(manager.CheckId(id)) {
+  if (status_.ok()) body_ = &manager.BodyAt(id.index);
+}
+
+}  // namespace strata

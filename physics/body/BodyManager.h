@@ -1,0 +1,82 @@
+// BodyManager: owns every body in a fixed-capacity slot array (chosen at creation) and a fixed set of
+// read/write mutexes; body slot i is guarded by mutex i % mutex_count. Create/Destroy are thread-safe.
+// Read a body through BodyLockRead, change it through BodyLockWrite; the step holds all locks at once.
+#pragma once
+
+#include <memory>
+#include <mutex>
+#include <shared_mutex>
+#include <vector>
+
+#include "physics/body/Body.h"
+
+namespace strata {
+
+/// Fixed-capacity body storage with sharded locks.
+class BodyManager {
+ public:
+  /// `capacity` bodies at most; `mutex_count` read/write mutexes shared by the bodies (default 32).
+  BodyManager(std::uint32_t capacity, std::uint32_t mutex_count = 32);
+
+  std::uint32_t capacity() const { return static_cast<std::uint32_t>(bodies_.size()); }
+  std::uint32_t mutex_count() const { return static_cast<std::uint32_t>(mutexes_.size()); }
+  /// Bodies created and not yet destroyed.
+  std::uint32_t body_count() const;
+
+  /// Validates `settings` and creates a body outside the world. Fails on bad settings or a full manager.
+  Result<BodyID> CreateBody(const BodyCreationSettings& settings);
+  /// Frees the slot (the generation moves on, so old ids go stale). The body must not be in the world.
+  Status DestroyBody(BodyID id);
+
+  /// The mutex guarding `index`.
+  std::shared_mutex& MutexFor(std::uint32_t index) const { return mutexes_[index % mutexes_.size()]; }
+
+  /// Checks `id` against its slot; call with the body's lock held.
+  Status CheckId(BodyID id) const;
+
+  /// Direct slot access for code that already holds the lock (or all locks, as the step does).
+  Body& BodyAt(std::uint32_t index) { return bodies_[index]; }
+  const Body& BodyAt(std::uint32_t index) const { return bodies_[index]; }
+  bool SlotInUse(std::uint32_t index) const { return !bodies_[index].id().IsInvalid(); }
+
+  /// Takes every body lock for writing (in index order, so it cannot deadlock with itself).
+  void LockAll();
+  void UnlockAll();
+
+ private:
+  std::vector<Body> bodies_;
+  std::vector<std::uint32_t> generations_;
+  std::vector<std::uint32_t> free_slots_;
+  mutable std::mutex allocation_mutex_;  // guards free_slots_ and generations_
+  mutable std::vector<std::shared_mutex> mutexes_;
+};
+
+/// RAII read access to one body; check Succeeded() (false for a stale or unknown id).
+class BodyLockRead {
+ public:
+  BodyLockRead(const BodyManager& manager, BodyID id);
+  bool Succeeded() const { return status_.ok(); }
+  const Status& status() const { return status_; }
+  const Body& body() const { return *body_; }
+
+ private:
+  std::shared_lock<std::shared_mutex> lock_;
+  Status status_;
+  const Body* body_ = nullptr;
+};
+
+/// RAII write access to one body; check Succeeded() (false for a stale or unknown id).
+class BodyLockWrite {
+ public:
+  BodyLockWrite(BodyManager& manager, BodyID id);
+  bool Succeeded() const { return status_.ok(); }
+  const Status& status() const { return status_; }
+  Body& body() const { return *body_; }
+
+ private:
+  std::unique_lock<std::shared_mutex> lock_;
+  Status status_;
+  Body* body_ = nullptr;
+};
+
+}  // namespace strata

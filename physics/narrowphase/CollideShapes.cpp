@@ -1,0 +1,244 @@
+#include "physics/narrowphase/CollideShapes.h"
+
+#include "physics/narrowphase/Epa.h"
+#include "physics/narrowphase/ManifoldBuilder.h"
+#include "physics/shapes/BoxShape.h"
+#include "physics/shapes/SphereShape.h"
+
+namespace strata {
+
+namespace {
+
+// Normal (A to B) and deepest point pair of two convex supports. The cores carry radii; exact supports
+// are only used when the cores overlap.
+bool FindContact(const ConvexSupport& core_a, const ConvexSupport& exact_a, float radius_a,
+                 const ConvexSupport& core_b, const ConvexSupport& exact_b, float radius_b, float max_separation,
+                 Vec3& normal, ContactPoint& deepest) {
+  const GjkResult core = GjkClosestPoints(core_a, core_b, max_separation + radius_a + radius_b);
+  if (!core.overlapping && core.distance > 1e-5f) {
+    const float separation = core.distance - radius_a - radius_b;
+    if (separation > max_separation) return false;
+    normal = (core.point_b - core.point_a) / core.distance;
+    deepest = {core.point_a + radius_a * normal, core.point_b - radius_b * normal, separation};
+    return true;
+  }
+  const GjkResult exact = GjkClosestPoints(exact_a, exact_b, 0.0f);
+  if (!exact.overlapping && exact.distance > 1e-6f) {
+    if (exact.distance > max_separation) return false;
+    normal = (exact.point_b - exact.point_a) / exact.distance;
+    deepest = {exact.point_a, exact.point_b, exact.distance};
+    return true;
+  }
+  PenetrationResult penetration;
+  if (!EpaPenetration(exact_a, exact_b, exact, penetration)) {
+    // Touching without measurable overlap: separate along the line between the centres.
+    const Vec3 between = exact_b.Center() - exact_a.Center();
+    normal = between.squaredNorm() > 1e-12f ? Vec3(between.normalized()) : Vec3::UnitY();
+    deepest = {exact.point_a, exact.point_a, 0.0f};
+    return true;
+  }
+  normal = penetration.normal;
+  deepest = {penetration.point_a, penetration.point_b, -penetration.depth};
+  return true;
+}
+
+void WorldFace(const ConvexShape& shape, const Pose& pose, const Vec3& world_direction, SupportingFace& face) {
+  shape.GetSupportingFace(pose.DirectionToLocal(world_direction), face);
+  for (int i = 0; i < face.count; ++i) face.vertices[i] = pose.ToWorld(face.vertices[i]);
+}
+
+bool CollideSpheres(const SphereShape& a, const Pose& pose_a, const SphereShape& b, const Pose& pose_b,
+                    float max_separation, ContactManifold& manifold) {
+  const Vec3 between = pose_b.position - pose_a.position;
+  const float distance = between.norm();
+  const float separation = distance - a.radius() - b.radius();
+  if (separation > max_separation) return false;
+  manifold.normal = distance > 1e-6f ? Vec3(between / distance) : Vec3::UnitY();
+  manifold.count = 1;
+  manifold.points[0] = {pose_a.position + a.radius() * manifold.normal,
+                        pose_b.position - b.radius() * manifold.normal, separation};
+  return true;
+}
+
+// Sphere A against box B in closed form: the closest point of the box to the centre.
+bool CollideSphereBox(const SphereShape& a, const Pose& pose_a, const BoxShape& b, const Pose& pose_b,
+                      float max_separation, ContactManifold& manifold) {
+  const Vec3 center = pose_b.ToLocal(pose_a.position);
+  const Vec3& half = b.half_extents();
+  const Vec3 clamped = center.cwiseMax(-half).cwiseMin(half);
+  Vec3 local_normal;  // from sphere towards box, box space
+  float separation;
+  Vec3 on_box;
+  if (clamped != center) {
+    const Vec3 offset = clamped - center;
+    const float distance = offset.norm();
+    separation = distance - a.radius();
+    if (separation > max_separation) return false;
+    local_normal = offset / distance;
+    on_box = clamped;
+  } else {
+    // Centre inside the box: push out through the nearest face.
+    const Vec3 depth = half - center.cwiseAbs();
+    int axis = 0;
+    depth.minCoeff(&axis);
+    local_normal = Vec3::Zero();
+    local_normal[axis] = center[axis] > 0 ? -1.0f : 1.0f;
+    on_box = center;
+    on_box[axis] = -local_normal[axis] * half[axis];
+    separation = -depth[axis] - a.radius();
+  }
+  manifold.normal = pose_b.DirectionToWorld(local_normal);
+  manifold.count = 1;
+  manifold.points[0] = {pose_a.position + a.radius() * manifold.normal, pose_b.ToWorld(on_box), separation};
+  return true;
+}
+
+// Supporting feature of a triangle against `direction`: the face when it faces that way, else an edge or
+// a vertex (a steep triangle must not report its far corner as a deep contact).
+void TriangleFace(const TriangleSupport& triangle, const Vec3& face_normal, const Vec3& direction,
+                  SupportingFace& face) {
+  face.count = 0;
+  const float facing = face_normal.dot(direction) / direction.norm();
+  if (std::abs(facing) > 0.5f) {
+    // Keep counter-clockwise order as seen from the side the direction points to.
+    if (facing > 0) {
+      for (int i = 0; i < 3; ++i) face.Add(triangle.vertex(i));
+    } else {
+      for (int i = 2; i >= 0; --i) face.Add(triangle.vertex(i));
+    }
+    return;
+  }
+  float dots[3];
+  int best = 0;
+  for (int i = 0; i < 3; ++i) {
+    dots[i] = triangle.vertex(i).dot(direction);
+    if (dots[i] > dots[best]) best = i;
+  }
+  face.Add(triangle.vertex(best));
+  for (int i = 0; i < 3; ++i) {
+    if (i == best) continue;
+    const float edge = (triangle.vertex(i) - triangle.vertex(best)).norm() * direction.norm();
+    if (dots[best] - dots[i] < 0.02f * edge) face.Add(triangle.vertex(i));
+  }
+}
+
+// Mesh triangles have internal edges that a sliding body must not catch on: when the contact sits on
+// such an edge (or in the interior), the triangle's face normal is the true normal.
+Vec3 CorrectTriangleNormal(const TriangleMeshShape& mesh, std::uint32_t triangle, const Vec3& face_normal,
+                           const TriangleSupport& world, const Vec3& point_on_triangle, const Vec3& normal) {
+  if (std::abs(normal.dot(face_normal)) > 0.9995f) return normal;
+  const Vec3 v0 = world.vertex(1) - world.vertex(0), v1 = world.vertex(2) - world.vertex(0);
+  const Vec3 v2 = point_on_triangle - world.vertex(0);
+  const float d00 = v0.dot(v0), d01 = v0.dot(v1), d11 = v1.dot(v1), d20 = v2.dot(v0), d21 = v2.dot(v1);
+  const float denominator = d00 * d11 - d01 * d01;
+  if (std::abs(denominator) < 1e-20f) return normal;
+  const float b1 = (d11 * d20 - d01 * d21) / denominator;
+  const float b2 = (d00 * d21 - d01 * d20) / denominator;
+  const float b0 = 1.0f - b1 - b2;
+  constexpr float kOnEdge = 1e-3f;
+  // Edge k runs from vertex k to k+1; the point is on it when the opposite vertex's weight is ~0.
+  std::uint8_t feature = 0;
+  if (b2 < kOnEdge) feature |= 0b001;
+  if (b0 < kOnEdge) feature |= 0b010;
+  if (b1 < kOnEdge) feature |= 0b100;
+  if ((feature & mesh.ActiveEdges(triangle)) != 0) return normal;
+  return normal.dot(face_normal) >= 0.0f ? face_normal : Vec3(-face_normal);
+}
+
+void MergeManifold(const ContactManifold& manifold, std::size_t first, std::vector<ContactManifold>& out) {
+  for (std::size_t i = first; i < out.size(); ++i) {
+    ContactManifold& existing = out[i];
+    if (existing.normal.dot(manifold.normal) < 0.999f) continue;
+    ContactPoint points[2 * ContactManifold::kMaxPoints];
+    int count = 0;
+    for (int k = 0; k < existing.count; ++k) points[count++] = existing.points[k];
+    for (int k = 0; k < manifold.count; ++k) points[count++] = manifold.points[k];
+    existing.count = ReduceContactPoints(points, count, existing.normal);
+    for (int k = 0; k < existing.count; ++k) existing.points[k] = points[k];
+    return;
+  }
+  out.push_back(manifold);
+}
+
+}  // namespace
+
+bool CollideConvexConvex(const ConvexShape& a, const Pose& pose_a, const ConvexShape& b, const Pose& pose_b,
+                         float max_separation, ContactManifold& manifold) {
+  if (a.type() == ShapeType::kSphere && b.type() == ShapeType::kSphere)
+    return CollideSpheres(static_cast<const SphereShape&>(a), pose_a, static_cast<const SphereShape&>(b), pose_b,
+                          max_separation, manifold);
+  if (a.type() == ShapeType::kSphere && b.type() == ShapeType::kBox)
+    return CollideSphereBox(static_cast<const SphereShape&>(a), pose_a, static_cast<const BoxShape&>(b), pose_b,
+                            max_separation, manifold);
+  if (a.type() == ShapeType::kBox && b.type() == ShapeType::kSphere) {
+    if (!CollideSphereBox(static_cast<const SphereShape&>(b), pose_b, static_cast<const BoxShape&>(a), pose_a,
+                          max_separation, manifold))
+      return false;
+    manifold.normal = -manifold.normal;
+    std::swap(manifold.points[0].position_a, manifold.points[0].position_b);
+    return true;
+  }
+  const PosedConvex core_a(a, pose_a, true), exact_a(a, pose_a, false);
+  const PosedConvex core_b(b, pose_b, true), exact_b(b, pose_b, false);
+  Vec3 normal;
+  ContactPoint deepest;
+  if (!FindContact(core_a, exact_a, a.core_radius(), core_b, exact_b, b.core_radius(), max_separation, normal,
+                   deepest))
+    return false;
+  SupportingFace face_a, face_b;
+  WorldFace(a, pose_a, normal, face_a);
+  WorldFace(b, pose_b, -normal, face_b);
+  manifold.normal = normal;
+  BuildManifold(face_a, face_b, deepest, max_separation, manifold);
+  return manifold.count > 0;
+}
+
+void CollideConvexMesh(const ConvexShape& a, const Pose& pose_a, const TriangleMeshShape& mesh, const Pose& pose_mesh,
+                       float max_separation, const ContactManifold& prototype, std::vector<ContactManifold>& out) {
+  const Pose mesh_inverse{pose_mesh.rotation.conjugate() * -pose_mesh.position, pose_mesh.rotation.conjugate()};
+  const AABB local_box = a.WorldBounds(pose_a).Expanded(max_separation).Transformed(mesh_inverse);
+  thread_local std::vector<std::uint32_t> triangles;
+  triangles.clear();
+  mesh.QueryBox(local_box, triangles);
+  std::sort(triangles.begin(), triangles.end());  // deterministic merge order
+  const PosedConvex core_a(a, pose_a, true), exact_a(a, pose_a, false);
+  const std::size_t first = out.size();
+  for (std::uint32_t t : triangles) {
+    const TriangleSupport triangle(pose_mesh.ToWorld(mesh.Vertex(t, 0)), pose_mesh.ToWorld(mesh.Vertex(t, 1)),
+                                   pose_mesh.ToWorld(mesh.Vertex(t, 2)));
+    Vec3 normal;
+    ContactPoint deepest;
+    if (!FindContact(core_a, exact_a, a.core_radius(), triangle, triangle, 0.0f, max_separation, normal, deepest))
+      continue;
+    const Vec3 face_normal = pose_mesh.DirectionToWorld(mesh.Normal(t));
+    const Vec3 corrected = CorrectTriangleNormal(mesh, t, face_normal, triangle, deepest.position_b, normal);
+    if (corrected != normal) {
+      normal = corrected;
+      deepest.separation = (deepest.position_b - deepest.position_a).dot(normal);
+    }
+    SupportingFace face_a, face_b;
+    WorldFace(a, pose_a, normal, face_a);
+    TriangleFace(triangle, face_normal, -normal, face_b);
+    ContactManifold manifold = prototype;
+    manifold.sub_shape_b = t;
+    manifold.normal = normal;
+    BuildManifold(face_a, face_b, deepest, max_separation, manifold);
+    if (manifold.count > 0) MergeManifold(manifold, first, out);
+  }
+}
+
+void CollideShapes(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b, float max_separation,
+                   const ContactManifold& prototype, std::vector<ContactManifold>& out) {
+  if (!a.IsConvex()) return;  // mesh vs anything is handled with the mesh as B
+  const auto& convex_a = static_cast<const ConvexShape&>(a);
+  if (b.type() == ShapeType::kTriangleMesh) {
+    CollideConvexMesh(convex_a, pose_a, static_cast<const TriangleMeshShape&>(b), pose_b, max_separation, prototype,
+                      out);
+    return;
+  }
+  ContactManifold manifold = prototype;
+  if (CollideConvexConvex(convex_a, pose_a, static_cast<const ConvexShape&>(b), pose_b, max_separation, manifold))
+    out.push_back(manifold);
+}
+
+}  // namespace strata

@@ -1,0 +1,51 @@
+// ConvexSupport: world-space support mappings that GJK and EPA run on (a posed ConvexShape, its core, or
+// a single mesh triangle). Light, stack-allocated views; safe from any thread.
+#pragma once
+
+#include "physics/shapes/ConvexShape.h"
+
+namespace strata {
+
+/// Farthest point along a direction, in world space.
+class ConvexSupport {
+ public:
+  virtual ~ConvexSupport() = default;
+  virtual Vec3 Support(const Vec3& direction) const = 0;
+  /// Any point inside, used to seed the search direction.
+  virtual Vec3 Center() const = 0;
+};
+
+/// A ConvexShape at a pose; `use_core` selects the shrunk core instead of the exact shape.
+class PosedConvex final : public ConvexSupport {
+ public:
+  PosedConvex(const ConvexShape& shape, const Pose& pose, bool use_core)
+      : shape_(shape), pose_(pose), use_core_(use_core) {}
+  Vec3 Support(const Vec3& direction) const override {
+    const Vec3 local = pose_.DirectionToLocal(direction);
+    return pose_.ToWorld(use_core_ ? shape_.CoreSupport(local) : shape_.Support(local));
+  }
+  Vec3 Center() const override { return pose_.ToWorld(shape_.LocalBounds().Center()); }
+
+ private:
+  const ConvexShape& shape_;
+  const Pose& pose_;
+  bool use_core_;
+};
+
+/// One triangle in world space.
+class TriangleSupport final : public ConvexSupport {
+ public:
+  TriangleSupport(const Vec3& a, const Vec3& b, const Vec3& c) : vertices_{a, b, c} {}
+  Vec3 Support(const Vec3& direction) const override {
+    const float da = vertices_[0].dot(direction), db = vertices_[1].dot(direction), dc = vertices_[2].dot(direction);
+    if (da >= db && da >= dc) return vertices_[0];
+    return db >= dc ? vertices_[1] : vertices_[2];
+  }
+  Vec3 Center() const override { return (vertices_[0] + vertices_[1] + vertices_[2]) / 3.0f; }
+  const Vec3& vertex(int i) const { return vertices_[i]; }
+
+ private:
+  Vec3 vertices_[3];
+};
+
+}  // namespace strata

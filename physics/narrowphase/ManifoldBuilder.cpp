@@ -1,0 +1,153 @@
+#include "physics/narrowphase/ManifoldBuilder.h"
+
+#include <array>
+
+namespace strata {
+
+namespace {
+
+using Polygon = std::array<Vec3, 64>;
+
+// Sutherland-Hodgman: keeps the part of `polygon` on the inner side (plane_normal . (p - plane_point) <= 0).
+int ClipAgainstPlane(const Polygon& in, int count, const Vec3& plane_point, const Vec3& plane_normal, Polygon& out) {
+  int written = 0;
+  if (count == 0) return 0;
+  Vec3 previous = in[count - 1];
+  float previous_distance = plane_normal.dot(previous - plane_point);
+  for (int i = 0; i < count; ++i) {
+    const Vec3& current = in[i];
+    const float distance = plane_normal.dot(current - plane_point);
+    if ((previous_distance <= 0.0f) != (distance <= 0.0f) && written < 63) {
+      const float t = previous_distance / (previous_distance - distance);
+      out[written++] = previous + t * (current - previous);
+    }
+    if (distance <= 0.0f && written < 63) out[written++] = current;
+    previous = current;
+    previous_distance = distance;
+  }
+  return written;
+}
+
+Vec3 FaceNormal(const SupportingFace& face) {
+  Vec3 normal = Vec3::Zero();
+  // Newell's method: robust for any planar polygon.
+  for (int i = 0; i < face.count; ++i) {
+    const Vec3& p = face.vertices[i];
+    const Vec3& q = face.vertices[(i + 1) % face.count];
+    normal += (p - q).cross(p + q) * 0.5f;
+  }
+  const float length = normal.norm();
+  return length > 1e-12f ? Vec3(normal / length) : Vec3::Zero();
+}
+
+}  // namespace
+
+int ReduceContactPoints(ContactPoint* points, int count, const Vec3& normal) {
+  if (count <= ContactManifold::kMaxPoints) return count;
+  // 1: deepest. 2: farthest from it. 3: largest triangle. 4: largest area added on the other side.
+  int chosen[4];
+  chosen[0] = 0;
+  for (int i = 1; i < count; ++i)
+    if (points[i].separation < points[chosen[0]].separation) chosen[0] = i;
+  auto position = [&](int i) { return points[i].position_b; };
+  float best = -1.0f;
+  chosen[1] = chosen[0];
+  for (int i = 0; i < count; ++i) {
+    const float d = (position(i) - position(chosen[0])).squaredNorm();
+    if (d > best) best = d, chosen[1] = i;
+  }
+  best = -1.0f;
+  chosen[2] = chosen[0];
+  float signed_area = 0.0f;
+  for (int i = 0; i < count; ++i) {
+    const float area = (position(chosen[0]) - position(i)).cross(position(chosen[1]) - position(i)).dot(normal);
+    if (std::abs(area) > best) best = std::abs(area), chosen[2] = i, signed_area = area;
+  }
+  best = -1.0f;
+  chosen[3] = chosen[0];
+  for (int i = 0; i < count; ++i) {
+    // The fourth point should lie on the opposite side of edge (chosen[0], chosen[1]) from chosen[2].
+    const float area = (position(chosen[0]) - position(i)).cross(position(chosen[1]) - position(i)).dot(normal);
+    const float gain = signed_area > 0 ? -area : area;
+    if (gain > best) best = gain, chosen[3] = i;
+  }
+  ContactPoint kept[4];
+  int kept_count = 0;
+  for (int c : chosen) {
+    bool duplicate = false;
+    for (int k = 0; k < kept_count; ++k) duplicate |= (kept[k].position_b - points[c].position_b).squaredNorm() < 1e-10f;
+    if (!duplicate) kept[kept_count++] = points[c];
+  }
+  for (int i = 0; i < kept_count; ++i) points[i] = kept[i];
+  return kept_count;
+}
+
+void BuildManifold(const SupportingFace& face_a, const SupportingFace& face_b, const ContactPoint& deepest,
+                   float max_separation, ContactManifold& manifold) {
+  const Vec3& n = manifold.normal;
+  manifold.count = 0;
+  // The reference face is the flatter-facing polygon; the other one (incident) is clipped against it.
+  const Vec3 normal_a = face_a.count >= 3 ? FaceNormal(face_a) : Vec3::Zero();
+  const Vec3 normal_b = face_b.count >= 3 ? FaceNormal(face_b) : Vec3::Zero();
+  const float alignment_a = normal_a.dot(n);
+  const float alignment_b = -normal_b.dot(n);
+  const bool reference_is_a = alignment_a >= alignment_b;
+  const SupportingFace& reference = reference_is_a ? face_a : face_b;
+  const SupportingFace& incident = reference_is_a ? face_b : face_a;
+  const Vec3 reference_normal = reference_is_a ? normal_a : normal_b;
+  const float alignment = reference_is_a ? alignment_a : alignment_b;
+
+  if (reference.count >= 3 && alignment > 0.1f && incident.count >= 1) {
+    Polygon polygon, clipped;
+    int count = 0;
+    for (int i = 0; i < incident.count; ++i) polygon[count++] = incident.vertices[i];
+    if (count >= 3 || reference.count >= 3) {
+      for (int i = 0; i < reference.count && count > 0; ++i) {
+        const Vec3& p = reference.vertices[i];
+        const Vec3& q = reference.vertices[(i + 1) % reference.count];
+        const Vec3 side = (q - p).cross(reference_normal);  // outward for counter-clockwise faces
+        if (count == 1) {
+          if (side.dot(polygon[0] - p) > 1e-6f) count = 0;
+          continue;
+        }
+        if (count == 2) {
+          // Clip a segment.
+          const float d0 = side.dot(polygon[0] - p), d1 = side.dot(polygon[1] - p);
+          if (d0 > 0 && d1 > 0) {
+            count = 0;
+          } else if (d0 > 0) {
+            polygon[0] = polygon[0] + d0 / (d0 - d1) * (polygon[1] - polygon[0]);
+          } else if (d1 > 0) {
+            polygon[1] = polygon[0] + d0 / (d0 - d1) * (polygon[1] - polygon[0]);
+          }
+          continue;
+        }
+        count = ClipAgainstPlane(polygon, count, p, side, clipped);
+        std::swap(polygon, clipped);
+      }
+    }
+    const Vec3& plane_point = reference.vertices[0];
+    const float denominator = n.dot(reference_normal);
+    ContactPoint points[64];
+    int point_count = 0;
+    for (int i = 0; i < count; ++i) {
+      // Project the incident point onto the reference plane along the contact normal.
+      const float t = (plane_point - polygon[i]).dot(reference_normal) / denominator;
+      const Vec3 on_reference = polygon[i] + t * n;
+      ContactPoint point;
+      point.position_a = reference_is_a ? on_reference : polygon[i];
+      point.position_b = reference_is_a ? polygon[i] : on_reference;
+      point.separation = (point.position_b - point.position_a).dot(n);
+      if (point.separation <= max_separation) points[point_count++] = point;
+    }
+    point_count = ReduceContactPoints(points, point_count, n);
+    for (int i = 0; i < point_count; ++i) manifold.points[i] = points[i];
+    manifold.count = point_count;
+  }
+  if (manifold.count == 0 && deepest.separation <= max_separation) {
+    manifold.points[0] = deepest;
+    manifold.count = 1;
+  }
+}
+
+}  // namespace strata

@@ -1,0 +1,91 @@
+#include "physics/shapes/BoxShape.h"
+
+#include <string>
+
+namespace strata {
+
+namespace {
+float BoxCoreRadius(const Vec3& half_extents) { return std::min(0.05f, 0.25f * half_extents.minCoeff()); }
+
+Vec3 SignedCorner(const Vec3& half, const Vec3& direction) {
+  return {direction.x() < 0 ? -half.x() : half.x(), direction.y() < 0 ? -half.y() : half.y(),
+          direction.z() < 0 ? -half.z() : half.z()};
+}
+}  // namespace
+
+Result<ShapeRef> BoxShape::Create(const Vec3& half_extents) {
+  if (!IsFinite(half_extents) || half_extents.minCoeff() <= 0.0f)
+    return MakeError(ErrorCode::kDegenerateShape, "box half extents must be positive finite numbers");
+  return ShapeRef(std::make_shared<BoxShape>(half_extents));
+}
+
+BoxShape::BoxShape(const Vec3& half_extents)
+    : ConvexShape(ShapeType::kBox, BoxCoreRadius(half_extents)),
+      half_extents_(half_extents),
+      core_half_extents_(half_extents.array() - BoxCoreRadius(half_extents)) {}
+
+MassProperties BoxShape::ComputeMassProperties(float density) const {
+  MassProperties properties;
+  const Vec3 size = 2.0f * half_extents_;
+  properties.mass = density * size.prod();
+  const Vec3 sq = size.cwiseProduct(size);
+  properties.inertia = (properties.mass / 12.0f * Vec3(sq.y() + sq.z(), sq.x() + sq.z(), sq.x() + sq.y())).asDiagonal();
+  return properties;
+}
+
+bool BoxShape::CastRay(const Vec3& origin, const Vec3& direction, float max_fraction, ShapeRayHit& hit) const {
+  const AABB box = LocalBounds();
+  const float fraction = box.RayEntry(origin, SafeInverse(direction), max_fraction);
+  if (fraction < 0.0f) return false;
+  hit.fraction = fraction;
+  hit.sub_shape = 0;
+  if (fraction == 0.0f && box.Contains(origin)) {
+    hit.normal = -direction.normalized();
+    return true;
+  }
+  // The entry face is the one the hit point lies on, relative to the half extents.
+  const Vec3 point = origin + fraction * direction;
+  const Vec3 relative = point.cwiseQuotient(half_extents_);
+  int axis = 0;
+  relative.cwiseAbs().maxCoeff(&axis);
+  hit.normal = Vec3::Zero();
+  hit.normal[axis] = relative[axis] < 0 ? -1.0f : 1.0f;
+  return true;
+}
+
+Vec3 BoxShape::Support(const Vec3& direction) const { return SignedCorner(half_extents_, direction); }
+Vec3 BoxShape::CoreSupport(const Vec3& direction) const { return SignedCorner(core_half_extents_, direction); }
+
+void BoxShape::GetSupportingFace(const Vec3& direction, SupportingFace& face) const {
+  face.count = 0;
+  int axis = 0;
+  direction.cwiseAbs().maxCoeff(&axis);
+  const float sign = direction[axis] < 0 ? -1.0f : 1.0f;
+  const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+  const float corners[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
+  for (int i = 0; i < 4; ++i) {
+    // Counter-clockwise seen from outside: reverse the winding on the negative face.
+    const int k = sign > 0 ? i : 3 - i;
+    Vec3 vertex;
+    vertex[axis] = sign * half_extents_[axis];
+    vertex[u] = corners[k][0] * half_extents_[u];
+    vertex[v] = corners[k][1] * half_extents_[v];
+    face.Add(vertex);
+  }
+}
+
+void BoxShape::CollectLocalTriangles(const AABB& local_box, std::vector<Triangle>& out) const {
+  if (!LocalBounds().Overlaps(local_box)) return;
+  for (int axis = 0; axis < 3; ++axis) {
+    for (float sign : {-1.0f, 1.0f}) {
+      Vec3 direction = Vec3::Zero();
+      direction[axis] = sign;
+      SupportingFace face;
+      GetSupportingFace(direction, face);
+      out.push_back({{face.vertices[0], face.vertices[1], face.vertices[2]}});
+      out.push_back({{face.vertices[0], face.vertices[2], face.vertices[3]}});
+    }
+  }
+}
+
+}  // namespace strata

@@ -1,0 +1,34 @@
+// BoxShape: a box centred on the local origin with given half extents. Immutable; thread-safe.
+#pragma once
+
+#include "physics/core/Result.h"
+#include "physics/shapes/ConvexShape.h"
+
+namespace strata {
+
+/// Box with `half_extents` (m) along the local axes. The core used by GJK is the box shrunk by a small
+/// internal radius; contact points and depths still come from the exact faces.
+class BoxShape final : public ConvexShape {
+ public:
+  /// Fails for non-finite or non-positive half extents.
+  static Result<ShapeRef> Create(const Vec3& half_extents);
+  explicit BoxShape(const Vec3& half_extents);
+
+  const Vec3& half_extents() const { return half_extents_; }
+
+  AABB LocalBounds() const override { return {-half_extents_, half_extents_}; }
+  MassProperties ComputeMassProperties(float density) const override;
+  bool CastRay(const Vec3& origin, const Vec3& direction, float max_fraction, ShapeRayHit& hit) const override;
+  Vec3 Support(const Vec3& direction) const override;
+  Vec3 CoreSupport(const Vec3& direction) const override;
+  void GetSupportingFace(const Vec3& direction, SupportingFace& face) const override;
+
+ protected:
+  void CollectLocalTriangles(const AABB& local_box, std::vector<Triangle>& out) const override;
+
+ private:
+  Vec3 half_extents_;
+  Vec3 core_half_extents_;
+};
+
+}  // namespace strata

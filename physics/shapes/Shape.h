@@ -1,0 +1,71 @@
+// Shape: the immutable geometry of a body, shared by reference (std::shared_ptr<const Shape>) so a query
+// can copy the reference under a body's read lock and keep using the shape after unlocking.
+// All methods are const and safe to call from any number of threads at once.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "physics/math/AABB.h"
+#include "physics/shapes/MassProperties.h"
+
+namespace strata {
+
+enum class ShapeType : std::uint8_t { kSphere, kBox, kCapsule, kConvexHull, kTriangleMesh };
+
+/// Human-readable name of a shape type ("sphere", "box", ...).
+const char* ToString(ShapeType type);
+
+/// A ray hit in the shape's local space.
+struct ShapeRayHit {
+  float fraction = 1.0f;           ///< hit point = origin + fraction * direction
+  Vec3 normal = Vec3::UnitY();     ///< surface normal at the hit, local space
+  std::uint32_t sub_shape = 0;     ///< triangle index for meshes, 0 otherwise
+};
+
+/// One triangle in world space (counter-clockwise seen from its front side).
+struct Triangle {
+  Vec3 vertices[3];
+};
+
+class Shape;
+using ShapeRef = std::shared_ptr<const Shape>;
+
+/// Base of all shapes. Local space has the shape's reference point at the origin.
+class Shape {
+ public:
+  virtual ~Shape() = default;
+  Shape(const Shape&) = delete;
+  Shape& operator=(const Shape&) = delete;
+
+  ShapeType type() const { return type_; }
+  bool IsConvex() const { return type_ != ShapeType::kTriangleMesh; }
+
+  /// Bounds in local space.
+  virtual AABB LocalBounds() const = 0;
+  /// Bounds in world space for a body at `pose`; shapes override where they can be tighter.
+  virtual AABB WorldBounds(const Pose& pose) const { return LocalBounds().Transformed(pose); }
+
+  /// Mass, inertia about the centre of mass and centre of mass for uniform `density` (kg/m^3).
+  virtual MassProperties ComputeMassProperties(float density) const = 0;
+
+  /// Ray origin + t * direction, t in [0, max_fraction], in local space. Returns true and fills `hit` on
+  /// the first hit from outside; rays starting inside a solid shape hit at fraction 0.
+  virtual bool CastRay(const Vec3& origin, const Vec3& direction, float max_fraction, ShapeRayHit& hit) const = 0;
+
+  /// Appends the world-space triangles of this shape at `pose` whose bounds overlap `world_box`
+  /// (used to gather navmesh input). Convex shapes are triangulated, meshes go through their BVH.
+  void GetTrianglesInBox(const AABB& world_box, const Pose& pose, std::vector<Triangle>& out) const;
+
+ protected:
+  explicit Shape(ShapeType type) : type_(type) {}
+
+  /// Local-space triangles that may overlap `local_box` (a superset is fine; the caller filters).
+  virtual void CollectLocalTriangles(const AABB& local_box, std::vector<Triangle>& out) const = 0;
+
+ private:
+  ShapeType type_;
+};
+
+}  // namespace strata

@@ -1,0 +1,199 @@
+#include "physics/solver/ContactSolver.h"
+
+namespace strata {
+
+namespace {
+
+float EffectiveMass(const SolverBody& a, const SolverBody& b, const Vec3& r_a, const Vec3& r_b, const Vec3& axis) {
+  const Vec3 ra_x = r_a.cross(axis), rb_x = r_b.cross(axis);
+  const float k = a.inverse_mass + b.inverse_mass + ra_x.dot(a.inverse_inertia * ra_x) +
+                  rb_x.dot(b.inverse_inertia * rb_x);
+  return k > 0.0f ? 1.0f / k : 0.0f;
+}
+
+Vec3 RelativeVelocity(const SolverBody& a, const SolverBody& b, const Vec3& r_a, const Vec3& r_b) {
+  return b.linear_velocity + b.angular_velocity.cross(r_b) - a.linear_velocity - a.angular_velocity.cross(r_a);
+}
+
+void ApplyImpulse(SolverBody& a, SolverBody& b, const Vec3& r_a, const Vec3& r_b, const Vec3& impulse) {
+  a.linear_velocity -= a.inverse_mass * impulse;
+  a.angular_velocity -= a.inverse_inertia * r_a.cross(impulse);
+  b.linear_velocity += b.inverse_mass * impulse;
+  b.angular_velocity += b.inverse_inertia * r_b.cross(impulse);
+}
+
+}  // namespace
+
+void ContactSolver::Setup(std::span<const ContactManifold> manifolds, std::span<const std::uint32_t> body_a,
+                          std::span<const std::uint32_t> body_b, std::span<const ContactMaterial> materials,
+                          std::span<const SolverBody> bodies, const ContactCache& cache, float dt,
+                          const PhysicsSettings& settings) {
+  constraints_.clear();
+  constraints_.reserve(manifolds.size());
+  for (std::size_t m = 0; m < manifolds.size(); ++m) {
+    const ContactManifold& manifold = manifolds[m];
+    Constraint c;
+    c.a = body_a[m];
+    c.b = body_b[m];
+    c.normal = manifold.normal;
+    c.tangent[0] = AnyPerpendicular(c.normal);
+    c.tangent[1] = c.normal.cross(c.tangent[0]);
+    c.friction = materials[m].friction;
+    c.bounce_shift = 0.0f;
+    c.count = manifold.count;
+    c.key = {manifold.body_a, manifold.body_b, manifold.sub_shape_b};
+    const SolverBody& a = bodies[c.a];
+    const SolverBody& b = bodies[c.b];
+    const CachedManifold* cached = cache.FindPrevious(c.key);
+    const float restitution = materials[m].restitution;
+    for (int i = 0; i < manifold.count; ++i) {
+      const ContactPoint& contact = manifold.points[i];
+      Point& p = c.points[i];
+      p.r_a = contact.position_a - a.center_of_mass;
+      p.r_b = contact.position_b - b.center_of_mass;
+      p.local_a = a.rotation.conjugate() * p.r_a;
+      p.local_b = b.rotation.conjugate() * p.r_b;
+      p.normal_mass = EffectiveMass(a, b, p.r_a, p.r_b, c.normal);
+      p.tangent_mass[0] = EffectiveMass(a, b, p.r_a, p.r_b, c.tangent[0]);
+      p.tangent_mass[1] = EffectiveMass(a, b, p.r_a, p.r_b, c.tangent[1]);
+      p.separation = contact.separation;
+      p.normal_impulse = 0.0f;
+      p.tangent_impulse[0] = p.tangent_impulse[1] = 0.0f;
+      if (cached) {
+        for (int k = 0; k < cached->count; ++k) {
+          if ((cached->local_point_a[k] - p.local_a).squaredNorm() >
+              settings.contact_match_distance * settings.contact_match_distance)
+            continue;
+          p.normal_impulse = cached->normal_impulse[k];
+          p.tangent_impulse[0] = cached->friction_impulse[k].dot(c.tangent[0]);
+          p.tangent_impulse[1] = cached->friction_impulse[k].dot(c.tangent[1]);
+          break;
+        }
+      }
+      const float approach = RelativeVelocity(a, b, p.r_a, p.r_b).dot(c.normal);
+      const bool fast = approach < -settings.min_velocity_for_restitution && restitution > 0.0f;
+      if (fast && p.separation <= -approach * dt) {
+        // Touching now or before the step ends: bounce. A speculative contact bounces early, so the
+        // bodies are shifted by the lost travel after integration (ApplyBounceCorrection), and the
+        // impact speed includes what gravity adds over the remaining gap.
+        const float closing_acceleration =
+            std::max(0.0f, (a.gravity_factor - b.gravity_factor) * settings.gravity.dot(c.normal));
+        const float gap = std::max(0.0f, p.separation);
+        const float impact = std::sqrt(approach * approach + 2.0f * closing_acceleration * gap);
+        p.target_velocity = restitution * impact;
+        if (p.separation > 0.0f) {
+          c.bounce_shift = std::max(c.bounce_shift, (1.0f + restitution) * p.separation);
+          p.normal_impulse = 0.0f;
+        }
+      } else {
+        // Speculative: the bodies may close the gap this step but no further.
+        p.target_velocity = p.separation > 0.0f ? -p.separation / dt : 0.0f;
+      }
+    }
+    constraints_.push_back(c);
+  }
+}
+
+void ContactSolver::WarmStart(std::span<SolverBody> bodies) const {
+  for (const Constraint& c : constraints_) {
+    SolverBody& a = bodies[c.a];
+    SolverBody& b = bodies[c.b];
+    for (int i = 0; i < c.count; ++i) {
+      const Point& p = c.points[i];
+      const Vec3 impulse =
+          p.normal_impulse * c.normal + p.tangent_impulse[0] * c.tangent[0] + p.tangent_impulse[1] * c.tangent[1];
+      ApplyImpulse(a, b, p.r_a, p.r_b, impulse);
+    }
+  }
+}
+
+void ContactSolver::SolveVelocities(std::span<SolverBody> bodies, int iteration) {
+  // Visiting a manifold's points in alternating order keeps the first-solved point from always getting
+  // the larger share, which would otherwise tilt resting stacks a little every step.
+  const bool reverse = (iteration & 1) != 0;
+  for (Constraint& c : constraints_) {
+    SolverBody& a = bodies[c.a];
+    SolverBody& b = bodies[c.b];
+    // Friction first, bounded by the current normal impulse, then the non-penetration constraint, which
+    // is the one that must hold best at the end of the pass.
+    for (int k = 0; k < c.count; ++k) {
+      Point& p = c.points[reverse ? c.count - 1 - k : k];
+      const float limit = c.friction * p.normal_impulse;
+      for (int axis = 0; axis < 2; ++axis) {
+        const float velocity = RelativeVelocity(a, b, p.r_a, p.r_b).dot(c.tangent[axis]);
+        const float old_impulse = p.tangent_impulse[axis];
+        p.tangent_impulse[axis] = std::clamp(old_impulse - velocity * p.tangent_mass[axis], -limit, limit);
+        ApplyImpulse(a, b, p.r_a, p.r_b, (p.tangent_impulse[axis] - old_impulse) * c.tangent[axis]);
+      }
+    }
+    for (int k = 0; k < c.count; ++k) {
+      Point& p = c.points[reverse ? c.count - 1 - k : k];
+      const float velocity = RelativeVelocity(a, b, p.r_a, p.r_b).dot(c.normal);
+      const float old_impulse = p.normal_impulse;
+      p.normal_impulse = std::max(0.0f, old_impulse - (velocity - p.target_velocity) * p.normal_mass);
+      ApplyImpulse(a, b, p.r_a, p.r_b, (p.normal_impulse - old_impulse) * c.normal);
+    }
+  }
+}
+
+void ContactSolver::StoreImpulses(ContactCache& cache) const {
+  for (const Constraint& c : constraints_) {
+    CachedManifold cached;
+    cached.count = c.count;
+    for (int i = 0; i < c.count; ++i) {
+      const Point& p = c.points[i];
+      cached.local_point_a[i] = p.local_a;
+      cached.normal_impulse[i] = p.normal_impulse;
+      cached.friction_impulse[i] = p.tangent_impulse[0] * c.tangent[0] + p.tangent_impulse[1] * c.tangent[1];
+    }
+    cache.Store(c.key, cached);
+  }
+}
+
+void ContactSolver::ApplyBounceCorrection(std::span<SolverBody> bodies) const {
+  for (const Constraint& c : constraints_) {
+    if (c.bounce_shift <= 0.0f) continue;
+    SolverBody& a = bodies[c.a];
+    SolverBody& b = bodies[c.b];
+    const float total = a.inverse_mass + b.inverse_mass;
+    if (total <= 0.0f) continue;
+    a.center_of_mass += c.normal * (c.bounce_shift * a.inverse_mass / total);
+    b.center_of_mass -= c.normal * (c.bounce_shift * b.inverse_mass / total);
+  }
+}
+
+float ContactSolver::SolvePositions(std::span<SolverBody> bodies, const PhysicsSettings& settings) const {
+  float deepest = 0.0f;
+  for (const Constraint& c : constraints_) {
+    SolverBody& a = bodies[c.a];
+    SolverBody& b = bodies[c.b];
+    for (int i = 0; i < c.count; ++i) {
+      const Point& p = c.points[i];
+      const Vec3 r_a = a.rotation * p.local_a;
+      const Vec3 r_b = b.rotation * p.local_b;
+      const float separation = (b.center_of_mass + r_b - a.center_of_mass - r_a).dot(c.normal);
+      deepest = std::min(deepest, separation);
+      const float correction = std::clamp(settings.baumgarte * (separation + settings.penetration_slop),
+                                          -settings.max_position_correction, 0.0f);
+      if (correction >= 0.0f) continue;
+      const float mass = EffectiveMass(a, b, r_a, r_b, c.normal);
+      const Vec3 impulse = (-correction * mass) * c.normal;
+      a.center_of_mass -= a.inverse_mass * impulse;
+      b.center_of_mass += b.inverse_mass * impulse;
+      // Rotate by the angular "impulse" as a small rotation vector.
+      const Vec3 turn_a = -(a.inverse_inertia * r_a.cross(impulse));
+      const Vec3 turn_b = b.inverse_inertia * r_b.cross(impulse);
+      auto rotate = [](Quat& q, const Vec3& turn) {
+        if (turn.squaredNorm() == 0.0f) return;
+        const Quat delta(0.0f, 0.5f * turn.x(), 0.5f * turn.y(), 0.5f * turn.z());
+        q.coeffs() += (delta * q).coeffs();
+        q.normalize();
+      };
+      rotate(a.rotation, turn_a);
+      rotate(b.rotation, turn_b);
+    }
+  }
+  return deepest;
+}
+
+}  // namespace strata

@@ -1,0 +1,152 @@
+// Physical behaviour of the step: resting, stacking, bouncing, friction on inclines, momentum.
+#include <cmath>
+
+#include "TestWorld.h"
+
+namespace strata::test {
+namespace {
+
+BodyID Floor(PhysicsSystem& world, float friction = 0.5f, const Quat& rotation = Quat::Identity()) {
+  BodyCreationSettings floor = Static(Box(50, 1, 50), Vec3(0, -1, 0), rotation);
+  floor.friction = friction;
+  return Add(world, floor);
+}
+
+TEST(Simulation, RestingBoxPenetratesLessThanOneCentimetre) {
+  auto world = MakeWorld();
+  Floor(*world);
+  const BodyID box = Add(*world, Dynamic(Box(0.5f, 0.5f, 0.5f), Vec3(0, 0.5f, 0)));
+  StepFor(*world, 120);
+  const float bottom = Position(*world, box).y() - 0.5f;
+  EXPECT_GT(bottom, -0.01f);
+  EXPECT_LT(bottom, 0.01f);
+  EXPECT_LT(world->last_step_stats().max_penetration, 0.01f);
+}
+
+TEST(Simulation, StackOfTenBoxesStaysWithinFiveCentimetres) {
+  PhysicsSettings settings;
+  settings.allow_sleeping = false;  // the solver, not sleeping, must hold the stack
+  auto world = MakeWorld(settings);
+  Floor(*world);
+  std::vector<BodyID> boxes;
+  std::vector<Vec3> starts;
+  for (int i = 0; i < 10; ++i) {
+    starts.emplace_back(0.0f, 0.5f + 1.0f * static_cast<float>(i), 0.0f);
+    boxes.push_back(Add(*world, Dynamic(Box(0.5f, 0.5f, 0.5f), starts.back())));
+  }
+  StepFor(*world, 600);
+  for (int i = 0; i < 10; ++i)
+    EXPECT_LT((Position(*world, boxes[i]) - starts[i]).norm(), 0.05f) << "box " << i;
+}
+
+TEST(Simulation, SphereReboundApexMatchesRestitution) {
+  auto world = MakeWorld();
+  BodyCreationSettings floor = Static(Box(50, 1, 50), Vec3(0, -1, 0));
+  Add(*world, floor);
+  BodyCreationSettings ball = Dynamic(Sphere(0.5f), Vec3(0, 2.5f, 0));  // bottom 2 m above the floor
+  ball.restitution = 0.5f;
+  ball.linear_damping = 0.0f;
+  const BodyID sphere = Add(*world, ball);
+  bool bounced = false;
+  float apex = 0.0f;
+  for (int step = 0; step < 240; ++step) {
+    ASSERT_TRUE(world->Step(1.0f / 60.0f).ok());
+    const float velocity = Velocity(*world, sphere).y();
+    const float bottom = Position(*world, sphere).y() - 0.5f;
+    if (!bounced && velocity > 0.0f) bounced = true;
+    if (bounced) apex = std::max(apex, bottom);
+    if (bounced && velocity < 0.0f) break;
+  }
+  ASSERT_TRUE(bounced);
+  // e^2 * drop height.
+  EXPECT_NEAR(apex, 0.5f, 0.025f);
+}
+
+struct InclineResult {
+  float displacement;
+  float acceleration;
+};
+
+InclineResult SlideOnIncline(float degrees) {
+  PhysicsSettings settings;
+  settings.allow_sleeping = false;
+  auto world = MakeWorld(settings);
+  const float angle = degrees * kPi / 180.0f;
+  const Quat tilt(Eigen::AngleAxisf(angle, Vec3::UnitZ()));
+  BodyCreationSettings ramp = Static(Box(20, 0.5f, 5), Vec3::Zero(), tilt);
+  ramp.friction = 0.6f;
+  Add(*world, ramp);
+  BodyCreationSettings box = Dynamic(Box(0.5f, 0.5f, 0.5f), tilt * Vec3(0, 1.0f, 0), tilt);
+  box.friction = 0.6f;
+  box.linear_damping = 0.0f;
+  box.angular_damping = 0.0f;
+  const BodyID id = Add(*world, box);
+  const Vec3 downhill = tilt * Vec3(-1, 0, 0);
+  StepFor(*world, 30);  // settle onto the ramp
+  const Vec3 start = Position(*world, id);
+  const float v0 = Velocity(*world, id).dot(downhill);
+  const float seconds = 1.0f;
+  StepFor(*world, 60);
+  const float v1 = Velocity(*world, id).dot(downhill);
+  return {(Position(*world, id) - start).dot(downhill), (v1 - v0) / seconds};
+}
+
+TEST(Simulation, BoxSticksOnTwentyFiveDegreeInclineWithFrictionPointSix) {
+  const InclineResult result = SlideOnIncline(25.0f);
+  EXPECT_LT(std::abs(result.displacement), 0.01f);
+}
+
+TEST(Simulation, BoxSlidesOnThirtyFiveDegreeInclineWithCoulombAcceleration) {
+  const InclineResult result = SlideOnIncline(35.0f);
+  const float angle = 35.0f * kPi / 180.0f;
+  const float expected = 9.81f * (std::sin(angle) - 0.6f * std::cos(angle));
+  EXPECT_NEAR(result.acceleration, expected, 0.05f * expected);
+}
+
+TEST(Simulation, HeadOnSphereCollisionConservesMomentum) {
+  PhysicsSettings settings;
+  settings.gravity = Vec3::Zero();
+  auto world = MakeWorld(settings);
+  BodyCreationSettings left = Dynamic(Sphere(0.5f), Vec3(-2, 0, 0));
+  left.linear_velocity = Vec3(3, 0, 0);
+  left.mass = 2.0f;
+  left.restitution = 0.8f;
+  left.linear_damping = 0.0f;
+  BodyCreationSettings right = Dynamic(Sphere(0.5f), Vec3(2, 0, 0));
+  right.linear_velocity = Vec3(-1, 0, 0);
+  right.mass = 1.0f;
+  right.linear_damping = 0.0f;
+  const BodyID a = Add(*world, left);
+  const BodyID b = Add(*world, right);
+  const Vec3 before = 2.0f * Velocity(*world, a) + 1.0f * Velocity(*world, b);
+  StepFor(*world, 120);
+  const Vec3 after = 2.0f * Velocity(*world, a) + 1.0f * Velocity(*world, b);
+  // They did collide: the light sphere now moves right.
+  EXPECT_GT(Velocity(*world, b).x(), 0.0f);
+  EXPECT_LT((after - before).norm(), 0.001f * before.norm());
+}
+
+TEST(Simulation, SameInputsGiveSameResult) {
+  auto simulate = [] {
+    PhysicsSystemConfig config;
+    config.max_bodies = 256;
+    config.thread_count = 2;
+    auto world = std::move(*PhysicsSystem::Create(config));
+    Add(*world, Static(Box(50, 1, 50), Vec3(0, -1, 0)));
+    std::vector<BodyID> ids;
+    for (int i = 0; i < 40; ++i)
+      ids.push_back(Add(*world, Dynamic(i % 2 ? Box(0.4f, 0.3f, 0.5f) : Sphere(0.4f),
+                                        Vec3(0.3f * (i % 5), 1.0f + 0.9f * i, 0.2f * (i % 3)))));
+    StepFor(*world, 200);
+    std::vector<float> state;
+    for (const BodyID id : ids) {
+      const Vec3 p = Position(*world, id);
+      state.insert(state.end(), {p.x(), p.y(), p.z()});
+    }
+    return state;
+  };
+  EXPECT_EQ(simulate(), simulate());
+}
+
+}  // namespace
+}  // namespace strata::test
