@@ -1,0 +1,60 @@
+#include "assets/import/MeshImporter.h"
+
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+
+#include <assimp/Importer.hpp>
+#include <string>
+
+namespace strata {
+
+namespace {
+
+Error ImportError(const std::filesystem::path& path, const std::string& why) {
+  return MakeError(ErrorCode::kParseError, path.string() + ": " + why);
+}
+
+void AppendNode(const aiScene& scene, const aiNode& node, const aiMatrix4x4& parent, const MeshImportOptions& options,
+                ImportedMesh& out) {
+  const aiMatrix4x4 transform = parent * node.mTransformation;
+  for (unsigned m = 0; m < node.mNumMeshes; ++m) {
+    const aiMesh& mesh = *scene.mMeshes[node.mMeshes[m]];
+    const auto base = static_cast<std::uint32_t>(out.vertices.size());
+    for (unsigned v = 0; v < mesh.mNumVertices; ++v) {
+      const aiVector3D p = transform * mesh.mVertices[v];
+      Vec3 vertex(p.x, p.y, p.z);
+      if (options.z_up) vertex = Vec3(p.x, p.z, -p.y);
+      out.vertices.push_back(vertex * options.scale);
+    }
+    for (unsigned f = 0; f < mesh.mNumFaces; ++f) {
+      const aiFace& face = mesh.mFaces[f];
+      if (face.mNumIndices != 3) continue;  // points and lines left over after triangulation
+      out.triangles.push_back({base + face.mIndices[0], base + face.mIndices[1], base + face.mIndices[2]});
+    }
+  }
+  for (unsigned c = 0; c < node.mNumChildren; ++c) AppendNode(scene, *node.mChildren[c], transform, options, out);
+}
+
+}  // namespace
+
+Result<ImportedMesh> ImportMesh(const std::filesystem::path& path, const MeshImportOptions& options) {
+  if (!IsFinite(options.scale) || options.scale <= 0.0f) return ImportError(path, "scale must be a positive number");
+  std::error_code error;
+  if (!std::filesystem::is_regular_file(path, error)) return ImportError(path, "file not found");
+  Assimp::Importer importer;
+  // Drop normals, colours and UVs before welding so vertices differing only in those still merge.
+  importer.SetPropertyInteger(AI_CONFIG_PP_RVC_FLAGS, aiComponent_NORMALS | aiComponent_TANGENTS_AND_BITANGENTS |
+                                                          aiComponent_COLORS | aiComponent_TEXCOORDS);
+  const aiScene* scene = importer.ReadFile(
+      path.string(), aiProcess_Triangulate | aiProcess_RemoveComponent | aiProcess_JoinIdenticalVertices |
+                         aiProcess_FindDegenerates | aiProcess_SortByPType | aiProcess_FindInvalidData);
+  if (!scene || !scene->mRootNode) return ImportError(path, std::string("cannot import: ") + importer.GetErrorString());
+  ImportedMesh mesh;
+  AppendNode(*scene, *scene->mRootNode, aiMatrix4x4(), options, mesh);
+  for (const Vec3& v : mesh.vertices)
+    if (!IsFinite(v)) return ImportError(path, "has non-finite vertex coordinates");
+  if (mesh.triangles.empty()) return ImportError(path, "contains no triangles");
+  return mesh;
+}
+
+}  // namespace strata

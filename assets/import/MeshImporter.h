@@ -1,0 +1,30 @@
+// MeshImporter: reads a level or prop mesh file through assimp (OBJ, glTF/GLB, FBX, PLY, STL, DAE, ...)
+// into one welded, triangulated triangle list with the scene graph's transforms applied.
+// Stateless; safe to call from any thread (each call owns its assimp importer).
+#pragma once
+
+#include <filesystem>
+#include <vector>
+
+#include "physics/core/Result.h"
+#include "physics/shapes/TriangleMeshShape.h"
+
+namespace strata {
+
+/// Triangles of an imported file in the file's units, Y up.
+struct ImportedMesh {
+  std::vector<Vec3> vertices;
+  std::vector<TriangleMeshShape::Indices> triangles;
+};
+
+/// How to bring a file into Strata's frame.
+struct MeshImportOptions {
+  float scale = 1.0f;   ///< multiplies every coordinate (e.g. 0.01 for centimetre files)
+  bool z_up = false;    ///< the file is Z-up; rotate it to Y-up
+};
+
+/// Loads every mesh of `path`. Fails (naming the file and why) for a missing, unsupported or corrupt file,
+/// a file with no triangles, or non-finite vertices.
+Result<ImportedMesh> ImportMesh(const std::filesystem::path& path, const MeshImportOptions& options = {});
+
+}  // namespace strata

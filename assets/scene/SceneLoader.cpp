@@ -1,0 +1,300 @@
+#include "assets/scene/SceneLoader.h"
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <sstream>
+
+#include "assets/import/MeshImporter.h"
+#include "physics/body/BodyInterface.h"
+#include "physics/shapes/BoxShape.h"
+#include "physics/shapes/CapsuleShape.h"
+#include "physics/shapes/ConvexHullShape.h"
+#include "physics/shapes/SphereShape.h"
+#include "physics/shapes/TriangleMeshShape.h"
+
+namespace strata {
+
+namespace {
+
+using Json = nlohmann::json;
+
+// Reads typed values out of one JSON object and remembers the first problem with its JSON path.
+class Reader {
+ public:
+  Reader(const std::string& source, std::string path) : source_(source), path_(std::move(path)) {}
+
+  Error Fail(const std::string& key, const std::string& why) const {
+    return MakeError(ErrorCode::kParseError, source_ + ": " + path_ + (key.empty() ? "" : "/" + key) + ": " + why);
+  }
+  std::string Child(const std::string& key) const { return path_ + "/" + key; }
+  Reader At(const std::string& key) const { return Reader(source_, Child(key)); }
+  const std::string& source() const { return source_; }
+
+  // Each getter leaves `out` unchanged when the key is absent and returns an error when present but wrong.
+  Status Number(const Json& object, const std::string& key, float& out) const {
+    if (!object.contains(key)) return Status::Ok();
+    const Json& value = object[key];
+    if (!value.is_number()) return Fail(key, "must be a number");
+    const double number = value.get<double>();
+    if (!std::isfinite(number)) return Fail(key, "must be finite");
+    out = static_cast<float>(number);
+    return Status::Ok();
+  }
+  Status Integer(const Json& object, const std::string& key, int& out) const {
+    if (!object.contains(key)) return Status::Ok();
+    if (!object[key].is_number_integer()) return Fail(key, "must be an integer");
+    out = object[key].get<int>();
+    return Status::Ok();
+  }
+  Status Boolean(const Json& object, const std::string& key, bool& out) const {
+    if (!object.contains(key)) return Status::Ok();
+    if (!object[key].is_boolean()) return Fail(key, "must be true or false");
+    out = object[key].get<bool>();
+    return Status::Ok();
+  }
+  Status String(const Json& object, const std::string& key, std::string& out) const {
+    if (!object.contains(key)) return Status::Ok();
+    if (!object[key].is_string()) return Fail(key, "must be a string");
+    out = object[key].get<std::string>();
+    return Status::Ok();
+  }
+  Status Vector(const Json& object, const std::string& key, Vec3& out) const {
+    if (!object.contains(key)) return Status::Ok();
+    return ParseVector(object[key], key, out);
+  }
+  Status ParseVector(const Json& value, const std::string& key, Vec3& out) const {
+    if (!value.is_array() || value.size() != 3) return Fail(key, "must be an array of 3 numbers");
+    for (int i = 0; i < 3; ++i) {
+      if (!value[i].is_number() || !std::isfinite(value[i].get<double>()))
+        return Fail(key + "/" + std::to_string(i), "must be a finite number");
+      out[i] = value[i].get<float>();
+    }
+    return Status::Ok();
+  }
+  Status Rotation(const Json& object, const std::string& key, Quat& out) const {
+    if (!object.contains(key)) return Status::Ok();
+    const Json& value = object[key];
+    if (!value.is_array() || value.size() != 4) return Fail(key, "must be a quaternion [w, x, y, z]");
+    float q[4];
+    for (int i = 0; i < 4; ++i) {
+      if (!value[i].is_number() || !std::isfinite(value[i].get<double>()))
+        return Fail(key + "/" + std::to_string(i), "must be a finite number");
+      q[i] = value[i].get<float>();
+    }
+    const Quat rotation(q[0], q[1], q[2], q[3]);
+    if (rotation.norm() < 1e-6f) return Fail(key, "must not be the zero quaternion");
+    out = rotation.normalized();
+    return Status::Ok();
+  }
+  Status OnlyKeys(const Json& object, std::initializer_list<const char*> allowed) const {
+    const std::set<std::string> keys(allowed.begin(), allowed.end());
+    for (const auto& [key, value] : object.items())
+      if (!keys.count(key)) return Fail(key, "unknown key");
+    return Status::Ok();
+  }
+
+ private:
+  const std::string& source_;
+  std::string path_;
+};
+
+#define STRATA_TRY(expression)                     \
+  do {                                             \
+    if (Status status_ = (expression); !status_)   \
+      return status_.error();                      \
+  } while (false)
+
+Result<std::vector<Vec3>> ParsePoints(const Reader& reader, const Json& shape, const std::string& key) {
+  if (!shape.contains(key) || !shape[key].is_array()) return reader.Fail(key, "must be an array of [x, y, z] points");
+  std::vector<Vec3> points;
+  for (std::size_t i = 0; i < shape[key].size(); ++i) {
+    Vec3 point;
+    STRATA_TRY(reader.ParseVector(shape[key][i], key + "/" + std::to_string(i), point));
+    points.push_back(point);
+  }
+  return points;
+}
+
+Result<ShapeRef> ParseMesh(const Reader& reader, const Json& shape, const std::filesystem::path& base) {
+  if (shape.contains("file")) {
+    if (!shape["file"].is_string()) return reader.Fail("file", "must be a path string");
+    MeshImportOptions options;
+    STRATA_TRY(reader.Number(shape, "scale", options.scale));
+    STRATA_TRY(reader.Boolean(shape, "z_up", options.z_up));
+    Result<ImportedMesh> mesh = ImportMesh(base / shape["file"].get<std::string>(), options);
+    if (!mesh) return reader.Fail("file", mesh.error().message);
+    Result<ShapeRef> created = TriangleMeshShape::Create(mesh->vertices, mesh->triangles);
+    if (!created) return reader.Fail("file", created.error().message);
+    return created;
+  }
+  Result<std::vector<Vec3>> vertices = ParsePoints(reader, shape, "vertices");
+  if (!vertices) return vertices.error();
+  if (!shape.contains("indices") || !shape["indices"].is_array() || shape["indices"].size() % 3 != 0)
+    return reader.Fail("indices", "must be a flat array of vertex indices, 3 per triangle");
+  std::vector<TriangleMeshShape::Indices> triangles;
+  const Json& indices = shape["indices"];
+  for (std::size_t i = 0; i < indices.size(); i += 3) {
+    TriangleMeshShape::Indices triangle;
+    for (std::size_t k = 0; k < 3; ++k) {
+      if (!indices[i + k].is_number_unsigned())
+        return reader.Fail("indices/" + std::to_string(i + k), "must be a non-negative integer");
+      triangle[k] = indices[i + k].get<std::uint32_t>();
+    }
+    triangles.push_back(triangle);
+  }
+  Result<ShapeRef> created = TriangleMeshShape::Create(*vertices, triangles);
+  if (!created) return reader.Fail("", created.error().message);
+  return created;
+}
+
+Result<ShapeRef> ParseShape(const Reader& reader, const Json& shape, const std::filesystem::path& base) {
+  if (!shape.is_object()) return reader.Fail("", "must be an object");
+  std::string type;
+  STRATA_TRY(reader.String(shape, "type", type));
+  auto created = [&](Result<ShapeRef> result, const std::string& key) -> Result<ShapeRef> {
+    if (!result) return reader.Fail(key, result.error().message);
+    return result;
+  };
+  float radius = -1.0f, half_height = -1.0f;
+  Vec3 half_extents = Vec3::Constant(-1.0f);
+  if (type == "sphere") {
+    STRATA_TRY(reader.OnlyKeys(shape, {"type", "radius"}));
+    STRATA_TRY(reader.Number(shape, "radius", radius));
+    return created(SphereShape::Create(radius), "radius");
+  }
+  if (type == "box") {
+    STRATA_TRY(reader.OnlyKeys(shape, {"type", "half_extents"}));
+    STRATA_TRY(reader.Vector(shape, "half_extents", half_extents));
+    return created(BoxShape::Create(half_extents), "half_extents");
+  }
+  if (type == "capsule") {
+    STRATA_TRY(reader.OnlyKeys(shape, {"type", "radius", "half_height"}));
+    STRATA_TRY(reader.Number(shape, "radius", radius));
+    STRATA_TRY(reader.Number(shape, "half_height", half_height));
+    return created(CapsuleShape::Create(half_height, radius), "");
+  }
+  if (type == "convex_hull") {
+    STRATA_TRY(reader.OnlyKeys(shape, {"type", "points"}));
+    Result<std::vector<Vec3>> points = ParsePoints(reader, shape, "points");
+    if (!points) return points.error();
+    return created(ConvexHullShape::Create(*points), "points");
+  }
+  if (type == "mesh") {
+    STRATA_TRY(reader.OnlyKeys(shape, {"type", "vertices", "indices", "file", "scale", "z_up"}));
+    return ParseMesh(reader, shape, base);
+  }
+  return reader.Fail("type", "must be one of sphere, box, capsule, convex_hull, mesh (got '" + type + "')");
+}
+
+Result<SceneBody> ParseBody(const Reader& reader, const Json& body, const std::filesystem::path& base) {
+  if (!body.is_object()) return reader.Fail("", "must be an object");
+  STRATA_TRY(reader.OnlyKeys(body, {"name", "shape", "position", "rotation", "motion", "mass", "density", "friction",
+                                    "restitution", "linear_velocity", "angular_velocity", "linear_damping",
+                                    "angular_damping", "gravity_factor", "allow_sleeping"}));
+  SceneBody out;
+  STRATA_TRY(reader.String(body, "name", out.name));
+  if (!body.contains("shape")) return reader.Fail("shape", "is required");
+  Result<ShapeRef> shape = ParseShape(reader.At("shape"), body["shape"], base);
+  if (!shape) return shape.error();
+  BodyCreationSettings& settings = out.settings;
+  settings.shape = *shape;
+  STRATA_TRY(reader.Vector(body, "position", settings.position));
+  STRATA_TRY(reader.Rotation(body, "rotation", settings.rotation));
+  std::string motion = "dynamic";
+  STRATA_TRY(reader.String(body, "motion", motion));
+  if (motion == "static") settings.motion_type = MotionType::kStatic;
+  else if (motion == "kinematic") settings.motion_type = MotionType::kKinematic;
+  else if (motion == "dynamic") settings.motion_type = MotionType::kDynamic;
+  else return reader.Fail("motion", "must be static, kinematic or dynamic (got '" + motion + "')");
+  settings.object_layer = settings.motion_type == MotionType::kStatic ? layers::kNonMoving : layers::kMoving;
+  if (body.contains("mass") && body.contains("density")) return reader.Fail("mass", "give mass or density, not both");
+  if (body.contains("mass")) {
+    float mass = 0.0f;
+    STRATA_TRY(reader.Number(body, "mass", mass));
+    if (mass <= 0.0f) return reader.Fail("mass", "must be positive");
+    settings.mass = mass;
+  }
+  STRATA_TRY(reader.Number(body, "density", settings.density));
+  STRATA_TRY(reader.Number(body, "friction", settings.friction));
+  STRATA_TRY(reader.Number(body, "restitution", settings.restitution));
+  STRATA_TRY(reader.Vector(body, "linear_velocity", settings.linear_velocity));
+  STRATA_TRY(reader.Vector(body, "angular_velocity", settings.angular_velocity));
+  STRATA_TRY(reader.Number(body, "linear_damping", settings.linear_damping));
+  STRATA_TRY(reader.Number(body, "angular_damping", settings.angular_damping));
+  STRATA_TRY(reader.Number(body, "gravity_factor", settings.gravity_factor));
+  STRATA_TRY(reader.Boolean(body, "allow_sleeping", settings.allow_sleeping));
+  if (Status valid = settings.Validate(); !valid) return reader.Fail("", valid.message());
+  return out;
+}
+
+Status ParseSettings(const Reader& reader, const Json& json, Scene& scene) {
+  if (!json.is_object()) return reader.Fail("", "must be an object");
+  STRATA_TRY(reader.OnlyKeys(json, {"gravity", "dt", "velocity_iterations", "position_iterations", "sleeping"}));
+  STRATA_TRY(reader.Vector(json, "gravity", scene.physics.gravity));
+  STRATA_TRY(reader.Number(json, "dt", scene.dt));
+  if (!(scene.dt > 0.0f) || scene.dt > 1.0f) return reader.Fail("dt", "must be in (0, 1] seconds");
+  STRATA_TRY(reader.Integer(json, "velocity_iterations", scene.physics.velocity_iterations));
+  STRATA_TRY(reader.Integer(json, "position_iterations", scene.physics.position_iterations));
+  STRATA_TRY(reader.Boolean(json, "sleeping", scene.physics.allow_sleeping));
+  if (Status valid = scene.physics.Validate(); !valid) return reader.Fail("", valid.message());
+  return Status::Ok();
+}
+
+#undef STRATA_TRY
+
+}  // namespace
+
+Result<Scene> ParseScene(const std::string& text, const std::string& source,
+                         const std::filesystem::path& base_directory) {
+  Json json;
+  try {
+    json = Json::parse(text);
+  } catch (const Json::parse_error& error) {
+    return MakeError(ErrorCode::kParseError, source + ": invalid JSON: " + error.what());
+  }
+  const Reader root(source, "");
+  if (!json.is_object()) return root.Fail("", "the scene must be a JSON object");
+  if (Status keys = root.OnlyKeys(json, {"settings", "bodies"}); !keys) return keys.error();
+  Scene scene;
+  if (json.contains("settings"))
+    if (Status settings = ParseSettings(root.At("settings"), json["settings"], scene); !settings)
+      return settings.error();
+  if (!json.contains("bodies") || !json["bodies"].is_array()) return root.Fail("bodies", "must be an array");
+  std::set<std::string> names;
+  for (std::size_t i = 0; i < json["bodies"].size(); ++i) {
+    const Reader reader = root.At("bodies/" + std::to_string(i));
+    Result<SceneBody> body = ParseBody(reader, json["bodies"][i], base_directory);
+    if (!body) return body.error();
+    if (body->name.empty()) body->name = "body" + std::to_string(i);
+    if (!names.insert(body->name).second) return reader.Fail("name", "duplicate body name '" + body->name + "'");
+    scene.bodies.push_back(std::move(*body));
+  }
+  return scene;
+}
+
+Result<Scene> LoadScene(const std::filesystem::path& path) {
+  std::ifstream file(path, std::ios::binary);
+  if (!file) return MakeError(ErrorCode::kParseError, path.string() + ": cannot open file");
+  std::stringstream text;
+  text << file.rdbuf();
+  return ParseScene(text.str(), path.string(), path.parent_path());
+}
+
+Result<SceneWorld> BuildSceneWorld(const Scene& scene, PhysicsSystemConfig config) {
+  config.max_bodies = std::max<std::uint32_t>(16, static_cast<std::uint32_t>(scene.bodies.size()));
+  Result<std::unique_ptr<PhysicsSystem>> system = PhysicsSystem::Create(config, scene.physics);
+  if (!system) return system.error();
+  SceneWorld world{std::move(*system), {}};
+  std::vector<BodyID> ids;
+  for (const SceneBody& body : scene.bodies) {
+    Result<BodyID> id = world.system->bodies().CreateBody(body.settings);
+    if (!id) return MakeError(id.error().code, "body '" + body.name + "': " + id.error().message);
+    ids.push_back(*id);
+  }
+  if (Status added = world.system->bodies().AddBodies(ids); !added) return added.error();
+  world.ids = std::move(ids);
+  return world;
+}
+
+}  // namespace strata

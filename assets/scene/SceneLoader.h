@@ -1,0 +1,44 @@
+// SceneLoader: reads the JSON scene format (assets/scenes/README.md) into validated body settings and
+// builds a world from them. A bad file yields one error naming the file, the JSON path of the bad value
+// and why; nothing is created. Stateless; safe from any thread.
+#pragma once
+
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "physics/body/BodyCreationSettings.h"
+#include "physics/world/PhysicsSystem.h"
+
+namespace strata {
+
+/// One named body of a scene.
+struct SceneBody {
+  std::string name;
+  BodyCreationSettings settings;
+};
+
+/// A parsed, validated scene.
+struct Scene {
+  PhysicsSettings physics;
+  float dt = 1.0f / 60.0f;  ///< seconds per step
+  std::vector<SceneBody> bodies;
+};
+
+/// Reads and validates `path` (mesh `file` entries are resolved relative to it).
+Result<Scene> LoadScene(const std::filesystem::path& path);
+/// Parses scene JSON text; `source` names it in errors, `base_directory` resolves mesh files.
+Result<Scene> ParseScene(const std::string& text, const std::string& source,
+                         const std::filesystem::path& base_directory);
+
+/// A world holding the scene's bodies, and their ids in scene order.
+struct SceneWorld {
+  std::unique_ptr<PhysicsSystem> system;
+  std::vector<BodyID> ids;
+};
+
+/// Creates a world sized for the scene and adds every body. `config` supplies threads and layers.
+Result<SceneWorld> BuildSceneWorld(const Scene& scene, PhysicsSystemConfig config = {});
+
+}  // namespace strata

@@ -1,0 +1,160 @@
+#include "tools/bench/BenchRunner.h"
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstring>
+#include <fstream>
+#include <string>
+
+#include "physics/body/BodyInterface.h"
+#include "physics/core/TbbJobSystem.h"
+#include "physics/shapes/BoxShape.h"
+#include "physics/shapes/CapsuleShape.h"
+#include "physics/shapes/ConvexHullShape.h"
+#include "physics/shapes/SphereShape.h"
+#include "physics/shapes/TriangleMeshShape.h"
+#include "physics/world/PhysicsSystem.h"
+
+namespace strata::bench {
+
+namespace {
+
+void HashBytes(std::uint64_t& hash, const void* data, std::size_t size) {
+  const auto* bytes = static_cast<const unsigned char*>(data);
+  for (std::size_t i = 0; i < size; ++i) {
+    hash ^= bytes[i];
+    hash *= 1099511628211ull;
+  }
+}
+
+ShapeRef MakeShape(const BenchScene& scene, const BenchBody& body) {
+  switch (body.shape) {
+    case BenchShape::kBox: return *BoxShape::Create(body.half_extents);
+    case BenchShape::kSphere: return *SphereShape::Create(body.radius);
+    case BenchShape::kCapsule: return *CapsuleShape::Create(body.half_height, body.radius);
+    case BenchShape::kHull: return *ConvexHullShape::Create(scene.hull_points);
+    case BenchShape::kMesh: return *TriangleMeshShape::Create(scene.mesh_vertices, scene.mesh_triangles);
+  }
+  return nullptr;
+}
+
+}  // namespace
+
+float BenchMass(const BenchScene& scene, const BenchBody& body) {
+  return MakeShape(scene, body)->ComputeMassProperties(BodyCreationSettings().density).mass;
+}
+
+void Summarize(const BenchScene& scene, const std::vector<FinalPose>& poses, EngineResult& result) {
+  result.state_hash = 1469598103934665603ull;
+  result.bodies_in_footprint = 0;
+  for (const FinalPose& pose : poses) {
+    HashBytes(result.state_hash, pose.position.data(), sizeof(float) * 3);
+    HashBytes(result.state_hash, pose.rotation.coeffs().data(), sizeof(float) * 4);
+    const bool inside = scene.name == "pyramid"
+                            ? std::abs(pose.position.x()) <= 16.0f && std::abs(pose.position.z()) <= 16.0f &&
+                                  pose.position.y() > 0.0f
+                            : pose.position.y() > 0.0f;
+    result.bodies_in_footprint += inside ? 1 : 0;
+  }
+}
+
+void SummarizeTimes(std::vector<double> step_seconds, EngineResult& result) {
+  result.steps = static_cast<int>(step_seconds.size());
+  result.total_seconds = 0.0;
+  for (double s : step_seconds) result.total_seconds += s;
+  if (step_seconds.empty()) return;
+  result.max_step_ms = 1000.0 * *std::max_element(step_seconds.begin(), step_seconds.end());
+  std::nth_element(step_seconds.begin(), step_seconds.begin() + step_seconds.size() / 2, step_seconds.end());
+  result.median_step_ms = 1000.0 * step_seconds[step_seconds.size() / 2];
+}
+
+long PeakMemoryKb() {
+  std::ifstream status("/proc/self/status");
+  std::string line;
+  while (std::getline(status, line))
+    if (line.rfind("VmHWM:", 0) == 0) return std::stol(line.substr(6));
+  return 0;
+}
+
+EngineResult RunStrata(const BenchScene& scene, int threads) {
+  EngineResult result;
+  PhysicsSystemConfig config;
+  config.max_bodies = static_cast<std::uint32_t>(scene.bodies.size()) + 16;
+  config.thread_count = threads;
+  PhysicsSettings settings;
+  settings.velocity_iterations = scene.velocity_iterations;
+  settings.position_iterations = scene.position_iterations;
+  settings.allow_sleeping = scene.sleeping;
+  auto system = PhysicsSystem::Create(config, settings);
+  if (!system) return result;
+  PhysicsSystem& world = **system;
+  ShapeRef hull, mesh;  // shared by all bodies that use them, as a game would
+  std::vector<BodyID> dynamic_ids;
+  std::vector<BodyID> all_ids;
+  for (const BenchBody& body : scene.bodies) {
+    BodyCreationSettings create;
+    if (body.shape == BenchShape::kHull) create.shape = hull ? hull : (hull = MakeShape(scene, body));
+    else if (body.shape == BenchShape::kMesh) create.shape = mesh ? mesh : (mesh = MakeShape(scene, body));
+    else create.shape = MakeShape(scene, body);
+    create.position = body.position;
+    create.motion_type = body.dynamic ? MotionType::kDynamic : MotionType::kStatic;
+    create.object_layer = body.dynamic ? layers::kMoving : layers::kNonMoving;
+    create.friction = body.friction;
+    create.restitution = body.restitution;
+    auto id = world.bodies().CreateBody(create);
+    if (!id) return result;
+    all_ids.push_back(*id);
+    if (body.dynamic) dynamic_ids.push_back(*id);
+  }
+  if (!world.bodies().AddBodies(all_ids).ok()) return result;
+  std::vector<double> times;
+  times.reserve(scene.steps);
+  for (int step = 0; step < scene.steps; ++step) {
+    const auto start = std::chrono::steady_clock::now();
+    if (!world.Step(scene.dt).ok()) return result;
+    times.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  }
+  SummarizeTimes(std::move(times), result);
+  std::vector<FinalPose> poses;
+  for (const BodyID id : dynamic_ids) poses.push_back({*world.bodies().GetPosition(id), *world.bodies().GetRotation(id)});
+  Summarize(scene, poses, result);
+  result.bodies = static_cast<int>(scene.bodies.size());
+  result.peak_memory_kb = PeakMemoryKb();
+  result.ok = true;
+  return result;
+}
+
+EngineResult RunIsolated(const std::function<EngineResult()>& run) {
+  int fds[2];
+  if (pipe(fds) != 0) return run();
+  const pid_t child = fork();
+  if (child < 0) {
+    close(fds[0]), close(fds[1]);
+    return run();
+  }
+  if (child == 0) {
+    close(fds[0]);
+    const EngineResult result = run();
+    const ssize_t written = write(fds[1], &result, sizeof(result));
+    _exit(written == static_cast<ssize_t>(sizeof(result)) ? 0 : 1);
+  }
+  close(fds[1]);
+  EngineResult result;
+  std::size_t received = 0;
+  auto* bytes = reinterpret_cast<char*>(&result);
+  while (received < sizeof(result)) {
+    const ssize_t n = read(fds[0], bytes + received, sizeof(result) - received);
+    if (n <= 0) break;
+    received += static_cast<std::size_t>(n);
+  }
+  close(fds[0]);
+  int status = 0;
+  waitpid(child, &status, 0);
+  if (received != sizeof(result) || !WIFEXITED(status) || WEXITSTATUS(status) != 0) return EngineResult{};
+  return result;
+}
+
+}  // namespace strata::bench

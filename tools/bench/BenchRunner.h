@@ -1,0 +1,53 @@
+// BenchRunner: runs a BenchScene in Strata (and, through BulletPeer, in Bullet) and measures it. Each
+// engine can run in a forked child so its peak memory is its own. Call from the main thread only.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+
+#include "tools/bench/BenchScenes.h"
+
+namespace strata::bench {
+
+/// Figures of one engine on one scene. Plain data so it can cross a pipe from a child process.
+struct EngineResult {
+  bool ok = false;
+  int bodies = 0;
+  int steps = 0;
+  double total_seconds = 0.0;
+  double median_step_ms = 0.0;
+  double max_step_ms = 0.0;
+  long peak_memory_kb = 0;       ///< peak resident set of the process that ran it
+  int bodies_in_footprint = 0;   ///< pyramid: boxes still over the floor area; mesh: bodies above y = 0
+  std::uint64_t state_hash = 0;  ///< FNV-1a of final dynamic positions and rotations
+
+  double StepsPerSecond() const { return total_seconds > 0.0 ? steps / total_seconds : 0.0; }
+};
+
+/// Final pose of one dynamic body, for the footprint count and the hash.
+struct FinalPose {
+  Vec3 position;
+  Quat rotation;
+};
+
+/// Fills the footprint count and hash of `result` from the final dynamic poses.
+void Summarize(const BenchScene& scene, const std::vector<FinalPose>& poses, EngineResult& result);
+/// Median and max of per-step times (seconds) into `result`.
+void SummarizeTimes(std::vector<double> step_seconds, EngineResult& result);
+/// Peak resident set size of this process (kB), from /proc/self/status.
+long PeakMemoryKb();
+
+/// Mass (kg) of a dynamic benchmark body at Strata's default density, so every engine moves the same mass.
+float BenchMass(const BenchScene& scene, const BenchBody& body);
+
+/// Strata on `threads` worker threads (0 = all cores).
+EngineResult RunStrata(const BenchScene& scene, int threads);
+/// Runs `run` in a forked child and returns what it reported (ok = false if the child failed).
+EngineResult RunIsolated(const std::function<EngineResult()>& run);
+
+#ifdef STRATA_HAVE_BULLET
+/// The same scene in Bullet's btDiscreteDynamicsWorld (DBVT broad phase, sequential impulses).
+EngineResult RunBullet(const BenchScene& scene);
+#endif
+
+}  // namespace strata::bench
