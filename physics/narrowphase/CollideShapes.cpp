@@ -2,6 +2,7 @@
 
 #include "physics/narrowphase/Epa.h"
 #include "physics/narrowphase/ManifoldBuilder.h"
+#include "physics/narrowphase/PolyhedronCollider.h"
 #include "physics/shapes/BoxShape.h"
 #include "physics/shapes/SphereShape.h"
 
@@ -14,15 +15,22 @@ namespace {
 bool FindContact(const ConvexSupport& core_a, const ConvexSupport& exact_a, float radius_a,
                  const ConvexSupport& core_b, const ConvexSupport& exact_b, float radius_b, float max_separation,
                  Vec3& normal, ContactPoint& deepest) {
-  const GjkResult core = GjkClosestPoints(core_a, core_b, max_separation + radius_a + radius_b);
+  // The rounded core sits inside the exact shape but cuts its corners (by up to (sqrt(3) - 1) r on a box),
+  // so the core only supplies the direction; the gap along it is measured on the exact shapes.
+  const float corner_slack = 0.75f * (radius_a + radius_b);
+  const float core_reach = max_separation + radius_a + radius_b + corner_slack;
+  const GjkResult core = GjkClosestPoints(core_a, core_b, core_reach);
+  if (!core.overlapping && core.distance > core_reach) return false;
   if (!core.overlapping && core.distance > 1e-5f) {
-    const float separation = core.distance - radius_a - radius_b;
-    if (separation > max_separation) return false;
     normal = (core.point_b - core.point_a) / core.distance;
+    const Vec3 extreme_a = exact_a.Support(normal), extreme_b = exact_b.Support(-normal);
+    const float separation = std::min(core.distance - radius_a - radius_b, (extreme_b - extreme_a).dot(normal));
+    if (separation > max_separation) return false;
     deepest = {core.point_a + radius_a * normal, core.point_b - radius_b * normal, separation};
     return true;
   }
-  const GjkResult exact = GjkClosestPoints(exact_a, exact_b, 0.0f);
+  const GjkResult exact = GjkClosestPoints(exact_a, exact_b, max_separation);
+  if (!exact.overlapping && exact.distance > max_separation) return false;
   if (!exact.overlapping && exact.distance > 1e-6f) {
     if (exact.distance > max_separation) return false;
     normal = (exact.point_b - exact.point_a) / exact.distance;
@@ -124,8 +132,10 @@ void TriangleFace(const TriangleSupport& triangle, const Vec3& face_normal, cons
 
 // Mesh triangles have internal edges that a sliding body must not catch on: when the contact sits on
 // such an edge (or in the interior), the triangle's face normal is the true normal.
+// `convex_center` picks the side: the normal points from the convex body into the triangle.
 Vec3 CorrectTriangleNormal(const TriangleMeshShape& mesh, std::uint32_t triangle, const Vec3& face_normal,
-                           const TriangleSupport& world, const Vec3& point_on_triangle, const Vec3& normal) {
+                           const TriangleSupport& world, const Vec3& point_on_triangle, const Vec3& normal,
+                           const Vec3& convex_center) {
   if (std::abs(normal.dot(face_normal)) > 0.9995f) return normal;
   const Vec3 v0 = world.vertex(1) - world.vertex(0), v1 = world.vertex(2) - world.vertex(0);
   const Vec3 v2 = point_on_triangle - world.vertex(0);
@@ -142,7 +152,12 @@ Vec3 CorrectTriangleNormal(const TriangleMeshShape& mesh, std::uint32_t triangle
   if (b0 < kOnEdge) feature |= 0b010;
   if (b1 < kOnEdge) feature |= 0b100;
   if ((feature & mesh.ActiveEdges(triangle)) != 0) return normal;
-  return normal.dot(face_normal) >= 0.0f ? face_normal : Vec3(-face_normal);
+  const bool in_front = (convex_center - world.vertex(0)).dot(face_normal) >= 0.0f;
+  return in_front ? Vec3(-face_normal) : face_normal;
+}
+
+bool IsPolyhedron(const ConvexShape& shape) {
+  return shape.type() == ShapeType::kBox || shape.type() == ShapeType::kConvexHull;
 }
 
 void MergeManifold(const ContactManifold& manifold, std::size_t first, std::vector<ContactManifold>& out) {
@@ -178,6 +193,11 @@ bool CollideConvexConvex(const ConvexShape& a, const Pose& pose_a, const ConvexS
     std::swap(manifold.points[0].position_a, manifold.points[0].position_b);
     return true;
   }
+  if (IsPolyhedron(a) && IsPolyhedron(b)) {
+    thread_local Polyhedron polyhedron_a, polyhedron_b;
+    if (MakePolyhedron(a, pose_a, polyhedron_a) && MakePolyhedron(b, pose_b, polyhedron_b))
+      return CollidePolyhedra(polyhedron_a, polyhedron_b, max_separation, manifold);
+  }
   const PosedConvex core_a(a, pose_a, true), exact_a(a, pose_a, false);
   const PosedConvex core_b(b, pose_b, true), exact_b(b, pose_b, false);
   Vec3 normal;
@@ -202,25 +222,43 @@ void CollideConvexMesh(const ConvexShape& a, const Pose& pose_a, const TriangleM
   mesh.QueryBox(local_box, triangles);
   std::sort(triangles.begin(), triangles.end());  // deterministic merge order
   const PosedConvex core_a(a, pose_a, true), exact_a(a, pose_a, false);
+  thread_local Polyhedron polyhedron_a, triangle_polyhedron;
+  const bool use_sat = IsPolyhedron(a) && MakePolyhedron(a, pose_a, polyhedron_a);
   const std::size_t first = out.size();
+  const Vec3 convex_center = pose_a.ToWorld(a.LocalBounds().Center());
   for (std::uint32_t t : triangles) {
     const TriangleSupport triangle(pose_mesh.ToWorld(mesh.Vertex(t, 0)), pose_mesh.ToWorld(mesh.Vertex(t, 1)),
                                    pose_mesh.ToWorld(mesh.Vertex(t, 2)));
+    const Vec3 face_normal = pose_mesh.DirectionToWorld(mesh.Normal(t));
+    ContactManifold manifold = prototype;
+    manifold.sub_shape_b = t;
     Vec3 normal;
     ContactPoint deepest;
-    if (!FindContact(core_a, exact_a, a.core_radius(), triangle, triangle, 0.0f, max_separation, normal, deepest))
+    if (use_sat) {
+      MakeTrianglePolyhedron(triangle.vertex(0), triangle.vertex(1), triangle.vertex(2), triangle_polyhedron);
+      if (!CollidePolyhedra(polyhedron_a, triangle_polyhedron, max_separation, manifold)) continue;
+      normal = manifold.normal;
+      deepest = manifold.points[0];
+      for (int i = 1; i < manifold.count; ++i)
+        if (manifold.points[i].separation < deepest.separation) deepest = manifold.points[i];
+    } else if (!FindContact(core_a, exact_a, a.core_radius(), triangle, triangle, 0.0f, max_separation, normal,
+                            deepest)) {
       continue;
-    const Vec3 face_normal = pose_mesh.DirectionToWorld(mesh.Normal(t));
-    const Vec3 corrected = CorrectTriangleNormal(mesh, t, face_normal, triangle, deepest.position_b, normal);
+    }
+    const Vec3 corrected =
+        CorrectTriangleNormal(mesh, t, face_normal, triangle, deepest.position_b, normal, convex_center);
+    if (use_sat && corrected == normal) {
+      MergeManifold(manifold, first, out);
+      continue;
+    }
     if (corrected != normal) {
       normal = corrected;
       deepest.separation = (deepest.position_b - deepest.position_a).dot(normal);
     }
     SupportingFace face_a, face_b;
-    WorldFace(a, pose_a, normal, face_a);
+    if (use_sat) polyhedron_a.Face(MostAlignedFace(polyhedron_a, normal), face_a);
+    else WorldFace(a, pose_a, normal, face_a);
     TriangleFace(triangle, face_normal, -normal, face_b);
-    ContactManifold manifold = prototype;
-    manifold.sub_shape_b = t;
     manifold.normal = normal;
     BuildManifold(face_a, face_b, deepest, max_separation, manifold);
     if (manifold.count > 0) MergeManifold(manifold, first, out);

@@ -21,8 +21,8 @@ struct GjkResult {
   int simplex_count = 0;
 };
 
-/// Closest points of A and B. Stops early (reporting a distance above `max_distance`) once the shapes are
-/// known to be farther apart than `max_distance`.
+/// Closest points of A and B. Stops early once the shapes are known to be farther apart than
+/// `max_distance`: it then reports a lower bound above `max_distance` and no closest points.
 GjkResult GjkClosestPoints(const ConvexSupport& a, const ConvexSupport& b, float max_distance);
 
 /// Closest point of the simplex to the origin; shrinks the simplex to the vertices that support it and

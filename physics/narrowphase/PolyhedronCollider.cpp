@@ -1,0 +1,244 @@
+#include "physics/narrowphase/PolyhedronCollider.h"
+
+#include "physics/narrowphase/ManifoldBuilder.h"
+#include "physics/shapes/BoxShape.h"
+#include "physics/shapes/ConvexHullShape.h"
+
+namespace strata {
+
+namespace {
+
+// An edge axis must beat the best face axis by this much to be chosen: faces give stable 4-point
+// manifolds, so near-ties go to them.
+constexpr float kEdgeBias = 0.005f;
+
+void AddFace(Polyhedron& p, std::span<const int> loop) {
+  const int f = p.face_count++;
+  const int start = p.face_start[f];
+  for (std::size_t i = 0; i < loop.size(); ++i) p.face_loop[start + i] = loop[i];
+  p.face_start[f + 1] = start + static_cast<int>(loop.size());
+  Vec3 normal = Vec3::Zero();
+  for (std::size_t i = 0; i < loop.size(); ++i)
+    normal += p.vertices[loop[i]].cross(p.vertices[loop[(i + 1) % loop.size()]]);
+  p.face_normals[f] = normal.normalized();
+  p.face_offsets[f] = p.face_normals[f].dot(p.vertices[loop[0]]);
+}
+
+// Parallel edges give the same separating axes; test each direction once.
+void AddEdgeDirections(Polyhedron& p) {
+  p.direction_count = 0;
+  for (int e = 0; e < p.edge_count; ++e) {
+    const Vec3 direction = (p.vertices[p.edges[e][1]] - p.vertices[p.edges[e][0]]).normalized();
+    bool known = false;
+    for (int d = 0; d < p.direction_count && !known; ++d) known = std::abs(p.edge_directions[d].dot(direction)) > 0.9999f;
+    if (!known) p.edge_directions[p.direction_count++] = direction;
+  }
+}
+
+void AddEdgesOfFaces(Polyhedron& p) {
+  for (int f = 0; f < p.face_count; ++f) {
+    for (int i = p.face_start[f]; i < p.face_start[f + 1]; ++i) {
+      const int from = p.face_loop[i];
+      const int to = p.face_loop[i + 1 == p.face_start[f + 1] ? p.face_start[f] : i + 1];
+      if (from > to) continue;  // each undirected edge appears once in each direction on a closed solid
+      if (p.edge_count < Polyhedron::kMaxEdges) p.edges[p.edge_count++] = {from, to};
+    }
+  }
+  AddEdgeDirections(p);
+}
+
+struct Axis {
+  enum Kind { kFaceA, kFaceB, kEdges } kind = kFaceA;
+  int index_a = -1, index_b = -1;
+  float separation = -kLargeFloat;
+  Vec3 normal = Vec3::UnitY();  // from A to B
+};
+
+Axis BestFaceAxis(const Polyhedron& reference, const Polyhedron& other, Axis::Kind kind) {
+  Axis best;
+  best.kind = kind;
+  for (int f = 0; f < reference.face_count; ++f) {
+    const Vec3& n = reference.face_normals[f];
+    const float separation = other.Support(-n).dot(n) - reference.face_offsets[f];
+    if (separation > best.separation) {
+      best.separation = separation;
+      best.index_a = f;
+      best.normal = kind == Axis::kFaceA ? n : Vec3(-n);
+    }
+  }
+  return best;
+}
+
+Axis BestEdgeAxis(const Polyhedron& a, const Polyhedron& b, const Vec3& center_a, const Vec3& center_b) {
+  Axis best;
+  best.kind = Axis::kEdges;
+  for (int i = 0; i < a.direction_count; ++i) {
+    for (int j = 0; j < b.direction_count; ++j) {
+      Vec3 axis = a.edge_directions[i].cross(b.edge_directions[j]);
+      const float length = axis.norm();
+      if (length < 1e-4f) continue;  // parallel edges: a face axis covers them
+      axis /= length;
+      if (axis.dot(center_b - center_a) < 0.0f) axis = -axis;
+      const float separation = b.Support(-axis).dot(axis) - a.Support(axis).dot(axis);
+      if (separation > best.separation) {
+        best.separation = separation;
+        best.index_a = i;
+        best.index_b = j;
+        best.normal = axis;
+      }
+    }
+  }
+  return best;
+}
+
+// The edge of `p` parallel to `direction` that lies farthest along `axis`.
+int ExtremeEdge(const Polyhedron& p, const Vec3& direction, const Vec3& axis) {
+  int best = 0;
+  float best_dot = -kLargeFloat;
+  for (int e = 0; e < p.edge_count; ++e) {
+    const Vec3& v0 = p.vertices[p.edges[e][0]];
+    const Vec3& v1 = p.vertices[p.edges[e][1]];
+    if (std::abs((v1 - v0).normalized().dot(direction)) < 0.9999f) continue;
+    const float d = (v0 + v1).dot(axis);
+    if (d > best_dot) best_dot = d, best = e;
+  }
+  return best;
+}
+
+// Closest points between segments p0-p1 and q0-q1 (Ericson 5.1.9).
+void ClosestPointsOfSegments(const Vec3& p0, const Vec3& p1, const Vec3& q0, const Vec3& q1, Vec3& on_p, Vec3& on_q) {
+  const Vec3 d1 = p1 - p0, d2 = q1 - q0, r = p0 - q0;
+  const float a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
+  float s = 0.0f, t = 0.0f;
+  const float c = d1.dot(r), b = d1.dot(d2);
+  const float denominator = a * e - b * b;
+  if (denominator > 1e-12f) s = std::clamp((b * f - c * e) / denominator, 0.0f, 1.0f);
+  t = e > 0.0f ? (b * s + f) / e : 0.0f;
+  if (t < 0.0f) t = 0.0f, s = a > 0.0f ? std::clamp(-c / a, 0.0f, 1.0f) : 0.0f;
+  else if (t > 1.0f) t = 1.0f, s = a > 0.0f ? std::clamp((b - c) / a, 0.0f, 1.0f) : 0.0f;
+  on_p = p0 + s * d1;
+  on_q = q0 + t * d2;
+}
+
+// The face of `p` most aligned with `direction`.
+}  // namespace
+
+int MostAlignedFace(const Polyhedron& p, const Vec3& direction) {
+  int best = 0;
+  for (int f = 1; f < p.face_count; ++f)
+    if (p.face_normals[f].dot(direction) > p.face_normals[best].dot(direction)) best = f;
+  return best;
+}
+
+namespace {
+
+Vec3 Centroid(const Polyhedron& p) {
+  Vec3 sum = Vec3::Zero();
+  for (int i = 0; i < p.vertex_count; ++i) sum += p.vertices[i];
+  return sum / static_cast<float>(p.vertex_count);
+}
+
+}  // namespace
+
+Vec3 Polyhedron::Support(const Vec3& direction) const {
+  int best = 0;
+  float best_dot = vertices[0].dot(direction);
+  for (int i = 1; i < vertex_count; ++i) {
+    const float d = vertices[i].dot(direction);
+    if (d > best_dot) best_dot = d, best = i;
+  }
+  return vertices[best];
+}
+
+void Polyhedron::Face(int f, SupportingFace& face) const {
+  face.count = 0;
+  for (int i = face_start[f]; i < face_start[f + 1]; ++i) face.Add(vertices[face_loop[i]]);
+}
+
+bool MakePolyhedron(const ConvexShape& shape, const Pose& pose, Polyhedron& out) {
+  out.vertex_count = out.face_count = out.edge_count = out.direction_count = 0;
+  out.face_start[0] = 0;
+  if (shape.type() == ShapeType::kBox) {
+    const Vec3& half = static_cast<const BoxShape&>(shape).half_extents();
+    for (int i = 0; i < 8; ++i)
+      out.vertices[i] = pose.ToWorld(Vec3(i & 1 ? half.x() : -half.x(), i & 2 ? half.y() : -half.y(),
+                                          i & 4 ? half.z() : -half.z()));
+    out.vertex_count = 8;
+    // Counter-clockwise seen from outside: -x, +x, -y, +y, -z, +z.
+    static constexpr int kFaces[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4},
+                                         {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
+    for (const auto& face : kFaces) AddFace(out, face);
+    AddEdgesOfFaces(out);
+    return true;
+  }
+  if (shape.type() == ShapeType::kConvexHull) {
+    const auto& hull = static_cast<const ConvexHullShape&>(shape);
+    if (hull.vertices().size() > Polyhedron::kMaxVertices || hull.faces().size() > Polyhedron::kMaxFaces) return false;
+    std::size_t loop_size = 0;
+    for (const HullFace& face : hull.faces()) loop_size += face.vertices.size();
+    if (loop_size > out.face_loop.size()) return false;
+    for (const Vec3& v : hull.vertices()) out.vertices[out.vertex_count++] = pose.ToWorld(v);
+    for (const HullFace& face : hull.faces()) AddFace(out, face.vertices);
+    AddEdgesOfFaces(out);
+    return true;
+  }
+  return false;
+}
+
+void MakeTrianglePolyhedron(const Vec3& a, const Vec3& b, const Vec3& c, Polyhedron& out) {
+  out.vertex_count = 3;
+  out.face_count = 0;
+  out.edge_count = 0;
+  out.face_start[0] = 0;
+  out.vertices[0] = a, out.vertices[1] = b, out.vertices[2] = c;
+  static constexpr int kFront[3] = {0, 1, 2};
+  static constexpr int kBack[3] = {0, 2, 1};
+  AddFace(out, kFront);
+  AddFace(out, kBack);
+  out.edges[0] = {0, 1}, out.edges[1] = {1, 2}, out.edges[2] = {2, 0};
+  out.edge_count = 3;
+  AddEdgeDirections(out);
+}
+
+bool CollidePolyhedra(const Polyhedron& a, const Polyhedron& b, float max_separation, ContactManifold& manifold) {
+  const Axis face_a = BestFaceAxis(a, b, Axis::kFaceA);
+  if (face_a.separation > max_separation) return false;
+  const Axis face_b = BestFaceAxis(b, a, Axis::kFaceB);
+  if (face_b.separation > max_separation) return false;
+  const Vec3 center_a = Centroid(a), center_b = Centroid(b);
+  const Axis edges = BestEdgeAxis(a, b, center_a, center_b);
+  if (edges.separation > max_separation) return false;
+
+  // Prefer A's face, then B's, then an edge pair, unless the later one is clearly better.
+  const Axis& best_face = face_b.separation > face_a.separation + 0.001f ? face_b : face_a;
+  manifold.count = 0;
+  if (edges.separation > best_face.separation + kEdgeBias) {
+    const Vec3 n = edges.normal;
+    const int edge_a = ExtremeEdge(a, a.edge_directions[edges.index_a], n);
+    const int edge_b = ExtremeEdge(b, b.edge_directions[edges.index_b], -n);
+    Vec3 on_a, on_b;
+    ClosestPointsOfSegments(a.vertices[a.edges[edge_a][0]], a.vertices[a.edges[edge_a][1]],
+                            b.vertices[b.edges[edge_b][0]], b.vertices[b.edges[edge_b][1]], on_a, on_b);
+    manifold.normal = n;
+    manifold.points[0] = {on_a, on_b, (on_b - on_a).dot(n)};
+    manifold.count = 1;
+    return true;
+  }
+  const Vec3 n = best_face.normal;
+  manifold.normal = n;
+  SupportingFace reference, incident;
+  if (best_face.kind == Axis::kFaceA) {
+    a.Face(best_face.index_a, reference);
+    b.Face(MostAlignedFace(b, -n), incident);
+  } else {
+    b.Face(best_face.index_a, reference);
+    a.Face(MostAlignedFace(a, n), incident);
+  }
+  const SupportingFace& face_of_a = best_face.kind == Axis::kFaceA ? reference : incident;
+  const SupportingFace& face_of_b = best_face.kind == Axis::kFaceA ? incident : reference;
+  const Vec3 deepest_a = a.Support(n), deepest_b = b.Support(-n);
+  BuildManifold(face_of_a, face_of_b, {deepest_a, deepest_b, (deepest_b - deepest_a).dot(n)}, max_separation, manifold);
+  return manifold.count > 0;
+}
+
+}  // namespace strata

@@ -1,0 +1,107 @@
+// Scene files: the bundled scenes load and simulate; bad files give one clear error naming the JSON path.
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "assets/scene/SceneLoader.h"
+#include "physics/body/BodyInterface.h"
+#include "physics/shapes/TriangleMeshShape.h"
+
+namespace strata::test {
+namespace {
+
+const std::filesystem::path kScenes = STRATA_SCENES_DIR;
+
+std::string ParseError(const std::string& text) {
+  Result<Scene> scene = ParseScene(text, "test.json", kScenes);
+  EXPECT_FALSE(scene.ok());
+  return scene.ok() ? "" : scene.error().message;
+}
+
+TEST(SceneLoader, BundledScenesLoadAndRun) {
+  for (const char* name : {"playground.json", "stack.json", "bounce.json"}) {
+    Result<Scene> scene = LoadScene(kScenes / name);
+    ASSERT_TRUE(scene.ok()) << scene.error().message;
+    Result<SceneWorld> world = BuildSceneWorld(*scene);
+    ASSERT_TRUE(world.ok()) << world.error().message;
+    EXPECT_EQ(world->ids.size(), scene->bodies.size());
+    for (int step = 0; step < 120; ++step) ASSERT_TRUE(world->system->Step(scene->dt).ok());
+  }
+}
+
+TEST(SceneLoader, FieldsAreRead) {
+  Result<Scene> scene = ParseScene(R"({"settings": {"gravity": [0, -5, 0], "dt": 0.01, "velocity_iterations": 7,
+      "position_iterations": 3, "sleeping": false},
+      "bodies": [{"name": "a", "shape": {"type": "capsule", "radius": 0.5, "half_height": 1},
+                  "position": [1, 2, 3], "rotation": [0, 0, 1, 0], "motion": "kinematic", "friction": 0.9,
+                  "restitution": 0.3, "linear_velocity": [1, 0, 0]},
+                 {"name": "b", "shape": {"type": "mesh", "vertices": [[0,0,0],[1,0,0],[0,0,1]], "indices": [0, 2, 1]},
+                  "motion": "static"},
+                 {"shape": {"type": "sphere", "radius": 1}, "mass": 3}]})",
+                                   "inline", kScenes);
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  EXPECT_FLOAT_EQ(scene->physics.gravity.y(), -5.0f);
+  EXPECT_FLOAT_EQ(scene->dt, 0.01f);
+  EXPECT_EQ(scene->physics.velocity_iterations, 7);
+  EXPECT_EQ(scene->physics.position_iterations, 3);
+  EXPECT_FALSE(scene->physics.allow_sleeping);
+  ASSERT_EQ(scene->bodies.size(), 3u);
+  const BodyCreationSettings& a = scene->bodies[0].settings;
+  EXPECT_EQ(a.motion_type, MotionType::kKinematic);
+  EXPECT_EQ(a.shape->type(), ShapeType::kCapsule);
+  EXPECT_TRUE(a.position.isApprox(Vec3(1, 2, 3)));
+  EXPECT_FLOAT_EQ(a.friction, 0.9f);
+  EXPECT_FLOAT_EQ(a.restitution, 0.3f);
+  EXPECT_EQ(scene->bodies[1].settings.shape->type(), ShapeType::kTriangleMesh);
+  EXPECT_EQ(scene->bodies[2].name, "body2");
+  EXPECT_FLOAT_EQ(*scene->bodies[2].settings.mass, 3.0f);
+}
+
+TEST(SceneLoader, ErrorsNameTheFileAndJsonPath) {
+  EXPECT_NE(ParseError("{ not json").find("test.json: invalid JSON"), std::string::npos);
+  EXPECT_NE(ParseError(R"({"bodies": [{"shape": {"type": "sphere", "radius": -1}}]})").find("/bodies/0/shape/radius"),
+            std::string::npos);
+  EXPECT_NE(ParseError(R"({"bodies": [{"shape": {"type": "box", "half_extents": [1, 2]}}]})")
+                .find("/bodies/0/shape/half_extents"),
+            std::string::npos);
+  EXPECT_NE(ParseError(R"({"bodies": [{"shape": {"type": "sphere", "radius": 1}, "mass": 0}]})").find("/bodies/0/mass"),
+            std::string::npos);
+  EXPECT_NE(ParseError(R"({"bodies": [{"shape": {"type": "sphere", "radius": 1}, "positon": [0, 0, 0]}]})")
+                .find("/bodies/0/positon: unknown key"),
+            std::string::npos);
+  EXPECT_NE(ParseError(R"({"bodies": [{"shape": {"type": "convex_hull", "points": [[0,0,0],[1,0,0],[0,1,0],[1,1,0]]}}]})")
+                .find("coplanar"),
+            std::string::npos);
+  EXPECT_NE(ParseError(R"({"bodies": [{"shape": {"type": "mesh", "vertices": [], "indices": []}}]})").find("/bodies/0/shape"),
+            std::string::npos);
+  EXPECT_NE(ParseError(R"({"bodies": [{"shape": {"type": "mesh", "file": "missing.obj"}, "motion": "static"}]})")
+                .find("missing.obj: file not found"),
+            std::string::npos);
+  EXPECT_NE(ParseError(R"({"settings": {"dt": 0}, "bodies": []})").find("/settings/dt"), std::string::npos);
+  EXPECT_NE(ParseError(R"({"bodies": [{"shape": {"type": "cone"}}]})").find("/bodies/0/shape/type"), std::string::npos);
+  EXPECT_NE(ParseError(R"({"bodies": [{"name": "x", "shape": {"type": "sphere", "radius": 1}},
+                                       {"name": "x", "shape": {"type": "sphere", "radius": 1}}]})")
+                .find("duplicate"),
+            std::string::npos);
+  EXPECT_NE(LoadScene(kScenes / "nope.json").error().message.find("cannot open"), std::string::npos);
+}
+
+TEST(SceneLoader, MeshFilesImportThroughAssimp) {
+  const std::filesystem::path directory = std::filesystem::temp_directory_path() / "strata_scene_test";
+  std::filesystem::create_directories(directory);
+  std::ofstream(directory / "quad.obj") << "v 0 0 0\nv 4 0 0\nv 4 0 4\nv 0 0 4\nf 1 3 2\nf 1 4 3\n";
+  std::ofstream(directory / "broken.obj") << "this is not a mesh\n";
+  Result<Scene> scene = ParseScene(R"({"bodies": [{"shape": {"type": "mesh", "file": "quad.obj"}, "motion": "static"}]})",
+                                   "inline", directory);
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  const auto& mesh = static_cast<const TriangleMeshShape&>(*scene->bodies[0].settings.shape);
+  EXPECT_EQ(mesh.triangle_count(), 2u);
+  Result<Scene> broken = ParseScene(R"({"bodies": [{"shape": {"type": "mesh", "file": "broken.obj"}, "motion": "static"}]})",
+                                    "inline", directory);
+  ASSERT_FALSE(broken.ok());
+  EXPECT_NE(broken.error().message.find("broken.obj"), std::string::npos);
+  std::filesystem::remove_all(directory);
+}
+
+}  // namespace
+}  // namespace strata::test

@@ -1,0 +1,191 @@
+// BodyInterface: bad input is rejected with a clear error and leaves the world unchanged; thread safety.
+#include <atomic>
+#include <thread>
+
+#include "TestWorld.h"
+
+namespace strata::test {
+namespace {
+
+// Everything a failed call must leave untouched.
+struct WorldSnapshot {
+  std::vector<BodyID> in_world;
+  std::vector<Vec3> positions;
+  std::uint32_t created;
+  std::size_t broad_phase;
+
+  static WorldSnapshot Of(PhysicsSystem& world) {
+    WorldSnapshot snapshot{world.BodiesInWorld(), {}, world.body_manager().body_count(),
+                           world.broad_phase().body_count()};
+    for (const BodyID id : snapshot.in_world) snapshot.positions.push_back(Position(world, id));
+    return snapshot;
+  }
+  bool operator==(const WorldSnapshot&) const = default;
+};
+
+class BodyInterfaceTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    world_ = MakeWorld({}, 8);
+    floor_ = Add(*world_, Static(Box(10, 1, 10), Vec3(0, -1, 0)));
+    box_ = Add(*world_, Dynamic(Box(0.5f, 0.5f, 0.5f), Vec3(0, 2, 0)));
+    before_ = WorldSnapshot::Of(*world_);
+  }
+  void ExpectUnchanged() { EXPECT_EQ(WorldSnapshot::Of(*world_), before_); }
+
+  std::unique_ptr<PhysicsSystem> world_;
+  BodyID floor_, box_;
+  WorldSnapshot before_;
+};
+
+TEST_F(BodyInterfaceTest, StaleIdsAreRejected) {
+  auto extra = world_->bodies().CreateAndAddBody(Dynamic(Sphere(0.5f), Vec3(3, 1, 0)));
+  ASSERT_TRUE(extra.ok());
+  ASSERT_TRUE(world_->bodies().RemoveAndDestroyBody(*extra).ok());
+  before_ = WorldSnapshot::Of(*world_);
+  for (const BodyID stale : {*extra, BodyID{}, BodyID{9999, 1}, BodyID{box_.index, box_.generation + 1}}) {
+    const Status status = world_->bodies().SetPosition(stale, Vec3(1, 1, 1));
+    ASSERT_FALSE(status.ok());
+    EXPECT_EQ(status.error().code, ErrorCode::kStaleBodyId);
+    EXPECT_NE(status.message().find("body"), std::string::npos);
+    EXPECT_FALSE(world_->bodies().GetPosition(stale).ok());
+    EXPECT_FALSE(world_->bodies().AddBody(stale).ok());
+    EXPECT_FALSE(world_->bodies().RemoveBody(stale).ok());
+    EXPECT_FALSE(world_->bodies().DestroyBody(stale).ok());
+  }
+  // The slot was reused with a new generation; the old id must not reach the new body.
+  auto reused = world_->bodies().CreateBody(Dynamic(Sphere(0.5f), Vec3(3, 1, 0)));
+  ASSERT_TRUE(reused.ok());
+  EXPECT_EQ(reused->index, extra->index);
+  EXPECT_NE(reused->generation, extra->generation);
+  EXPECT_FALSE(world_->bodies().GetPosition(*extra).ok());
+  ASSERT_TRUE(world_->bodies().DestroyBody(*reused).ok());
+  ExpectUnchanged();
+}
+
+TEST_F(BodyInterfaceTest, NonFiniteValuesAreRejected) {
+  EXPECT_FALSE(world_->bodies().SetPosition(box_, Vec3(NAN, 0, 0)).ok());
+  EXPECT_FALSE(world_->bodies().SetPosition(box_, Vec3(0, INFINITY, 0)).ok());
+  EXPECT_FALSE(world_->bodies().SetRotation(box_, Quat(NAN, 0, 0, 0)).ok());
+  EXPECT_FALSE(world_->bodies().SetLinearVelocity(box_, Vec3(0, NAN, 0)).ok());
+  EXPECT_FALSE(world_->bodies().AddImpulse(box_, Vec3(INFINITY, 0, 0)).ok());
+  EXPECT_FALSE(world_->bodies().AddForce(box_, Vec3(0, 0, NAN)).ok());
+  EXPECT_FALSE(world_->Step(NAN).ok());
+  EXPECT_FALSE(world_->Step(-1.0f).ok());
+  auto created = world_->bodies().CreateAndAddBody(Dynamic(Sphere(1), Vec3(NAN, 0, 0)));
+  ASSERT_FALSE(created.ok());
+  EXPECT_EQ(created.error().code, ErrorCode::kInvalidArgument);
+  EXPECT_NE(created.error().message.find("position"), std::string::npos);
+  ExpectUnchanged();
+}
+
+TEST_F(BodyInterfaceTest, BadMassAndShapesAreRejected) {
+  BodyCreationSettings settings = Dynamic(Sphere(1), Vec3(0, 5, 0));
+  settings.mass = 0.0f;
+  EXPECT_FALSE(world_->bodies().CreateAndAddBody(settings).ok());
+  settings.mass = -3.0f;
+  EXPECT_FALSE(world_->bodies().CreateAndAddBody(settings).ok());
+  settings.mass.reset();
+  settings.density = 0.0f;
+  EXPECT_FALSE(world_->bodies().CreateAndAddBody(settings).ok());
+  settings = Dynamic(nullptr, Vec3::Zero());
+  EXPECT_FALSE(world_->bodies().CreateAndAddBody(settings).ok());
+  // A mesh cannot be dynamic.
+  const std::vector<Vec3> vertices = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 0, 1)};
+  const std::vector<TriangleMeshShape::Indices> triangles = {{0, 1, 2}};
+  EXPECT_FALSE(world_->bodies().CreateAndAddBody(Dynamic(*TriangleMeshShape::Create(vertices, triangles), Vec3::Zero())).ok());
+  settings = Dynamic(Sphere(1), Vec3::Zero());
+  settings.object_layer = 77;
+  EXPECT_FALSE(world_->bodies().CreateAndAddBody(settings).ok());
+  settings = Dynamic(Sphere(1), Vec3::Zero());
+  settings.restitution = 1.5f;
+  EXPECT_FALSE(world_->bodies().CreateAndAddBody(settings).ok());
+  ExpectUnchanged();
+}
+
+TEST_F(BodyInterfaceTest, WrongStatesAreRejected) {
+  EXPECT_EQ(world_->bodies().AddBody(box_).error().code, ErrorCode::kInvalidState);         // already added
+  EXPECT_EQ(world_->bodies().DestroyBody(box_).error().code, ErrorCode::kInvalidState);     // still in the world
+  EXPECT_FALSE(world_->bodies().SetLinearVelocity(floor_, Vec3(1, 0, 0)).ok());             // static
+  ASSERT_TRUE(world_->bodies().RemoveBody(box_).ok());
+  EXPECT_EQ(world_->bodies().RemoveBody(box_).error().code, ErrorCode::kInvalidState);      // removed twice
+  ASSERT_TRUE(world_->bodies().AddBody(box_).ok());
+  ExpectUnchanged();
+}
+
+TEST_F(BodyInterfaceTest, BatchAddIsAllOrNothing) {
+  auto a = world_->bodies().CreateBody(Dynamic(Sphere(0.5f), Vec3(3, 1, 0)));
+  auto b = world_->bodies().CreateBody(Dynamic(Sphere(0.5f), Vec3(-3, 1, 0)));
+  ASSERT_TRUE(a.ok() && b.ok());
+  before_ = WorldSnapshot::Of(*world_);
+  const std::vector<BodyID> with_present = {*a, box_, *b};
+  EXPECT_FALSE(world_->bodies().AddBodies(with_present).ok());
+  const std::vector<BodyID> with_duplicate = {*a, *b, *a};
+  EXPECT_FALSE(world_->bodies().AddBodies(with_duplicate).ok());
+  ExpectUnchanged();
+  const std::vector<BodyID> good = {*a, *b};
+  EXPECT_TRUE(world_->bodies().AddBodies(good).ok());
+  EXPECT_EQ(world_->body_count_in_world(), 4u);
+}
+
+TEST_F(BodyInterfaceTest, CapacityIsEnforced) {
+  std::vector<BodyID> created;
+  for (int i = 0; i < 6; ++i) created.push_back(*world_->bodies().CreateBody(Dynamic(Sphere(0.1f), Vec3(0, 5, 0))));
+  auto overflow = world_->bodies().CreateBody(Dynamic(Sphere(0.1f), Vec3(0, 5, 0)));
+  ASSERT_FALSE(overflow.ok());
+  EXPECT_EQ(overflow.error().code, ErrorCode::kCapacityExceeded);
+  for (const BodyID id : created) ASSERT_TRUE(world_->bodies().DestroyBody(id).ok());
+  ExpectUnchanged();
+}
+
+TEST_F(BodyInterfaceTest, SettersAndGettersRoundTrip) {
+  ASSERT_TRUE(world_->bodies().SetPositionAndRotation(box_, Vec3(1, 2, 3), Quat(Eigen::AngleAxisf(0.5f, Vec3::UnitY()))).ok());
+  EXPECT_TRUE(Position(*world_, box_).isApprox(Vec3(1, 2, 3)));
+  EXPECT_TRUE(world_->bodies().GetRotation(box_)->isApprox(Quat(Eigen::AngleAxisf(0.5f, Vec3::UnitY()))));
+  ASSERT_TRUE(world_->bodies().SetLinearVelocity(box_, Vec3(1, 0, 0)).ok());
+  ASSERT_TRUE(world_->bodies().AddImpulse(box_, Vec3(1000.0f, 0, 0)).ok());  // a 1 m cube of 1000 kg
+  EXPECT_TRUE(Velocity(*world_, box_).isApprox(Vec3(2, 0, 0), 1e-5f));
+  const AABB bounds = *world_->bodies().GetWorldBounds(box_);
+  EXPECT_TRUE(bounds.Contains(Vec3(1, 2, 3)));
+}
+
+TEST(BodyInterfaceThreads, ConcurrentCreateMoveQueryAndStep) {
+  PhysicsSystemConfig config;
+  config.max_bodies = 2048;
+  config.thread_count = 2;
+  auto world = std::move(*PhysicsSystem::Create(config));
+  Add(*world, Static(Box(100, 1, 100), Vec3(0, -1, 0)));
+  std::atomic<bool> stop{false};
+  std::atomic<int> failures{0};
+  auto worker = [&](int seed) {
+    std::vector<BodyID> mine;
+    for (int i = 0; i < 200; ++i) {
+      auto id = world->bodies().CreateAndAddBody(Dynamic(Sphere(0.3f), Vec3(seed * 5.0f, 1.0f + i % 7, (i % 10) * 1.0f)));
+      if (!id.ok()) {
+        ++failures;
+        continue;
+      }
+      mine.push_back(*id);
+      if (!world->bodies().SetLinearVelocity(*id, Vec3(0.5f, 0, 0)).ok()) ++failures;
+      if (!world->query().CastRay(Vec3(seed * 5.0f, 10, 0), Vec3(0, -20, 0)).ok()) ++failures;
+      if (i % 3 == 0) {
+        if (!world->bodies().RemoveAndDestroyBody(mine.front()).ok()) ++failures;
+        mine.erase(mine.begin());
+      }
+    }
+  };
+  std::thread stepper([&] {
+    while (!stop) (void)world->Step(1.0f / 60.0f);
+  });
+  std::thread a(worker, 1), b(worker, 2), c(worker, 3);
+  a.join(), b.join(), c.join();
+  stop = true;
+  stepper.join();
+  EXPECT_EQ(failures.load(), 0);
+  // 1 floor + 3 workers x (200 - 67 removed).
+  EXPECT_EQ(world->body_count_in_world(), 1u + 3u * (200u - 67u));
+  EXPECT_EQ(world->broad_phase().body_count(), world->body_count_in_world());
+}
+
+}  // namespace
+}  // namespace strata::test
