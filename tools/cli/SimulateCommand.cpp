@@ -1,5 +1,7 @@
 // `strata simulate SCENE.json --steps N [--out states.jsonl] [--every K]`: runs a scene and writes one JSON
 // line per recorded step. A bad scene exits with code 2 before anything is written.
+#include <chrono>
+#include <cstdio>
 #include <fstream>
 #include <iostream>
 #include <nlohmann/json.hpp>
@@ -40,6 +42,25 @@ nlohmann::json StateLine(const Scene& scene, SceneWorld& world, int step, float 
   return {{"step", step}, {"time", time}, {"bodies", bodies}};
 }
 
+// A person-readable account of the run, printed when the states go to a file.
+void PrintSummary(const Scene& scene, SceneWorld& world, const SimulateOptions& options, int lines, double total_ms,
+                  double slowest_ms) {
+  std::printf("%s: %zu bodies, %d steps of %.4f s (%.2f s simulated) in %.1f ms (%.3f ms/step, slowest %.3f ms)\n",
+              options.scene.c_str(), scene.bodies.size(), options.steps, scene.dt, options.steps * scene.dt, total_ms,
+              total_ms / options.steps, slowest_ms);
+  std::printf("wrote %d state lines to %s\n%-12s %28s %10s %s\n", lines, options.out.c_str(), "body", "position (m)",
+              "speed m/s", "state");
+  BodyInterface& interface = world.system->bodies();
+  for (std::size_t i = 0; i < world.ids.size(); ++i) {
+    const Vec3 p = *interface.GetPosition(world.ids[i]);
+    const float speed = interface.GetLinearVelocity(world.ids[i])->norm();
+    const MotionType motion = scene.bodies[i].settings.motion_type;
+    const char* state = motion == MotionType::kStatic ? "static" : (*interface.IsActive(world.ids[i]) ? "awake" : "asleep");
+    std::printf("%-12s (%8.3f, %8.3f, %8.3f) %10.3f %s\n", scene.bodies[i].name.c_str(), p.x(), p.y(), p.z(), speed,
+                state);
+  }
+}
+
 int RunSimulate(const SimulateOptions& options) {
   Result<Scene> scene = LoadScene(options.scene);
   if (!scene) {
@@ -62,14 +83,23 @@ int RunSimulate(const SimulateOptions& options) {
     }
   }
   std::ostream& out = options.out.empty() ? std::cout : file;
+  double slowest_ms = 0.0, total_ms = 0.0;
+  int lines = 0;
   for (int step = 1; step <= options.steps; ++step) {
+    const auto start = std::chrono::steady_clock::now();
     if (Status stepped = world->system->Step(scene->dt); !stepped) {
       std::cerr << "strata simulate: step " << step << ": " << stepped.message() << "\n";
       return 1;
     }
-    if (step % options.every == 0 || step == options.steps)
+    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    slowest_ms = std::max(slowest_ms, ms);
+    total_ms += ms;
+    if (step % options.every == 0 || step == options.steps) {
       out << StateLine(*scene, *world, step, static_cast<float>(step) * scene->dt).dump() << "\n";
+      ++lines;
+    }
   }
+  if (!options.out.empty()) PrintSummary(*scene, *world, options, lines, total_ms, slowest_ms);
   return 0;
 }
 
