@@ -15,15 +15,7 @@ struct ContactKey {
   BodyID b;
   std::uint32_t sub_shape_b;
   friend bool operator==(const ContactKey&, const ContactKey&) = default;
-};
-
-struct ContactKeyHash {
-  std::size_t operator()(const ContactKey& key) const noexcept {
-    std::size_t h = std::hash<BodyID>()(key.a);
-    h ^= std::hash<BodyID>()(key.b) + 0x9e3779b97f4a7c15ull + (h << 6) + (h >> 2);
-    h ^= key.sub_shape_b + 0x9e3779b97f4a7c15ull + (h << 6) + (h >> 2);
-    return h;
-  }
+  friend auto operator<=>(const ContactKey&, const ContactKey&) = default;
 };
 
 /// Accumulated impulses of one manifold, with each point's position in body A's local frame.
@@ -34,19 +26,22 @@ struct CachedManifold {
   Vec3 friction_impulse[ContactManifold::kMaxPoints];  ///< world space, so new tangent bases can reuse it
 };
 
-/// Last step's and this step's impulses.
+/// Last step's and this step's impulses, as key-sorted arrays: the step stores manifolds in pair order,
+/// so the arrays come out sorted and a lookup is a binary search with no hashing or node allocation.
 class ContactCache {
  public:
-  /// Makes this step's entries the previous ones and starts an empty current map.
+  /// Makes this step's entries the previous ones and starts an empty current list.
   void BeginStep() {
     std::swap(previous_, current_);
     current_.clear();
+    if (!std::is_sorted(previous_.begin(), previous_.end(), KeyLess)) std::sort(previous_.begin(), previous_.end(), KeyLess);
   }
   const CachedManifold* FindPrevious(const ContactKey& key) const {
-    const auto it = previous_.find(key);
-    return it == previous_.end() ? nullptr : &it->second;
+    const auto it = std::lower_bound(previous_.begin(), previous_.end(), key,
+                                     [](const Entry& entry, const ContactKey& k) { return entry.key < k; });
+    return it != previous_.end() && it->key == key ? &it->manifold : nullptr;
   }
-  void Store(const ContactKey& key, const CachedManifold& manifold) { current_[key] = manifold; }
+  void Store(const ContactKey& key, const CachedManifold& manifold) { current_.push_back({key, manifold}); }
   std::size_t size() const { return current_.size(); }
   void Clear() {
     previous_.clear();
@@ -54,8 +49,14 @@ class ContactCache {
   }
 
  private:
-  std::unordered_map<ContactKey, CachedManifold, ContactKeyHash> previous_;
-  std::unordered_map<ContactKey, CachedManifold, ContactKeyHash> current_;
+  struct Entry {
+    ContactKey key;
+    CachedManifold manifold;
+  };
+  static bool KeyLess(const Entry& a, const Entry& b) { return a.key < b.key; }
+
+  std::vector<Entry> previous_;
+  std::vector<Entry> current_;
 };
 
 }  // namespace strata

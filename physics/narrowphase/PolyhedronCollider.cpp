@@ -35,18 +35,6 @@ void AddEdgeDirections(Polyhedron& p) {
   }
 }
 
-void AddEdgesOfFaces(Polyhedron& p) {
-  for (int f = 0; f < p.face_count; ++f) {
-    for (int i = p.face_start[f]; i < p.face_start[f + 1]; ++i) {
-      const int from = p.face_loop[i];
-      const int to = p.face_loop[i + 1 == p.face_start[f + 1] ? p.face_start[f] : i + 1];
-      if (from > to) continue;  // each undirected edge appears once in each direction on a closed solid
-      if (p.edge_count < Polyhedron::kMaxEdges) p.edges[p.edge_count++] = {from, to};
-    }
-  }
-  AddEdgeDirections(p);
-}
-
 struct Axis {
   enum Kind { kFaceA, kFaceB, kEdges } kind = kFaceA;
   int index_a = -1, index_b = -1;
@@ -155,33 +143,66 @@ void Polyhedron::Face(int f, SupportingFace& face) const {
   for (int i = face_start[f]; i < face_start[f + 1]; ++i) face.Add(vertices[face_loop[i]]);
 }
 
+namespace {
+
+// Box topology: corner i has coordinate signs (bit 0: x, bit 1: y, bit 2: z).
+constexpr int kBoxFaces[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
+constexpr int kBoxEdges[12][2] = {{0, 1}, {2, 3}, {4, 5}, {6, 7}, {0, 2}, {1, 3},
+                                  {4, 6}, {5, 7}, {0, 4}, {1, 5}, {2, 6}, {3, 7}};
+
+void MakeBox(const BoxShape& box, const Pose& pose, Polyhedron& out) {
+  const Vec3& half = box.half_extents();
+  const Mat3 rotation = pose.rotation.toRotationMatrix();
+  for (int i = 0; i < 8; ++i)
+    out.vertices[i] = pose.position + rotation * Vec3(i & 1 ? half.x() : -half.x(), i & 2 ? half.y() : -half.y(),
+                                                      i & 4 ? half.z() : -half.z());
+  out.vertex_count = 8;
+  for (int f = 0; f < 6; ++f) {
+    const int axis = f / 2;
+    const float sign = f % 2 ? 1.0f : -1.0f;
+    out.face_normals[f] = sign * rotation.col(axis);
+    out.face_offsets[f] = out.face_normals[f].dot(pose.position) + half[axis];
+    for (int k = 0; k < 4; ++k) out.face_loop[4 * f + k] = kBoxFaces[f][k];
+    out.face_start[f + 1] = 4 * (f + 1);
+  }
+  out.face_count = 6;
+  for (int e = 0; e < 12; ++e) out.edges[e] = {kBoxEdges[e][0], kBoxEdges[e][1]};
+  out.edge_count = 12;
+  for (int axis = 0; axis < 3; ++axis) out.edge_directions[axis] = rotation.col(axis);
+  out.direction_count = 3;
+}
+
+bool MakeHull(const ConvexHullShape& hull, const Pose& pose, Polyhedron& out) {
+  std::size_t loop_size = 0;
+  for (const HullFace& face : hull.faces()) loop_size += face.vertices.size();
+  if (hull.vertices().size() > Polyhedron::kMaxVertices || hull.faces().size() > Polyhedron::kMaxFaces ||
+      hull.edges().size() > Polyhedron::kMaxEdges || loop_size > out.face_loop.size())
+    return false;
+  const Mat3 rotation = pose.rotation.toRotationMatrix();
+  for (const Vec3& v : hull.vertices()) out.vertices[out.vertex_count++] = pose.position + rotation * v;
+  for (const HullFace& face : hull.faces()) {
+    const int f = out.face_count++;
+    out.face_normals[f] = rotation * face.normal;
+    out.face_offsets[f] = out.face_normals[f].dot(out.vertices[face.vertices[0]]);
+    int cursor = out.face_start[f];
+    for (int v : face.vertices) out.face_loop[cursor++] = v;
+    out.face_start[f + 1] = cursor;
+  }
+  for (const auto& edge : hull.edges()) out.edges[out.edge_count++] = edge;
+  for (const Vec3& direction : hull.edge_directions()) out.edge_directions[out.direction_count++] = rotation * direction;
+  return true;
+}
+
+}  // namespace
+
 bool MakePolyhedron(const ConvexShape& shape, const Pose& pose, Polyhedron& out) {
   out.vertex_count = out.face_count = out.edge_count = out.direction_count = 0;
   out.face_start[0] = 0;
   if (shape.type() == ShapeType::kBox) {
-    const Vec3& half = static_cast<const BoxShape&>(shape).half_extents();
-    for (int i = 0; i < 8; ++i)
-      out.vertices[i] = pose.ToWorld(Vec3(i & 1 ? half.x() : -half.x(), i & 2 ? half.y() : -half.y(),
-                                          i & 4 ? half.z() : -half.z()));
-    out.vertex_count = 8;
-    // Counter-clockwise seen from outside: -x, +x, -y, +y, -z, +z.
-    static constexpr int kFaces[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4},
-                                         {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
-    for (const auto& face : kFaces) AddFace(out, face);
-    AddEdgesOfFaces(out);
+    MakeBox(static_cast<const BoxShape&>(shape), pose, out);
     return true;
   }
-  if (shape.type() == ShapeType::kConvexHull) {
-    const auto& hull = static_cast<const ConvexHullShape&>(shape);
-    if (hull.vertices().size() > Polyhedron::kMaxVertices || hull.faces().size() > Polyhedron::kMaxFaces) return false;
-    std::size_t loop_size = 0;
-    for (const HullFace& face : hull.faces()) loop_size += face.vertices.size();
-    if (loop_size > out.face_loop.size()) return false;
-    for (const Vec3& v : hull.vertices()) out.vertices[out.vertex_count++] = pose.ToWorld(v);
-    for (const HullFace& face : hull.faces()) AddFace(out, face.vertices);
-    AddEdgesOfFaces(out);
-    return true;
-  }
+  if (shape.type() == ShapeType::kConvexHull) return MakeHull(static_cast<const ConvexHullShape&>(shape), pose, out);
   return false;
 }
 

@@ -1,5 +1,7 @@
 #include "physics/shapes/ConvexHullShape.h"
 
+#include <algorithm>
+
 namespace strata {
 
 Result<ShapeRef> ConvexHullShape::Create(std::span<const Vec3> points) {
@@ -24,6 +26,17 @@ ConvexHullShape::ConvexHullShape(HullData hull, const Vec3& interior_point, floa
       interior_point_(interior_point),
       core_scale_(core_scale) {
   for (const Vec3& v : hull_.vertices) bounds_.Encapsulate(v);
+  for (const HullFace& face : hull_.faces) {
+    for (std::size_t i = 0; i < face.vertices.size(); ++i) {
+      const int from = face.vertices[i], to = face.vertices[(i + 1) % face.vertices.size()];
+      if (from > to) continue;  // a closed hull lists every edge once in each direction
+      edges_.push_back({from, to});
+      const Vec3 direction = (hull_.vertices[to] - hull_.vertices[from]).normalized();
+      const bool known = std::any_of(edge_directions_.begin(), edge_directions_.end(),
+                                     [&](const Vec3& d) { return std::abs(d.dot(direction)) > 0.9999f; });
+      if (!known) edge_directions_.push_back(direction);
+    }
+  }
 }
 
 MassProperties ConvexHullShape::ComputeMassProperties(float density) const {

@@ -19,6 +19,10 @@ class ConvexHullShape final : public ConvexShape {
 
   const std::vector<Vec3>& vertices() const { return hull_.vertices; }
   const std::vector<HullFace>& faces() const { return hull_.faces; }
+  /// Each undirected edge once, as vertex index pairs.
+  const std::vector<std::array<int, 2>>& edges() const { return edges_; }
+  /// One unit direction per set of parallel edges (the separating-axis candidates).
+  const std::vector<Vec3>& edge_directions() const { return edge_directions_; }
 
   AABB LocalBounds() const override { return bounds_; }
   MassProperties ComputeMassProperties(float density) const override;
@@ -34,6 +38,8 @@ class ConvexHullShape final : public ConvexShape {
 
  private:
   HullData hull_;
+  std::vector<std::array<int, 2>> edges_;
+  std::vector<Vec3> edge_directions_;
   AABB bounds_;
   Vec3 interior_point_;
   float core_scale_;

@@ -15,11 +15,31 @@ Vec3 RelativeVelocity(const SolverBody& a, const SolverBody& b, const Vec3& r_a,
   return b.linear_velocity + b.angular_velocity.cross(r_b) - a.linear_velocity - a.angular_velocity.cross(r_a);
 }
 
-void ApplyImpulse(SolverBody& a, SolverBody& b, const Vec3& r_a, const Vec3& r_b, const Vec3& impulse) {
-  a.linear_velocity -= a.inverse_mass * impulse;
-  a.angular_velocity -= a.inverse_inertia * r_a.cross(impulse);
-  b.linear_velocity += b.inverse_mass * impulse;
-  b.angular_velocity += b.inverse_inertia * r_b.cross(impulse);
+template <class AxisPart>
+void SetupAxis(const SolverBody& a, const SolverBody& b, const Vec3& r_a, const Vec3& r_b, const Vec3& axis,
+               AxisPart& part) {
+  part.angular_a = r_a.cross(axis);
+  part.angular_b = r_b.cross(axis);
+  part.response_a = a.inverse_inertia * part.angular_a;
+  part.response_b = b.inverse_inertia * part.angular_b;
+  const float k = a.inverse_mass + b.inverse_mass + part.angular_a.dot(part.response_a) +
+                  part.angular_b.dot(part.response_b);
+  part.mass = k > 0.0f ? 1.0f / k : 0.0f;
+  part.impulse = 0.0f;
+}
+
+template <class AxisPart>
+float AxisVelocity(const SolverBody& a, const SolverBody& b, const Vec3& axis, const AxisPart& part) {
+  return axis.dot(b.linear_velocity - a.linear_velocity) + part.angular_b.dot(b.angular_velocity) -
+         part.angular_a.dot(a.angular_velocity);
+}
+
+template <class AxisPart>
+void ApplyAxisImpulse(SolverBody& a, SolverBody& b, const Vec3& axis, const AxisPart& part, float impulse) {
+  a.linear_velocity -= (a.inverse_mass * impulse) * axis;
+  a.angular_velocity -= impulse * part.response_a;
+  b.linear_velocity += (b.inverse_mass * impulse) * axis;
+  b.angular_velocity += impulse * part.response_b;
 }
 
 }  // namespace
@@ -49,28 +69,26 @@ void ContactSolver::Setup(std::span<const ContactManifold> manifolds, std::span<
     for (int i = 0; i < manifold.count; ++i) {
       const ContactPoint& contact = manifold.points[i];
       Point& p = c.points[i];
-      p.r_a = contact.position_a - a.center_of_mass;
-      p.r_b = contact.position_b - b.center_of_mass;
-      p.local_a = a.rotation.conjugate() * p.r_a;
-      p.local_b = b.rotation.conjugate() * p.r_b;
-      p.normal_mass = EffectiveMass(a, b, p.r_a, p.r_b, c.normal);
-      p.tangent_mass[0] = EffectiveMass(a, b, p.r_a, p.r_b, c.tangent[0]);
-      p.tangent_mass[1] = EffectiveMass(a, b, p.r_a, p.r_b, c.tangent[1]);
+      const Vec3 r_a = contact.position_a - a.center_of_mass;
+      const Vec3 r_b = contact.position_b - b.center_of_mass;
+      p.local_a = a.rotation.conjugate() * r_a;
+      p.local_b = b.rotation.conjugate() * r_b;
+      SetupAxis(a, b, r_a, r_b, c.normal, p.normal);
+      SetupAxis(a, b, r_a, r_b, c.tangent[0], p.tangent[0]);
+      SetupAxis(a, b, r_a, r_b, c.tangent[1], p.tangent[1]);
       p.separation = contact.separation;
-      p.normal_impulse = 0.0f;
-      p.tangent_impulse[0] = p.tangent_impulse[1] = 0.0f;
       if (cached) {
         for (int k = 0; k < cached->count; ++k) {
           if ((cached->local_point_a[k] - p.local_a).squaredNorm() >
               settings.contact_match_distance * settings.contact_match_distance)
             continue;
-          p.normal_impulse = cached->normal_impulse[k];
-          p.tangent_impulse[0] = cached->friction_impulse[k].dot(c.tangent[0]);
-          p.tangent_impulse[1] = cached->friction_impulse[k].dot(c.tangent[1]);
+          p.normal.impulse = cached->normal_impulse[k];
+          p.tangent[0].impulse = cached->friction_impulse[k].dot(c.tangent[0]);
+          p.tangent[1].impulse = cached->friction_impulse[k].dot(c.tangent[1]);
           break;
         }
       }
-      const float approach = RelativeVelocity(a, b, p.r_a, p.r_b).dot(c.normal);
+      const float approach = RelativeVelocity(a, b, r_a, r_b).dot(c.normal);
       const bool fast = approach < -settings.min_velocity_for_restitution && restitution > 0.0f;
       if (fast && p.separation <= -approach * dt) {
         // Touching now or before the step ends: bounce. A speculative contact bounces early, so the
@@ -83,7 +101,7 @@ void ContactSolver::Setup(std::span<const ContactManifold> manifolds, std::span<
         p.target_velocity = restitution * impact;
         if (p.separation > 0.0f) {
           c.bounce_shift = std::max(c.bounce_shift, (1.0f + restitution) * p.separation);
-          p.normal_impulse = 0.0f;
+          p.normal.impulse = 0.0f;
         }
       } else {
         // Speculative: the bodies may close the gap this step but no further.
@@ -100,9 +118,9 @@ void ContactSolver::WarmStart(std::span<SolverBody> bodies) const {
     SolverBody& b = bodies[c.b];
     for (int i = 0; i < c.count; ++i) {
       const Point& p = c.points[i];
-      const Vec3 impulse =
-          p.normal_impulse * c.normal + p.tangent_impulse[0] * c.tangent[0] + p.tangent_impulse[1] * c.tangent[1];
-      ApplyImpulse(a, b, p.r_a, p.r_b, impulse);
+      ApplyAxisImpulse(a, b, c.normal, p.normal, p.normal.impulse);
+      ApplyAxisImpulse(a, b, c.tangent[0], p.tangent[0], p.tangent[0].impulse);
+      ApplyAxisImpulse(a, b, c.tangent[1], p.tangent[1], p.tangent[1].impulse);
     }
   }
 }
@@ -118,20 +136,21 @@ void ContactSolver::SolveVelocities(std::span<SolverBody> bodies, int iteration)
     // is the one that must hold best at the end of the pass.
     for (int k = 0; k < c.count; ++k) {
       Point& p = c.points[reverse ? c.count - 1 - k : k];
-      const float limit = c.friction * p.normal_impulse;
+      const float limit = c.friction * p.normal.impulse;
       for (int axis = 0; axis < 2; ++axis) {
-        const float velocity = RelativeVelocity(a, b, p.r_a, p.r_b).dot(c.tangent[axis]);
-        const float old_impulse = p.tangent_impulse[axis];
-        p.tangent_impulse[axis] = std::clamp(old_impulse - velocity * p.tangent_mass[axis], -limit, limit);
-        ApplyImpulse(a, b, p.r_a, p.r_b, (p.tangent_impulse[axis] - old_impulse) * c.tangent[axis]);
+        AxisPart& part = p.tangent[axis];
+        const float velocity = AxisVelocity(a, b, c.tangent[axis], part);
+        const float old_impulse = part.impulse;
+        part.impulse = std::clamp(old_impulse - velocity * part.mass, -limit, limit);
+        ApplyAxisImpulse(a, b, c.tangent[axis], part, part.impulse - old_impulse);
       }
     }
     for (int k = 0; k < c.count; ++k) {
       Point& p = c.points[reverse ? c.count - 1 - k : k];
-      const float velocity = RelativeVelocity(a, b, p.r_a, p.r_b).dot(c.normal);
-      const float old_impulse = p.normal_impulse;
-      p.normal_impulse = std::max(0.0f, old_impulse - (velocity - p.target_velocity) * p.normal_mass);
-      ApplyImpulse(a, b, p.r_a, p.r_b, (p.normal_impulse - old_impulse) * c.normal);
+      const float velocity = AxisVelocity(a, b, c.normal, p.normal);
+      const float old_impulse = p.normal.impulse;
+      p.normal.impulse = std::max(0.0f, old_impulse - (velocity - p.target_velocity) * p.normal.mass);
+      ApplyAxisImpulse(a, b, c.normal, p.normal, p.normal.impulse - old_impulse);
     }
   }
 }
@@ -143,8 +162,8 @@ void ContactSolver::StoreImpulses(ContactCache& cache) const {
     for (int i = 0; i < c.count; ++i) {
       const Point& p = c.points[i];
       cached.local_point_a[i] = p.local_a;
-      cached.normal_impulse[i] = p.normal_impulse;
-      cached.friction_impulse[i] = p.tangent_impulse[0] * c.tangent[0] + p.tangent_impulse[1] * c.tangent[1];
+      cached.normal_impulse[i] = p.normal.impulse;
+      cached.friction_impulse[i] = p.tangent[0].impulse * c.tangent[0] + p.tangent[1].impulse * c.tangent[1];
     }
     cache.Store(c.key, cached);
   }

@@ -40,14 +40,19 @@ class ContactSolver {
   std::size_t constraint_count() const { return constraints_.size(); }
 
  private:
+  // One constraint axis at one point, with everything the inner loop needs precomputed: the angular
+  // Jacobians (r x axis) and their images under each body's inverse inertia.
+  struct AxisPart {
+    Vec3 angular_a, angular_b;
+    Vec3 response_a, response_b;  // inverse inertia * angular
+    float mass;                   // 1 / effective mass along the axis
+    float impulse;                // accumulated
+  };
   struct Point {
-    Vec3 r_a, r_b;              // from each centre of mass, world, at setup
-    Vec3 local_a, local_b;      // the same in each body's frame, for the position pass
-    float normal_mass;
-    float tangent_mass[2];
-    float normal_impulse;
-    float tangent_impulse[2];
-    float target_velocity;      // the normal velocity the constraint aims for (bounce or speculative)
+    AxisPart normal;
+    AxisPart tangent[2];
+    Vec3 local_a, local_b;   // contact point from each centre of mass in the body's frame (position pass)
+    float target_velocity;   // the normal velocity the constraint aims for (bounce or speculative)
     float separation;
   };
   struct Constraint {
