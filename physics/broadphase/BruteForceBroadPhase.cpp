@@ -54,14 +54,27 @@ void BruteForceBroadPhase::FindPairs(std::span<const BodyID> active, std::span<c
     const std::uint32_t s = dense_of_index_[a.index];
     if (s == kAbsent) continue;
     const float ax0 = min_x_[s], ay0 = min_y_[s], az0 = min_z_[s], ax1 = max_x_[s], ay1 = max_y_[s], az1 = max_z_[s];
-    for (std::size_t j = 0; j < n; ++j) {
-      const bool overlap = (ax0 <= max_x_[j]) & (min_x_[j] <= ax1) & (ay0 <= max_y_[j]) & (min_y_[j] <= ay1) &
-                           (az0 <= max_z_[j]) & (min_z_[j] <= az1);
-      if (!overlap || j == s) continue;
-      const BodyID b = ids_[j];
-      if (active_flags[b.index] && b.index < a.index) continue;  // reported from b's side
-      if (!layers.ShouldCollide(layers_[s], layers_[j])) continue;
-      out.push_back({a, b});
+    // Test a block of bounds with a branch-free loop the compiler vectorizes, then visit only the hits.
+    constexpr std::size_t kBlock = 64;
+    std::uint8_t hits[kBlock];
+    for (std::size_t start = 0; start < n; start += kBlock) {
+      const std::size_t count = std::min(kBlock, n - start);
+      const float* x0 = &min_x_[start];
+      const float* y0 = &min_y_[start];
+      const float* z0 = &min_z_[start];
+      const float* x1 = &max_x_[start];
+      const float* y1 = &max_y_[start];
+      const float* z1 = &max_z_[start];
+      for (std::size_t k = 0; k < count; ++k)
+        hits[k] = (ax0 <= x1[k]) & (x0[k] <= ax1) & (ay0 <= y1[k]) & (y0[k] <= ay1) & (az0 <= z1[k]) & (z0[k] <= az1);
+      for (std::size_t k = 0; k < count; ++k) {
+        const std::size_t j = start + k;
+        if (!hits[k] || j == s) continue;
+        const BodyID b = ids_[j];
+        if (active_flags[b.index] && b.index < a.index) continue;  // reported from b's side
+        if (!layers.ShouldCollide(layers_[s], layers_[j])) continue;
+        out.push_back({a, b});
+      }
     }
   }
 }

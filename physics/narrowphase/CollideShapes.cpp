@@ -132,10 +132,9 @@ void TriangleFace(const TriangleSupport& triangle, const Vec3& face_normal, cons
 
 // Mesh triangles have internal edges that a sliding body must not catch on: when the contact sits on
 // such an edge (or in the interior), the triangle's face normal is the true normal.
-// `convex_center` picks the side: the normal points from the convex body into the triangle.
+// Triangles are one-sided, so the corrected normal always points from the body into the front face.
 Vec3 CorrectTriangleNormal(const TriangleMeshShape& mesh, std::uint32_t triangle, const Vec3& face_normal,
-                           const TriangleSupport& world, const Vec3& point_on_triangle, const Vec3& normal,
-                           const Vec3& convex_center) {
+                           const TriangleSupport& world, const Vec3& point_on_triangle, const Vec3& normal) {
   if (std::abs(normal.dot(face_normal)) > 0.9995f) return normal;
   const Vec3 v0 = world.vertex(1) - world.vertex(0), v1 = world.vertex(2) - world.vertex(0);
   const Vec3 v2 = point_on_triangle - world.vertex(0);
@@ -152,8 +151,7 @@ Vec3 CorrectTriangleNormal(const TriangleMeshShape& mesh, std::uint32_t triangle
   if (b0 < kOnEdge) feature |= 0b010;
   if (b1 < kOnEdge) feature |= 0b100;
   if ((feature & mesh.ActiveEdges(triangle)) != 0) return normal;
-  const bool in_front = (convex_center - world.vertex(0)).dot(face_normal) >= 0.0f;
-  return in_front ? Vec3(-face_normal) : face_normal;
+  return -face_normal;
 }
 
 bool IsPolyhedron(const ConvexShape& shape) {
@@ -225,7 +223,6 @@ void CollideConvexMesh(const ConvexShape& a, const Pose& pose_a, const TriangleM
   thread_local Polyhedron polyhedron_a, triangle_polyhedron;
   const bool use_sat = IsPolyhedron(a) && MakePolyhedron(a, pose_a, polyhedron_a);
   const std::size_t first = out.size();
-  const Vec3 convex_center = pose_a.ToWorld(a.LocalBounds().Center());
   for (std::uint32_t t : triangles) {
     const TriangleSupport triangle(pose_mesh.ToWorld(mesh.Vertex(t, 0)), pose_mesh.ToWorld(mesh.Vertex(t, 1)),
                                    pose_mesh.ToWorld(mesh.Vertex(t, 2)));
@@ -245,8 +242,9 @@ void CollideConvexMesh(const ConvexShape& a, const Pose& pose_a, const TriangleM
                             deepest)) {
       continue;
     }
-    const Vec3 corrected =
-        CorrectTriangleNormal(mesh, t, face_normal, triangle, deepest.position_b, normal, convex_center);
+    // A normal along the front face normal would pull the body through the triangle from behind.
+    if (normal.dot(face_normal) > 0.0f) continue;
+    const Vec3 corrected = CorrectTriangleNormal(mesh, t, face_normal, triangle, deepest.position_b, normal);
     if (use_sat && corrected == normal) {
       MergeManifold(manifold, first, out);
       continue;

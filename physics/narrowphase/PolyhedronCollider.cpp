@@ -66,7 +66,9 @@ Axis BestEdgeAxis(const Polyhedron& a, const Polyhedron& b, const Vec3& center_a
       const float length = axis.norm();
       if (length < 1e-4f) continue;  // parallel edges: a face axis covers them
       axis /= length;
-      if (axis.dot(center_b - center_a) < 0.0f) axis = -axis;
+      // Point from A into B: into a one-sided triangle means against its front normal.
+      const float side = b.one_sided ? -axis.dot(b.face_normals[0]) : axis.dot(center_b - center_a);
+      if (side < 0.0f) axis = -axis;
       const float separation = b.Support(-axis).dot(axis) - a.Support(axis).dot(axis);
       if (separation > best.separation) {
         best.separation = separation;
@@ -197,6 +199,7 @@ bool MakeHull(const ConvexHullShape& hull, const Pose& pose, Polyhedron& out) {
 
 bool MakePolyhedron(const ConvexShape& shape, const Pose& pose, Polyhedron& out) {
   out.vertex_count = out.face_count = out.edge_count = out.direction_count = 0;
+  out.one_sided = false;
   out.face_start[0] = 0;
   if (shape.type() == ShapeType::kBox) {
     MakeBox(static_cast<const BoxShape&>(shape), pose, out);
@@ -212,10 +215,9 @@ void MakeTrianglePolyhedron(const Vec3& a, const Vec3& b, const Vec3& c, Polyhed
   out.edge_count = 0;
   out.face_start[0] = 0;
   out.vertices[0] = a, out.vertices[1] = b, out.vertices[2] = c;
+  out.one_sided = true;
   static constexpr int kFront[3] = {0, 1, 2};
-  static constexpr int kBack[3] = {0, 2, 1};
   AddFace(out, kFront);
-  AddFace(out, kBack);
   out.edges[0] = {0, 1}, out.edges[1] = {1, 2}, out.edges[2] = {2, 0};
   out.edge_count = 3;
   AddEdgeDirections(out);

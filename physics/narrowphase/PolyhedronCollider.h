@@ -26,6 +26,7 @@ struct Polyhedron {
   std::array<int, kMaxFaces + 1> face_start;         ///< face f's loop is face_loop[face_start[f], face_start[f+1])
   std::array<int, kMaxFaces * 8> face_loop;
   std::array<std::array<int, 2>, kMaxEdges> edges;  ///< each undirected edge once
+  bool one_sided = false;  ///< a mesh triangle: only its front face collides
   int direction_count = 0;
   std::array<Vec3, kMaxEdges> edge_directions;      ///< unit, one per set of parallel edges (SAT axes)
 
@@ -37,7 +38,8 @@ struct Polyhedron {
 
 /// A box, hull or triangle posed in world space. Returns false for shapes that are not polyhedra.
 bool MakePolyhedron(const ConvexShape& shape, const Pose& pose, Polyhedron& out);
-/// A single triangle (two faces, three edges).
+/// A single mesh triangle: one front face (counter-clockwise a, b, c), three edges. It is one-sided:
+/// contacts only push bodies out through the front, as level geometry expects.
 void MakeTrianglePolyhedron(const Vec3& a, const Vec3& b, const Vec3& c, Polyhedron& out);
 
 /// The face of `p` whose normal is most aligned with `direction`.
