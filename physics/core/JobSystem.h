@@ -5,6 +5,7 @@
 
 #include <cstddef>
 #include <functional>
+#include <memory>
 
 namespace strata {
 
@@ -32,5 +33,9 @@ class SerialJobSystem final : public JobSystem {
   }
   int ThreadCount() const override { return 1; }
 };
+
+/// The job system a PhysicsSystem uses when the caller gives none: TbbJobSystem when built with oneTBB,
+/// else ThreadPoolJobSystem. `thread_count` 0 = all hardware threads.
+std::unique_ptr<JobSystem> MakeDefaultJobSystem(int thread_count = 0);
 
 }  // namespace strata

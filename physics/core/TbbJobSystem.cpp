@@ -1,12 +1,10 @@
 #include "physics/core/TbbJobSystem.h"
 
-#include <thread>
-
-#ifdef STRATA_HAVE_TBB
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
-#endif
+
+#include <thread>
 
 namespace strata {
 
@@ -18,7 +16,6 @@ int ResolveThreadCount(int requested) {
 }
 }  // namespace
 
-#ifdef STRATA_HAVE_TBB
 struct TbbJobSystem::Arena {
   explicit Arena(int threads) : arena(threads) {}
   tbb::task_arena arena;
@@ -41,18 +38,5 @@ void TbbJobSystem::ParallelFor(std::size_t count, std::size_t grain, const Range
                       [&](const tbb::blocked_range<std::size_t>& range) { function(range.begin(), range.end()); });
   });
 }
-
-std::unique_ptr<JobSystem> MakeDefaultJobSystem(int thread_count) {
-  return std::make_unique<TbbJobSystem>(thread_count);
-}
-#else
-struct TbbJobSystem::Arena {};
-TbbJobSystem::TbbJobSystem(int thread_count) : thread_count_(1) { (void)thread_count; }
-TbbJobSystem::~TbbJobSystem() = default;
-void TbbJobSystem::ParallelFor(std::size_t count, std::size_t, const RangeFunction& function) {
-  if (count > 0) function(0, count);
-}
-std::unique_ptr<JobSystem> MakeDefaultJobSystem(int) { return std::make_unique<SerialJobSystem>(); }
-#endif
 
 }  // namespace strata

@@ -1,5 +1,6 @@
 // TbbJobSystem: the default JobSystem, a oneTBB task arena with a fixed number of threads.
-// This is the only place in physics/ that includes oneTBB; build with STRATA_WITH_TBB=OFF to drop it.
+// This is the only place in physics/ that includes oneTBB (only in its .cpp); it is compiled only when
+// STRATA_WITH_TBB is on.
 // Thread-safe to share between PhysicsSystems; ParallelFor calls from several threads are allowed.
 #pragma once
 
@@ -23,8 +24,5 @@ class TbbJobSystem final : public JobSystem {
   std::unique_ptr<Arena> arena_;
   int thread_count_;
 };
-
-/// The job system a PhysicsSystem uses when the caller gives none: oneTBB when built with it, else serial.
-std::unique_ptr<JobSystem> MakeDefaultJobSystem(int thread_count = 0);
 
 }  // namespace strata

@@ -5,7 +5,6 @@
 
 #include "physics/body/BodyInterface.h"
 #include "physics/broadphase/BruteForceBroadPhase.h"
-#include "physics/core/TbbJobSystem.h"
 #include "physics/narrowphase/CollideShapes.h"
 #include "physics/world/WorldQuery.h"
 

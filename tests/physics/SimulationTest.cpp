@@ -2,6 +2,7 @@
 #include <cmath>
 
 #include "TestWorld.h"
+#include "physics/core/ThreadPoolJobSystem.h"
 
 namespace strata::test {
 namespace {
@@ -126,26 +127,121 @@ TEST(Simulation, HeadOnSphereCollisionConservesMomentum) {
   EXPECT_LT((after - before).norm(), 0.001f * before.norm());
 }
 
+std::vector<float> SimulatePile(std::shared_ptr<JobSystem> jobs) {
+  PhysicsSystemConfig config;
+  config.max_bodies = 256;
+  config.job_system = std::move(jobs);
+  auto world = std::move(*PhysicsSystem::Create(config));
+  Add(*world, Static(Box(50, 1, 50), Vec3(0, -1, 0)));
+  std::vector<BodyID> ids;
+  for (int i = 0; i < 60; ++i)
+    ids.push_back(Add(*world, Dynamic(i % 2 ? Box(0.4f, 0.3f, 0.5f) : Sphere(0.4f),
+                                      Vec3(0.3f * (i % 5), 1.0f + 0.9f * i, 0.2f * (i % 3)))));
+  StepFor(*world, 200);
+  std::vector<float> state;
+  for (const BodyID id : ids) {
+    const Vec3 p = Position(*world, id);
+    state.insert(state.end(), {p.x(), p.y(), p.z()});
+  }
+  return state;
+}
+
 TEST(Simulation, SameInputsGiveSameResult) {
-  auto simulate = [] {
-    PhysicsSystemConfig config;
-    config.max_bodies = 256;
-    config.thread_count = 2;
-    auto world = std::move(*PhysicsSystem::Create(config));
-    Add(*world, Static(Box(50, 1, 50), Vec3(0, -1, 0)));
-    std::vector<BodyID> ids;
-    for (int i = 0; i < 40; ++i)
-      ids.push_back(Add(*world, Dynamic(i % 2 ? Box(0.4f, 0.3f, 0.5f) : Sphere(0.4f),
-                                        Vec3(0.3f * (i % 5), 1.0f + 0.9f * i, 0.2f * (i % 3)))));
-    StepFor(*world, 200);
-    std::vector<float> state;
-    for (const BodyID id : ids) {
-      const Vec3 p = Position(*world, id);
-      state.insert(state.end(), {p.x(), p.y(), p.z()});
-    }
-    return state;
-  };
-  EXPECT_EQ(simulate(), simulate());
+  EXPECT_EQ(SimulatePile(MakeDefaultJobSystem(2)), SimulatePile(MakeDefaultJobSystem(2)));
+}
+
+// Parallel stages write per-index results, so even the thread count does not change the outcome.
+TEST(SimulationThreads, ResultDoesNotDependOnThreadCount) {
+  const std::vector<float> serial = SimulatePile(std::make_shared<SerialJobSystem>());
+  EXPECT_EQ(SimulatePile(std::make_shared<ThreadPoolJobSystem>(3)), serial);
+  EXPECT_EQ(SimulatePile(MakeDefaultJobSystem(2)), serial);
+}
+
+TEST(Simulation, KinematicBodyFollowsItsVelocityAndPushesDynamicBodies) {
+  PhysicsSettings settings;
+  settings.gravity = Vec3::Zero();
+  auto world = MakeWorld(settings);
+  BodyCreationSettings paddle = Dynamic(Box(0.5f, 1, 1), Vec3(-3, 0, 0));
+  paddle.motion_type = MotionType::kKinematic;
+  paddle.linear_velocity = Vec3(2, 0, 0);
+  const BodyID kinematic = Add(*world, paddle);
+  const BodyID ball = Add(*world, Dynamic(Sphere(0.5f), Vec3(0, 0, 0)));
+  StepFor(*world, 90);  // the ball falls asleep waiting; the paddle's touch must wake it
+  // The kinematic body moved exactly as told, whatever it hit.
+  EXPECT_NEAR(Position(*world, kinematic).x(), 0.0f, 1e-4f);
+  EXPECT_TRUE(Velocity(*world, kinematic).isApprox(Vec3(2, 0, 0)));
+  // The ball was pushed ahead of it.
+  EXPECT_GT(Position(*world, ball).x(), 0.95f);
+  EXPECT_GT(Velocity(*world, ball).x(), 1.9f);
+}
+
+TEST(Simulation, GravityFactorDampingAndVelocityLimits) {
+  auto world = MakeWorld();
+  BodyCreationSettings floating = Dynamic(Sphere(0.5f), Vec3(0, 10, 0));
+  floating.gravity_factor = 0.0f;
+  BodyCreationSettings damped = Dynamic(Sphere(0.5f), Vec3(5, 10, 0));
+  damped.gravity_factor = 0.0f;
+  damped.linear_damping = 1.0f;
+  damped.linear_velocity = Vec3(4, 0, 0);
+  BodyCreationSettings limited = Dynamic(Sphere(0.5f), Vec3(-5, 10, 0));
+  limited.max_linear_velocity = 3.0f;
+  limited.linear_damping = 0.0f;
+  const BodyID a = Add(*world, floating), b = Add(*world, damped), c = Add(*world, limited);
+  StepFor(*world, 60);
+  EXPECT_NEAR(Position(*world, a).y(), 10.0f, 1e-5f);
+  EXPECT_NEAR(Velocity(*world, b).x(), 4.0f * std::pow(1.0f - 1.0f / 60.0f, 60.0f), 1e-3f);
+  EXPECT_NEAR(Velocity(*world, c).norm(), 3.0f, 1e-4f);
+}
+
+TEST(Simulation, ForcesAndTorquesActForOneStep) {
+  PhysicsSettings settings;
+  settings.gravity = Vec3::Zero();
+  auto world = MakeWorld(settings);
+  BodyCreationSettings body = Dynamic(Box(0.5f, 0.5f, 0.5f), Vec3::Zero());
+  body.linear_damping = 0.0f;
+  body.angular_damping = 0.0f;
+  const BodyID id = Add(*world, body);  // 1000 kg, inertia 1000/6 kg m^2
+  ASSERT_TRUE(world->bodies().AddForce(id, Vec3(600, 0, 0)).ok());
+  ASSERT_TRUE(world->bodies().AddTorque(id, Vec3(0, 1000.0f / 6.0f * 60.0f, 0)).ok());
+  StepFor(*world, 1);
+  EXPECT_NEAR(Velocity(*world, id).x(), 600.0f / 1000.0f / 60.0f, 1e-6f);
+  EXPECT_NEAR(world->bodies().GetAngularVelocity(id)->y(), 1.0f, 1e-4f);
+  StepFor(*world, 1);  // accumulators were cleared
+  EXPECT_NEAR(Velocity(*world, id).x(), 600.0f / 1000.0f / 60.0f, 1e-6f);
+}
+
+// Layer 2 ("ghost") collides with nothing but the floor.
+class GhostLayers final : public LayerSetup {
+ public:
+  ObjectLayer ObjectLayerCount() const override { return 3; }
+  BroadPhaseLayer BroadPhaseLayerCount() const override { return 2; }
+  BroadPhaseLayer ToBroadPhaseLayer(ObjectLayer layer) const override { return layer == 0 ? 0 : 1; }
+  bool ShouldCollide(ObjectLayer a, ObjectLayer b) const override {
+    if (a == 0 && b == 0) return false;
+    if (a == 2 || b == 2) return a == 0 || b == 0;
+    return true;
+  }
+};
+
+TEST(Simulation, LayerPairFilterDecidesWhoCollides) {
+  PhysicsSystemConfig config;
+  config.max_bodies = 16;
+  config.job_system = std::make_shared<SerialJobSystem>();
+  config.layers = std::make_shared<GhostLayers>();
+  PhysicsSettings settings;
+  settings.allow_sleeping = false;
+  auto world = std::move(*PhysicsSystem::Create(config, settings));
+  Add(*world, Static(Box(10, 1, 10), Vec3(0, -1, 0)));
+  Add(*world, Static(Box(1, 1, 1), Vec3(0, 0.5f, 0)));  // overlaps the floor: static pairs are never made
+  const BodyID resting = Add(*world, Dynamic(Box(0.5f, 0.5f, 0.5f), Vec3(5, 0.5f, 0)));
+  BodyCreationSettings ghost = Dynamic(Box(0.5f, 0.5f, 0.5f), Vec3(5, 1.5f, 0));
+  ghost.object_layer = 2;
+  const BodyID passes = Add(*world, ghost);
+  StepFor(*world, 60);
+  // The ghost fell through the box below it onto the floor; the box stayed where it was.
+  EXPECT_NEAR(Position(*world, passes).y(), 0.5f, 0.02f);
+  EXPECT_NEAR(Position(*world, resting).y(), 0.5f, 0.02f);
+  EXPECT_EQ(world->last_step_stats().pairs, 2u);  // each dynamic box with the floor only
 }
 
 }  // namespace

@@ -10,7 +10,6 @@
 #include <string>
 
 #include "physics/body/BodyInterface.h"
-#include "physics/core/TbbJobSystem.h"
 #include "physics/shapes/BoxShape.h"
 #include "physics/shapes/CapsuleShape.h"
 #include "physics/shapes/ConvexHullShape.h"

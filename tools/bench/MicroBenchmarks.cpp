@@ -1,0 +1,117 @@
+// Google Benchmark micro benchmarks for the hot pieces: 1M-triangle mesh build and queries, the narrow
+// phase pair tests, hull building. `strata_microbench` prints the figures; nothing here asserts on time.
+#include <benchmark/benchmark.h>
+
+#include <random>
+
+#include "physics/narrowphase/CollideShapes.h"
+#include "physics/shapes/BoxShape.h"
+#include "physics/shapes/CapsuleShape.h"
+#include "physics/shapes/ConvexHullShape.h"
+#include "physics/shapes/TriangleMeshShape.h"
+
+namespace strata {
+namespace {
+
+struct GridMesh {
+  std::vector<Vec3> vertices;
+  std::vector<TriangleMeshShape::Indices> triangles;
+};
+
+// A wavy grid of cells x cells quads: 2 * cells^2 triangles.
+GridMesh MakeGrid(int cells) {
+  GridMesh grid;
+  for (int z = 0; z <= cells; ++z)
+    for (int x = 0; x <= cells; ++x)
+      grid.vertices.emplace_back(x * 1.0f, 2.0f * std::sin(x * 0.1f) * std::cos(z * 0.1f), z * 1.0f);
+  for (int z = 0; z < cells; ++z)
+    for (int x = 0; x < cells; ++x) {
+      const std::uint32_t i0 = z * (cells + 1) + x, i1 = i0 + 1, i2 = i0 + cells + 1, i3 = i2 + 1;
+      grid.triangles.push_back({i0, i2, i1});
+      grid.triangles.push_back({i1, i2, i3});
+    }
+  return grid;
+}
+
+const GridMesh& MillionTriangleGrid() {
+  static const GridMesh grid = MakeGrid(708);  // 1,002,528 triangles
+  return grid;
+}
+
+const TriangleMeshShape& MillionTriangleMesh() {
+  static const ShapeRef mesh = *TriangleMeshShape::Create(MillionTriangleGrid().vertices, MillionTriangleGrid().triangles);
+  return static_cast<const TriangleMeshShape&>(*mesh);
+}
+
+void BM_TriangleMeshBuild1M(benchmark::State& state) {
+  const GridMesh& grid = MillionTriangleGrid();
+  for (auto _ : state) benchmark::DoNotOptimize(TriangleMeshShape::Create(grid.vertices, grid.triangles));
+  state.counters["triangles"] = static_cast<double>(grid.triangles.size());
+}
+BENCHMARK(BM_TriangleMeshBuild1M)->Unit(benchmark::kMillisecond);
+
+void BM_TriangleMeshQueryBox1M(benchmark::State& state) {
+  const TriangleMeshShape& mesh = MillionTriangleMesh();
+  std::mt19937 random(1);
+  std::uniform_real_distribution<float> coordinate(0.0f, 700.0f);
+  std::vector<std::uint32_t> found;
+  for (auto _ : state) {
+    found.clear();
+    const Vec3 center(coordinate(random), 0.0f, coordinate(random));
+    mesh.QueryBox(AABB::FromCenterHalfExtents(center, Vec3(1.5f, 3.0f, 1.5f)), found);
+    benchmark::DoNotOptimize(found.data());
+  }
+}
+BENCHMARK(BM_TriangleMeshQueryBox1M);
+
+void BM_TriangleMeshRayCast1M(benchmark::State& state) {
+  const TriangleMeshShape& mesh = MillionTriangleMesh();
+  std::mt19937 random(2);
+  std::uniform_real_distribution<float> coordinate(0.0f, 700.0f);
+  ShapeRayHit hit;
+  for (auto _ : state) {
+    const Vec3 origin(coordinate(random), 10.0f, coordinate(random));
+    const Vec3 target(coordinate(random), -5.0f, coordinate(random));
+    benchmark::DoNotOptimize(mesh.CastRay(origin, (target - origin).normalized() * 100.0f, 1.0f, hit));
+  }
+}
+BENCHMARK(BM_TriangleMeshRayCast1M);
+
+template <class MakeA, class MakeB>
+void CollidePair(benchmark::State& state, MakeA make_a, MakeB make_b, const Pose& pose_b) {
+  const ShapeRef a = make_a(), b = make_b();
+  const Pose pose_a{Vec3::Zero(), Quat::Identity()};
+  for (auto _ : state) {
+    ContactManifold manifold;
+    benchmark::DoNotOptimize(CollideConvexConvex(static_cast<const ConvexShape&>(*a), pose_a,
+                                                 static_cast<const ConvexShape&>(*b), pose_b, 0.02f, manifold));
+  }
+}
+
+void BM_CollideBoxOnBox(benchmark::State& state) {
+  CollidePair(
+      state, [] { return *BoxShape::Create(Vec3(1, 1, 1)); }, [] { return *BoxShape::Create(Vec3(1, 1, 1)); },
+      Pose{Vec3(0.2f, 1.99f, 0.1f), Quat(Eigen::AngleAxisf(0.1f, Vec3::UnitY()))});
+}
+BENCHMARK(BM_CollideBoxOnBox);
+
+void BM_CollideCapsuleOnBox(benchmark::State& state) {
+  CollidePair(
+      state, [] { return *BoxShape::Create(Vec3(2, 1, 2)); }, [] { return *CapsuleShape::Create(0.75f, 0.5f); },
+      Pose{Vec3(0.2f, 1.49f, 0.1f), Quat(Eigen::AngleAxisf(1.5f, Vec3::UnitZ()))});
+}
+BENCHMARK(BM_CollideCapsuleOnBox);
+
+void BM_ConvexHullBuild(benchmark::State& state) {
+  std::mt19937 random(3);
+  std::normal_distribution<float> coordinate(0.0f, 1.0f);
+  std::vector<Vec3> points(static_cast<std::size_t>(state.range(0)));
+  for (Vec3& p : points) p = Vec3(coordinate(random), coordinate(random), coordinate(random));
+  for (auto _ : state) benchmark::DoNotOptimize(ConvexHullShape::Create(points));
+}
+BENCHMARK(BM_ConvexHullBuild)->Arg(32)->Arg(256);
+
+}  // namespace
+}  // namespace strata
+
+BENCHMARK_MAIN();
