@@ -14,8 +14,8 @@ Error ImportError(const std::filesystem::path& path, const std::string& why) {
   return MakeError(ErrorCode::kParseError, path.string() + ": " + why);
 }
 
-void AppendNode(const aiScene& scene, const aiNode& node, const aiMatrix4x4& parent, const MeshImportOptions& options,
-                ImportedMesh& out) {
+void AppendNode(const aiScene& scene, const aiNode& node, const aiMatrix4x4& parent,
+                const MeshImportOptions& options, ImportedMesh& out) {
   const aiMatrix4x4 transform = parent * node.mTransformation;
   for (unsigned m = 0; m < node.mNumMeshes; ++m) {
     const aiMesh& mesh = *scene.mMeshes[node.mMeshes[m]];
@@ -32,23 +32,27 @@ void AppendNode(const aiScene& scene, const aiNode& node, const aiMatrix4x4& par
       out.triangles.push_back({base + face.mIndices[0], base + face.mIndices[1], base + face.mIndices[2]});
     }
   }
-  for (unsigned c = 0; c < node.mNumChildren; ++c) AppendNode(scene, *node.mChildren[c], transform, options, out);
+  for (unsigned c = 0; c < node.mNumChildren; ++c)
+    AppendNode(scene, *node.mChildren[c], transform, options, out);
 }
 
 }  // namespace
 
 Result<ImportedMesh> ImportMesh(const std::filesystem::path& path, const MeshImportOptions& options) {
-  if (!IsFinite(options.scale) || options.scale <= 0.0f) return ImportError(path, "scale must be a positive number");
+  if (!IsFinite(options.scale) || options.scale <= 0.0f)
+    return ImportError(path, "scale must be a positive number");
   std::error_code error;
   if (!std::filesystem::is_regular_file(path, error)) return ImportError(path, "file not found");
   Assimp::Importer importer;
   // Drop normals, colours and UVs before welding so vertices differing only in those still merge.
-  importer.SetPropertyInteger(AI_CONFIG_PP_RVC_FLAGS, aiComponent_NORMALS | aiComponent_TANGENTS_AND_BITANGENTS |
+  importer.SetPropertyInteger(AI_CONFIG_PP_RVC_FLAGS, aiComponent_NORMALS |
+                                                          aiComponent_TANGENTS_AND_BITANGENTS |
                                                           aiComponent_COLORS | aiComponent_TEXCOORDS);
   const aiScene* scene = importer.ReadFile(
       path.string(), aiProcess_Triangulate | aiProcess_RemoveComponent | aiProcess_JoinIdenticalVertices |
                          aiProcess_FindDegenerates | aiProcess_SortByPType | aiProcess_FindInvalidData);
-  if (!scene || !scene->mRootNode) return ImportError(path, std::string("cannot import: ") + importer.GetErrorString());
+  if (!scene || !scene->mRootNode)
+    return ImportError(path, std::string("cannot import: ") + importer.GetErrorString());
   ImportedMesh mesh;
   AppendNode(*scene, *scene->mRootNode, aiMatrix4x4(), options, mesh);
   for (const Vec3& v : mesh.vertices)

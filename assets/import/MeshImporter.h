@@ -19,8 +19,8 @@ struct ImportedMesh {
 
 /// How to bring a file into Strata's frame.
 struct MeshImportOptions {
-  float scale = 1.0f;   ///< multiplies every coordinate (e.g. 0.01 for centimetre files)
-  bool z_up = false;    ///< the file is Z-up; rotate it to Y-up
+  float scale = 1.0f;  ///< multiplies every coordinate (e.g. 0.01 for centimetre files)
+  bool z_up = false;   ///< the file is Z-up; rotate it to Y-up
 };
 
 /// Loads every mesh of `path`. Fails (naming the file and why) for a missing, unsupported or corrupt file,

@@ -25,7 +25,8 @@ class Reader {
   Reader(const std::string& source, std::string path) : source_(source), path_(std::move(path)) {}
 
   Error Fail(const std::string& key, const std::string& why) const {
-    return MakeError(ErrorCode::kParseError, source_ + ": " + path_ + (key.empty() ? "" : "/" + key) + ": " + why);
+    return MakeError(ErrorCode::kParseError,
+                     source_ + ": " + path_ + (key.empty() ? "" : "/" + key) + ": " + why);
   }
   std::string Child(const std::string& key) const { return path_ + "/" + key; }
   Reader At(const std::string& key) const { return Reader(source_, Child(key)); }
@@ -99,14 +100,14 @@ class Reader {
   std::string path_;
 };
 
-#define STRATA_TRY(expression)                     \
-  do {                                             \
-    if (Status status_ = (expression); !status_)   \
-      return status_.error();                      \
+#define STRATA_TRY(expression)                                           \
+  do {                                                                   \
+    if (Status status_ = (expression); !status_) return status_.error(); \
   } while (false)
 
 Result<std::vector<Vec3>> ParsePoints(const Reader& reader, const Json& shape, const std::string& key) {
-  if (!shape.contains(key) || !shape[key].is_array()) return reader.Fail(key, "must be an array of [x, y, z] points");
+  if (!shape.contains(key) || !shape[key].is_array())
+    return reader.Fail(key, "must be an array of [x, y, z] points");
   std::vector<Vec3> points;
   for (std::size_t i = 0; i < shape[key].size(); ++i) {
     Vec3 point;
@@ -189,9 +190,10 @@ Result<ShapeRef> ParseShape(const Reader& reader, const Json& shape, const std::
 
 Result<SceneBody> ParseBody(const Reader& reader, const Json& body, const std::filesystem::path& base) {
   if (!body.is_object()) return reader.Fail("", "must be an object");
-  STRATA_TRY(reader.OnlyKeys(body, {"name", "shape", "position", "rotation", "motion", "mass", "density", "friction",
-                                    "restitution", "linear_velocity", "angular_velocity", "linear_damping",
-                                    "angular_damping", "gravity_factor", "allow_sleeping"}));
+  STRATA_TRY(
+      reader.OnlyKeys(body, {"name", "shape", "position", "rotation", "motion", "mass", "density", "friction",
+                             "restitution", "linear_velocity", "angular_velocity", "linear_damping",
+                             "angular_damping", "gravity_factor", "allow_sleeping"}));
   SceneBody out;
   STRATA_TRY(reader.String(body, "name", out.name));
   if (!body.contains("shape")) return reader.Fail("shape", "is required");
@@ -203,12 +205,17 @@ Result<SceneBody> ParseBody(const Reader& reader, const Json& body, const std::f
   STRATA_TRY(reader.Rotation(body, "rotation", settings.rotation));
   std::string motion = "dynamic";
   STRATA_TRY(reader.String(body, "motion", motion));
-  if (motion == "static") settings.motion_type = MotionType::kStatic;
-  else if (motion == "kinematic") settings.motion_type = MotionType::kKinematic;
-  else if (motion == "dynamic") settings.motion_type = MotionType::kDynamic;
-  else return reader.Fail("motion", "must be static, kinematic or dynamic (got '" + motion + "')");
+  if (motion == "static")
+    settings.motion_type = MotionType::kStatic;
+  else if (motion == "kinematic")
+    settings.motion_type = MotionType::kKinematic;
+  else if (motion == "dynamic")
+    settings.motion_type = MotionType::kDynamic;
+  else
+    return reader.Fail("motion", "must be static, kinematic or dynamic (got '" + motion + "')");
   settings.object_layer = settings.motion_type == MotionType::kStatic ? layers::kNonMoving : layers::kMoving;
-  if (body.contains("mass") && body.contains("density")) return reader.Fail("mass", "give mass or density, not both");
+  if (body.contains("mass") && body.contains("density"))
+    return reader.Fail("mass", "give mass or density, not both");
   if (body.contains("mass")) {
     float mass = 0.0f;
     STRATA_TRY(reader.Number(body, "mass", mass));
@@ -230,7 +237,8 @@ Result<SceneBody> ParseBody(const Reader& reader, const Json& body, const std::f
 
 Status ParseSettings(const Reader& reader, const Json& json, Scene& scene) {
   if (!json.is_object()) return reader.Fail("", "must be an object");
-  STRATA_TRY(reader.OnlyKeys(json, {"gravity", "dt", "velocity_iterations", "position_iterations", "sleeping"}));
+  STRATA_TRY(
+      reader.OnlyKeys(json, {"gravity", "dt", "velocity_iterations", "position_iterations", "sleeping"}));
   STRATA_TRY(reader.Vector(json, "gravity", scene.physics.gravity));
   STRATA_TRY(reader.Number(json, "dt", scene.dt));
   if (!(scene.dt > 0.0f) || scene.dt > 1.0f) return reader.Fail("dt", "must be in (0, 1] seconds");
@@ -267,7 +275,8 @@ Result<Scene> ParseScene(const std::string& text, const std::string& source,
     Result<SceneBody> body = ParseBody(reader, json["bodies"][i], base_directory);
     if (!body) return body.error();
     if (body->name.empty()) body->name = "body" + std::to_string(i);
-    if (!names.insert(body->name).second) return reader.Fail("name", "duplicate body name '" + body->name + "'");
+    if (!names.insert(body->name).second)
+      return reader.Fail("name", "duplicate body name '" + body->name + "'");
     scene.bodies.push_back(std::move(*body));
   }
   return scene;

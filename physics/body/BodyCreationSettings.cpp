@@ -5,7 +5,9 @@
 namespace strata {
 
 namespace {
-Status Invalid(const std::string& message) { return MakeError(ErrorCode::kInvalidArgument, message); }
+Status Invalid(const std::string& message) {
+  return MakeError(ErrorCode::kInvalidArgument, message);
+}
 }  // namespace
 
 Status BodyCreationSettings::Validate() const {
@@ -13,7 +15,8 @@ Status BodyCreationSettings::Validate() const {
   if (!IsFinite(position)) return Invalid("body position is not finite");
   if (!IsFinite(rotation) || std::abs(rotation.norm() - 1.0f) > 1e-3f)
     return Invalid("body rotation must be a finite unit quaternion");
-  if (!IsFinite(linear_velocity) || !IsFinite(angular_velocity)) return Invalid("body velocity is not finite");
+  if (!IsFinite(linear_velocity) || !IsFinite(angular_velocity))
+    return Invalid("body velocity is not finite");
   if (mass && (!IsFinite(*mass) || *mass <= 0.0f))
     return Invalid("body mass must be a positive finite number, got " + std::to_string(*mass));
   if (!mass && (!IsFinite(density) || density <= 0.0f))
@@ -21,13 +24,15 @@ Status BodyCreationSettings::Validate() const {
   if (!IsFinite(friction) || friction < 0.0f) return Invalid("friction must be >= 0");
   if (!IsFinite(restitution) || restitution < 0.0f || restitution > 1.0f)
     return Invalid("restitution must be in [0, 1]");
-  if (!IsFinite(linear_damping) || linear_damping < 0.0f || !IsFinite(angular_damping) || angular_damping < 0.0f)
+  if (!IsFinite(linear_damping) || linear_damping < 0.0f || !IsFinite(angular_damping) ||
+      angular_damping < 0.0f)
     return Invalid("damping must be >= 0");
   if (!IsFinite(gravity_factor)) return Invalid("gravity factor is not finite");
   if (!(max_linear_velocity > 0.0f) || !(max_angular_velocity > 0.0f))
     return Invalid("max velocities must be positive");
   if (motion_type == MotionType::kDynamic && !shape->IsConvex())
-    return MakeError(ErrorCode::kInvalidArgument, "a triangle mesh has no volume: it can only be static or kinematic");
+    return MakeError(ErrorCode::kInvalidArgument,
+                     "a triangle mesh has no volume: it can only be static or kinematic");
   if (motion_type == MotionType::kDynamic && !mass && shape->ComputeMassProperties(density).mass <= 0.0f)
     return MakeError(ErrorCode::kDegenerateShape, "body shape has no volume, so its mass would be zero");
   return Status::Ok();

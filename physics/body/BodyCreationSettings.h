@@ -15,18 +15,18 @@ namespace strata {
 /// Shape, pose, motion and material of a new body. Units: metres, kilograms, seconds, radians.
 struct BodyCreationSettings {
   ShapeRef shape;
-  Vec3 position = Vec3::Zero();          ///< of the shape origin, world space (m)
-  Quat rotation = Quat::Identity();      ///< unit quaternion
+  Vec3 position = Vec3::Zero();      ///< of the shape origin, world space (m)
+  Quat rotation = Quat::Identity();  ///< unit quaternion
   MotionType motion_type = MotionType::kDynamic;
   ObjectLayer object_layer = layers::kMoving;
-  std::optional<float> mass;             ///< kg; overrides density when set
-  float density = 1000.0f;               ///< kg/m^3, used when mass is not set
-  float friction = 0.2f;                 ///< Coulomb coefficient, >= 0 (pairs use sqrt(a * b))
-  float restitution = 0.0f;              ///< [0, 1] (pairs use the max)
-  float linear_damping = 0.05f;          ///< 1/s
-  float angular_damping = 0.05f;         ///< 1/s
-  float gravity_factor = 1.0f;           ///< multiplies world gravity
-  float max_linear_velocity = 500.0f;    ///< m/s
+  std::optional<float> mass;                         ///< kg; overrides density when set
+  float density = 1000.0f;                           ///< kg/m^3, used when mass is not set
+  float friction = 0.2f;                             ///< Coulomb coefficient, >= 0 (pairs use sqrt(a * b))
+  float restitution = 0.0f;                          ///< [0, 1] (pairs use the max)
+  float linear_damping = 0.05f;                      ///< 1/s
+  float angular_damping = 0.05f;                     ///< 1/s
+  float gravity_factor = 1.0f;                       ///< multiplies world gravity
+  float max_linear_velocity = 500.0f;                ///< m/s
   float max_angular_velocity = 0.25f * kPi * 60.0f;  ///< rad/s
   bool allow_sleeping = true;
   Vec3 linear_velocity = Vec3::Zero();   ///< m/s, of the centre of mass

@@ -60,7 +60,9 @@ Result<BodyID> BodyInterface::CreateAndAddBody(const BodyCreationSettings& setti
   return id;
 }
 
-Status BodyInterface::AddBody(BodyID id, Activation activation) { return AddBodies({&id, 1}, activation); }
+Status BodyInterface::AddBody(BodyID id, Activation activation) {
+  return AddBodies({&id, 1}, activation);
+}
 
 Status BodyInterface::AddBodies(std::span<const BodyID> ids, Activation activation) {
   std::shared_lock step(system_.step_mutex_);
@@ -70,10 +72,12 @@ Status BodyInterface::AddBodies(std::span<const BodyID> ids, Activation activati
     BodyLockRead lock(system_.body_manager_, ids[i]);
     if (!lock.Succeeded()) return lock.status();
     if (lock.body().in_world())
-      return MakeError(ErrorCode::kInvalidState, "body " + std::to_string(ids[i].index) + " is already in the world");
+      return MakeError(ErrorCode::kInvalidState,
+                       "body " + std::to_string(ids[i].index) + " is already in the world");
     for (std::size_t j = 0; j < i; ++j)
       if (ids[j] == ids[i])
-        return MakeError(ErrorCode::kInvalidArgument, "body " + std::to_string(ids[i].index) + " is listed twice");
+        return MakeError(ErrorCode::kInvalidArgument,
+                         "body " + std::to_string(ids[i].index) + " is listed twice");
   }
   for (const BodyID id : ids) {
     BodyLockWrite lock(system_.body_manager_, id);
@@ -118,7 +122,9 @@ Status BodyInterface::RemoveAndDestroyBody(BodyID id) {
   return DestroyBody(id);
 }
 
-bool BodyInterface::IsValid(BodyID id) const { return Read(id, [](const Body&) { return true; }).ok(); }
+bool BodyInterface::IsValid(BodyID id) const {
+  return Read(id, [](const Body&) { return true; }).ok();
+}
 Result<bool> BodyInterface::IsInWorld(BodyID id) const {
   return Read(id, [](const Body& b) { return b.in_world(); });
 }

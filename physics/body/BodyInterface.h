@@ -22,7 +22,8 @@ class BodyInterface {
   /// Creates a body outside the world.
   Result<BodyID> CreateBody(const BodyCreationSettings& settings);
   /// Creates a body and adds it to the world.
-  Result<BodyID> CreateAndAddBody(const BodyCreationSettings& settings, Activation activation = Activation::kActivate);
+  Result<BodyID> CreateAndAddBody(const BodyCreationSettings& settings,
+                                  Activation activation = Activation::kActivate);
   /// Puts a created body into the world (broad phase and step).
   Status AddBody(BodyID id, Activation activation = Activation::kActivate);
   /// Adds several bodies; all ids are checked first, so either all are added or none.

@@ -10,9 +10,12 @@ enum class MotionType : std::uint8_t { kStatic, kKinematic, kDynamic };
 
 inline const char* ToString(MotionType type) {
   switch (type) {
-    case MotionType::kStatic: return "static";
-    case MotionType::kKinematic: return "kinematic";
-    case MotionType::kDynamic: return "dynamic";
+    case MotionType::kStatic:
+      return "static";
+    case MotionType::kKinematic:
+      return "kinematic";
+    case MotionType::kDynamic:
+      return "dynamic";
   }
   return "unknown";
 }

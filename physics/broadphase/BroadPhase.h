@@ -46,8 +46,8 @@ class BroadPhase {
   /// Appends bodies whose bounds overlap `box`.
   virtual void CollideAABB(const AABB& box, const QueryFilter& filter, std::vector<BodyID>& out) const = 0;
   /// Appends bodies whose bounds the ray origin + t * direction (t in [0, max_fraction]) enters.
-  virtual void CastRay(const Vec3& origin, const Vec3& direction, float max_fraction, const QueryFilter& filter,
-                       std::vector<BroadPhaseRayHit>& out) const = 0;
+  virtual void CastRay(const Vec3& origin, const Vec3& direction, float max_fraction,
+                       const QueryFilter& filter, std::vector<BroadPhaseRayHit>& out) const = 0;
 };
 
 }  // namespace strata

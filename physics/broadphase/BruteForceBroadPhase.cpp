@@ -30,7 +30,8 @@ void BruteForceBroadPhase::RemoveBody(BodyID id) {
   dense_of_index_[ids_[last].index] = slot;
   dense_of_index_[id.index] = kAbsent;
   move_last(ids_), move_last(layers_);
-  move_last(min_x_), move_last(min_y_), move_last(min_z_), move_last(max_x_), move_last(max_y_), move_last(max_z_);
+  move_last(min_x_), move_last(min_y_), move_last(min_z_), move_last(max_x_), move_last(max_y_),
+      move_last(max_z_);
 }
 
 void BruteForceBroadPhase::UpdateBody(BodyID id, const AABB& bounds) {
@@ -46,14 +47,16 @@ std::size_t BruteForceBroadPhase::body_count() const {
   return ids_.size();
 }
 
-void BruteForceBroadPhase::FindPairs(std::span<const BodyID> active, std::span<const std::uint8_t> active_flags,
-                                     const LayerSetup& layers, std::vector<BodyPair>& out) const {
+void BruteForceBroadPhase::FindPairs(std::span<const BodyID> active,
+                                     std::span<const std::uint8_t> active_flags, const LayerSetup& layers,
+                                     std::vector<BodyPair>& out) const {
   std::shared_lock lock(mutex_);
   const std::size_t n = ids_.size();
   for (const BodyID a : active) {
     const std::uint32_t s = dense_of_index_[a.index];
     if (s == kAbsent) continue;
-    const float ax0 = min_x_[s], ay0 = min_y_[s], az0 = min_z_[s], ax1 = max_x_[s], ay1 = max_y_[s], az1 = max_z_[s];
+    const float ax0 = min_x_[s], ay0 = min_y_[s], az0 = min_z_[s], ax1 = max_x_[s], ay1 = max_y_[s],
+                az1 = max_z_[s];
     // Test a block of bounds with a branch-free loop the compiler vectorizes, then visit only the hits.
     constexpr std::size_t kBlock = 64;
     std::uint8_t hits[kBlock];
@@ -66,7 +69,8 @@ void BruteForceBroadPhase::FindPairs(std::span<const BodyID> active, std::span<c
       const float* y1 = &max_y_[start];
       const float* z1 = &max_z_[start];
       for (std::size_t k = 0; k < count; ++k)
-        hits[k] = (ax0 <= x1[k]) & (x0[k] <= ax1) & (ay0 <= y1[k]) & (y0[k] <= ay1) & (az0 <= z1[k]) & (z0[k] <= az1);
+        hits[k] = (ax0 <= x1[k]) & (x0[k] <= ax1) & (ay0 <= y1[k]) & (y0[k] <= ay1) & (az0 <= z1[k]) &
+                  (z0[k] <= az1);
       for (std::size_t k = 0; k < count; ++k) {
         const std::size_t j = start + k;
         if (!hits[k] || j == s) continue;
@@ -79,7 +83,8 @@ void BruteForceBroadPhase::FindPairs(std::span<const BodyID> active, std::span<c
   }
 }
 
-void BruteForceBroadPhase::CollideAABB(const AABB& box, const QueryFilter& filter, std::vector<BodyID>& out) const {
+void BruteForceBroadPhase::CollideAABB(const AABB& box, const QueryFilter& filter,
+                                       std::vector<BodyID>& out) const {
   std::shared_lock lock(mutex_);
   for (std::size_t j = 0; j < ids_.size(); ++j) {
     const bool overlap = box.min.x() <= max_x_[j] && min_x_[j] <= box.max.x() && box.min.y() <= max_y_[j] &&

@@ -17,8 +17,8 @@ class BruteForceBroadPhase final : public BroadPhase {
   void RemoveBody(BodyID id) override;
   void UpdateBody(BodyID id, const AABB& bounds) override;
   std::size_t body_count() const override;
-  void FindPairs(std::span<const BodyID> active, std::span<const std::uint8_t> active_flags, const LayerSetup& layers,
-                 std::vector<BodyPair>& out) const override;
+  void FindPairs(std::span<const BodyID> active, std::span<const std::uint8_t> active_flags,
+                 const LayerSetup& layers, std::vector<BodyPair>& out) const override;
   void CollideAABB(const AABB& box, const QueryFilter& filter, std::vector<BodyID>& out) const override;
   void CastRay(const Vec3& origin, const Vec3& direction, float max_fraction, const QueryFilter& filter,
                std::vector<BroadPhaseRayHit>& out) const override;

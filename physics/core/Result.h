@@ -50,7 +50,7 @@ class [[nodiscard]] Status {
 template <class T>
 class [[nodiscard]] Result {
  public:
-  Result(T value) : storage_(std::move(value)) {}     // NOLINT: implicit on purpose
+  Result(T value) : storage_(std::move(value)) {}      // NOLINT: implicit on purpose
   Result(Error error) : storage_(std::move(error)) {}  // NOLINT: implicit on purpose
 
   bool ok() const { return std::holds_alternative<T>(storage_); }
@@ -78,6 +78,8 @@ class [[nodiscard]] Result {
 };
 
 /// Shorthand for building an error at an API boundary.
-inline Error MakeError(ErrorCode code, std::string message) { return Error{code, std::move(message)}; }
+inline Error MakeError(ErrorCode code, std::string message) {
+  return Error{code, std::move(message)};
+}
 
 }  // namespace strata

@@ -34,8 +34,9 @@ void TbbJobSystem::ParallelFor(std::size_t count, std::size_t grain, const Range
     return;
   }
   arena_->arena.execute([&] {
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, grain == 0 ? 1 : grain),
-                      [&](const tbb::blocked_range<std::size_t>& range) { function(range.begin(), range.end()); });
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, count, grain == 0 ? 1 : grain),
+        [&](const tbb::blocked_range<std::size_t>& range) { function(range.begin(), range.end()); });
   });
 }
 

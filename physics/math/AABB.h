@@ -16,7 +16,9 @@ struct AABB {
   AABB() = default;
   AABB(const Vec3& lo, const Vec3& hi) : min(lo), max(hi) {}
 
-  static AABB FromCenterHalfExtents(const Vec3& center, const Vec3& half) { return {center - half, center + half}; }
+  static AABB FromCenterHalfExtents(const Vec3& center, const Vec3& half) {
+    return {center - half, center + half};
+  }
 
   /// True when min <= max on every axis and both corners are finite.
   bool IsValid() const { return IsFinite(min) && IsFinite(max) && (min.array() <= max.array()).all(); }
@@ -36,7 +38,9 @@ struct AABB {
   bool Contains(const AABB& other) const {
     return (min.array() <= other.min.array()).all() && (other.max.array() <= max.array()).all();
   }
-  bool Contains(const Vec3& p) const { return (min.array() <= p.array()).all() && (p.array() <= max.array()).all(); }
+  bool Contains(const Vec3& p) const {
+    return (min.array() <= p.array()).all() && (p.array() <= max.array()).all();
+  }
 
   void Encapsulate(const Vec3& p) {
     min = min.cwiseMin(p);

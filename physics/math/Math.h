@@ -18,9 +18,15 @@ inline constexpr float kPi = 3.14159265358979323846f;
 inline constexpr float kLargeFloat = 1e30f;
 
 /// True when every component is a finite number (no NaN, no Inf).
-inline bool IsFinite(const Vec3& v) { return v.allFinite(); }
-inline bool IsFinite(const Quat& q) { return q.coeffs().allFinite(); }
-inline bool IsFinite(float f) { return std::isfinite(f); }
+inline bool IsFinite(const Vec3& v) {
+  return v.allFinite();
+}
+inline bool IsFinite(const Quat& q) {
+  return q.coeffs().allFinite();
+}
+inline bool IsFinite(float f) {
+  return std::isfinite(f);
+}
 
 /// A unit vector perpendicular to `n` (n must be unit length).
 inline Vec3 AnyPerpendicular(const Vec3& n) {

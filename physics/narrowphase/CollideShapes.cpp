@@ -13,8 +13,8 @@ namespace {
 // Normal (A to B) and deepest point pair of two convex supports. The cores carry radii; exact supports
 // are only used when the cores overlap.
 bool FindContact(const ConvexSupport& core_a, const ConvexSupport& exact_a, float radius_a,
-                 const ConvexSupport& core_b, const ConvexSupport& exact_b, float radius_b, float max_separation,
-                 Vec3& normal, ContactPoint& deepest) {
+                 const ConvexSupport& core_b, const ConvexSupport& exact_b, float radius_b,
+                 float max_separation, Vec3& normal, ContactPoint& deepest) {
   // The rounded core sits inside the exact shape but cuts its corners (by up to (sqrt(3) - 1) r on a box),
   // so the core only supplies the direction; the gap along it is measured on the exact shapes.
   const float corner_slack = 0.75f * (radius_a + radius_b);
@@ -24,7 +24,8 @@ bool FindContact(const ConvexSupport& core_a, const ConvexSupport& exact_a, floa
   if (!core.overlapping && core.distance > 1e-5f) {
     normal = (core.point_b - core.point_a) / core.distance;
     const Vec3 extreme_a = exact_a.Support(normal), extreme_b = exact_b.Support(-normal);
-    const float separation = std::min(core.distance - radius_a - radius_b, (extreme_b - extreme_a).dot(normal));
+    const float separation =
+        std::min(core.distance - radius_a - radius_b, (extreme_b - extreme_a).dot(normal));
     if (separation > max_separation) return false;
     deepest = {core.point_a + radius_a * normal, core.point_b - radius_b * normal, separation};
     return true;
@@ -50,7 +51,8 @@ bool FindContact(const ConvexSupport& core_a, const ConvexSupport& exact_a, floa
   return true;
 }
 
-void WorldFace(const ConvexShape& shape, const Pose& pose, const Vec3& world_direction, SupportingFace& face) {
+void WorldFace(const ConvexShape& shape, const Pose& pose, const Vec3& world_direction,
+               SupportingFace& face) {
   shape.GetSupportingFace(pose.DirectionToLocal(world_direction), face);
   for (int i = 0; i < face.count; ++i) face.vertices[i] = pose.ToWorld(face.vertices[i]);
 }
@@ -178,11 +180,11 @@ void MergeManifold(const ContactManifold& manifold, std::size_t first, std::vect
 bool CollideConvexConvex(const ConvexShape& a, const Pose& pose_a, const ConvexShape& b, const Pose& pose_b,
                          float max_separation, ContactManifold& manifold) {
   if (a.type() == ShapeType::kSphere && b.type() == ShapeType::kSphere)
-    return CollideSpheres(static_cast<const SphereShape&>(a), pose_a, static_cast<const SphereShape&>(b), pose_b,
-                          max_separation, manifold);
+    return CollideSpheres(static_cast<const SphereShape&>(a), pose_a, static_cast<const SphereShape&>(b),
+                          pose_b, max_separation, manifold);
   if (a.type() == ShapeType::kSphere && b.type() == ShapeType::kBox)
-    return CollideSphereBox(static_cast<const SphereShape&>(a), pose_a, static_cast<const BoxShape&>(b), pose_b,
-                            max_separation, manifold);
+    return CollideSphereBox(static_cast<const SphereShape&>(a), pose_a, static_cast<const BoxShape&>(b),
+                            pose_b, max_separation, manifold);
   if (a.type() == ShapeType::kBox && b.type() == ShapeType::kSphere) {
     if (!CollideSphereBox(static_cast<const SphereShape&>(b), pose_b, static_cast<const BoxShape&>(a), pose_a,
                           max_separation, manifold))
@@ -211,9 +213,11 @@ bool CollideConvexConvex(const ConvexShape& a, const Pose& pose_a, const ConvexS
   return manifold.count > 0;
 }
 
-void CollideConvexMesh(const ConvexShape& a, const Pose& pose_a, const TriangleMeshShape& mesh, const Pose& pose_mesh,
-                       float max_separation, const ContactManifold& prototype, std::vector<ContactManifold>& out) {
-  const Pose mesh_inverse{pose_mesh.rotation.conjugate() * -pose_mesh.position, pose_mesh.rotation.conjugate()};
+void CollideConvexMesh(const ConvexShape& a, const Pose& pose_a, const TriangleMeshShape& mesh,
+                       const Pose& pose_mesh, float max_separation, const ContactManifold& prototype,
+                       std::vector<ContactManifold>& out) {
+  const Pose mesh_inverse{pose_mesh.rotation.conjugate() * -pose_mesh.position,
+                          pose_mesh.rotation.conjugate()};
   const AABB local_box = a.WorldBounds(pose_a).Expanded(max_separation).Transformed(mesh_inverse);
   thread_local std::vector<std::uint32_t> triangles;
   triangles.clear();
@@ -238,8 +242,8 @@ void CollideConvexMesh(const ConvexShape& a, const Pose& pose_a, const TriangleM
       deepest = manifold.points[0];
       for (int i = 1; i < manifold.count; ++i)
         if (manifold.points[i].separation < deepest.separation) deepest = manifold.points[i];
-    } else if (!FindContact(core_a, exact_a, a.core_radius(), triangle, triangle, 0.0f, max_separation, normal,
-                            deepest)) {
+    } else if (!FindContact(core_a, exact_a, a.core_radius(), triangle, triangle, 0.0f, max_separation,
+                            normal, deepest)) {
       continue;
     }
     // A normal along the front face normal would pull the body through the triangle from behind.
@@ -254,8 +258,10 @@ void CollideConvexMesh(const ConvexShape& a, const Pose& pose_a, const TriangleM
       deepest.separation = (deepest.position_b - deepest.position_a).dot(normal);
     }
     SupportingFace face_a, face_b;
-    if (use_sat) polyhedron_a.Face(MostAlignedFace(polyhedron_a, normal), face_a);
-    else WorldFace(a, pose_a, normal, face_a);
+    if (use_sat)
+      polyhedron_a.Face(MostAlignedFace(polyhedron_a, normal), face_a);
+    else
+      WorldFace(a, pose_a, normal, face_a);
     TriangleFace(triangle, face_normal, -normal, face_b);
     manifold.normal = normal;
     BuildManifold(face_a, face_b, deepest, max_separation, manifold);
@@ -263,17 +269,19 @@ void CollideConvexMesh(const ConvexShape& a, const Pose& pose_a, const TriangleM
   }
 }
 
-void CollideShapes(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b, float max_separation,
-                   const ContactManifold& prototype, std::vector<ContactManifold>& out) {
+void CollideShapes(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b,
+                   float max_separation, const ContactManifold& prototype,
+                   std::vector<ContactManifold>& out) {
   if (!a.IsConvex()) return;  // mesh vs anything is handled with the mesh as B
   const auto& convex_a = static_cast<const ConvexShape&>(a);
   if (b.type() == ShapeType::kTriangleMesh) {
-    CollideConvexMesh(convex_a, pose_a, static_cast<const TriangleMeshShape&>(b), pose_b, max_separation, prototype,
-                      out);
+    CollideConvexMesh(convex_a, pose_a, static_cast<const TriangleMeshShape&>(b), pose_b, max_separation,
+                      prototype, out);
     return;
   }
   ContactManifold manifold = prototype;
-  if (CollideConvexConvex(convex_a, pose_a, static_cast<const ConvexShape&>(b), pose_b, max_separation, manifold))
+  if (CollideConvexConvex(convex_a, pose_a, static_cast<const ConvexShape&>(b), pose_b, max_separation,
+                          manifold))
     out.push_back(manifold);
 }
 

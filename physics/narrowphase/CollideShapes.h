@@ -18,11 +18,12 @@ bool CollideConvexConvex(const ConvexShape& a, const Pose& pose_a, const ConvexS
 
 /// Contacts between a convex shape (A) and a triangle mesh (B): one manifold per distinct normal, keyed
 /// by the first triangle that produced it. Appends to `out`; each new manifold starts as `prototype`.
-void CollideConvexMesh(const ConvexShape& a, const Pose& pose_a, const TriangleMeshShape& mesh, const Pose& pose_mesh,
-                       float max_separation, const ContactManifold& prototype, std::vector<ContactManifold>& out);
+void CollideConvexMesh(const ConvexShape& a, const Pose& pose_a, const TriangleMeshShape& mesh,
+                       const Pose& pose_mesh, float max_separation, const ContactManifold& prototype,
+                       std::vector<ContactManifold>& out);
 
 /// Dispatches on shape types (mesh vs mesh never collides; a mesh as A is swapped to B by the caller).
-void CollideShapes(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b, float max_separation,
-                   const ContactManifold& prototype, std::vector<ContactManifold>& out);
+void CollideShapes(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b,
+                   float max_separation, const ContactManifold& prototype, std::vector<ContactManifold>& out);
 
 }  // namespace strata

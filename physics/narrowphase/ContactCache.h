@@ -34,7 +34,8 @@ class ContactCache {
   void BeginStep() {
     std::swap(previous_, current_);
     current_.clear();
-    if (!std::is_sorted(previous_.begin(), previous_.end(), KeyLess)) std::sort(previous_.begin(), previous_.end(), KeyLess);
+    if (!std::is_sorted(previous_.begin(), previous_.end(), KeyLess))
+      std::sort(previous_.begin(), previous_.end(), KeyLess);
   }
   const CachedManifold* FindPrevious(const ContactKey& key) const {
     const auto it = std::lower_bound(previous_.begin(), previous_.end(), key,

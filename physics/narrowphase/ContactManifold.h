@@ -11,8 +11,8 @@ namespace strata {
 
 /// One contact point as a pair of surface points; separation < 0 means the bodies overlap there.
 struct ContactPoint {
-  Vec3 position_a;  ///< on the surface of A, world space
-  Vec3 position_b;  ///< on the surface of B, world space
+  Vec3 position_a;   ///< on the surface of A, world space
+  Vec3 position_b;   ///< on the surface of B, world space
   float separation;  ///< (position_b - position_a) . normal
 };
 

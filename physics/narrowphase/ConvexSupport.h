@@ -37,7 +37,8 @@ class TriangleSupport final : public ConvexSupport {
  public:
   TriangleSupport(const Vec3& a, const Vec3& b, const Vec3& c) : vertices_{a, b, c} {}
   Vec3 Support(const Vec3& direction) const override {
-    const float da = vertices_[0].dot(direction), db = vertices_[1].dot(direction), dc = vertices_[2].dot(direction);
+    const float da = vertices_[0].dot(direction), db = vertices_[1].dot(direction),
+                dc = vertices_[2].dot(direction);
     if (da >= db && da >= dc) return vertices_[0];
     return db >= dc ? vertices_[1] : vertices_[2];
   }

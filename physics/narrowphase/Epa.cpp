@@ -22,14 +22,17 @@ SimplexVertex SupportVertex(const ConvexSupport& a, const ConvexSupport& b, cons
 }
 
 // Grows a GJK simplex of 1-3 vertices into a tetrahedron that has volume.
-bool CompleteTetrahedron(const ConvexSupport& a, const ConvexSupport& b, std::vector<SimplexVertex>& vertices) {
-  static const Vec3 kDirections[] = {Vec3::UnitX(),  -Vec3::UnitX(), Vec3::UnitY(), -Vec3::UnitY(),
-                                     Vec3::UnitZ(),  -Vec3::UnitZ(), Vec3(1, 1, 1), Vec3(-1, -1, 1),
+bool CompleteTetrahedron(const ConvexSupport& a, const ConvexSupport& b,
+                         std::vector<SimplexVertex>& vertices) {
+  static const Vec3 kDirections[] = {Vec3::UnitX(),   -Vec3::UnitX(), Vec3::UnitY(), -Vec3::UnitY(),
+                                     Vec3::UnitZ(),   -Vec3::UnitZ(), Vec3(1, 1, 1), Vec3(-1, -1, 1),
                                      Vec3(1, -1, -1), Vec3(-1, 1, -1)};
   auto spans_more = [&](const Vec3& w) {
     switch (vertices.size()) {
-      case 1: return (w - vertices[0].w).squaredNorm() > 1e-10f;
-      case 2: return (w - vertices[0].w).cross(vertices[1].w - vertices[0].w).squaredNorm() > 1e-12f;
+      case 1:
+        return (w - vertices[0].w).squaredNorm() > 1e-10f;
+      case 2:
+        return (w - vertices[0].w).cross(vertices[1].w - vertices[0].w).squaredNorm() > 1e-12f;
       default: {
         const Vec3 normal = (vertices[1].w - vertices[0].w).cross(vertices[2].w - vertices[0].w);
         return std::abs(normal.dot(w - vertices[0].w)) > 1e-9f * std::max(1.0f, normal.norm());
@@ -51,7 +54,8 @@ bool CompleteTetrahedron(const ConvexSupport& a, const ConvexSupport& b, std::ve
 
 }  // namespace
 
-bool EpaPenetration(const ConvexSupport& a, const ConvexSupport& b, const GjkResult& gjk, PenetrationResult& out) {
+bool EpaPenetration(const ConvexSupport& a, const ConvexSupport& b, const GjkResult& gjk,
+                    PenetrationResult& out) {
   std::vector<SimplexVertex> vertices(gjk.simplex, gjk.simplex + gjk.simplex_count);
   if (vertices.empty()) vertices.push_back(SupportVertex(a, b, Vec3::UnitX()));
   if (vertices.size() < 4 && !CompleteTetrahedron(a, b, vertices)) return false;
@@ -99,8 +103,10 @@ bool EpaPenetration(const ConvexSupport& a, const ConvexSupport& b, const GjkRes
       const int edge[3][2] = {{face.a, face.b}, {face.b, face.c}, {face.c, face.a}};
       for (const auto& e : edge) {
         auto reverse = std::find(horizon.begin(), horizon.end(), std::make_pair(e[1], e[0]));
-        if (reverse != horizon.end()) horizon.erase(reverse);
-        else horizon.emplace_back(e[0], e[1]);
+        if (reverse != horizon.end())
+          horizon.erase(reverse);
+        else
+          horizon.emplace_back(e[0], e[1]);
       }
     }
     for (const auto& [from, to] : horizon) add_face(from, to, new_index);

@@ -16,6 +16,7 @@ struct PenetrationResult {
 
 /// Expands the GJK simplex into a polytope around the origin. Returns false when the shapes only touch
 /// (no volume of overlap could be built) or the polytope degenerates.
-bool EpaPenetration(const ConvexSupport& a, const ConvexSupport& b, const GjkResult& gjk, PenetrationResult& out);
+bool EpaPenetration(const ConvexSupport& a, const ConvexSupport& b, const GjkResult& gjk,
+                    PenetrationResult& out);
 
 }  // namespace strata

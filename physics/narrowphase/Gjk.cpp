@@ -91,9 +91,12 @@ bool ClosestPointOnSimplex(SimplexVertex* simplex, int& count, float* weights, V
       const Vec3d edge = w[1] - w[0];
       const double length2 = edge.squaredNorm();
       const double t = length2 > 0.0 ? std::clamp(-w[0].dot(edge) / length2, 0.0, 1.0) : 0.0;
-      if (t <= 0.0) all[0] = 1, mask = 0b01;
-      else if (t >= 1.0) all[1] = 1, mask = 0b10;
-      else all[0] = 1 - t, all[1] = t, mask = 0b11;
+      if (t <= 0.0)
+        all[0] = 1, mask = 0b01;
+      else if (t >= 1.0)
+        all[1] = 1, mask = 0b10;
+      else
+        all[0] = 1 - t, all[1] = t, mask = 0b11;
       break;
     }
     case 3:
@@ -149,7 +152,8 @@ GjkResult GjkClosestPoints(const ConvexSupport& a, const ConvexSupport& b, float
     const float v_length2 = v.squaredNorm();
     const float progress = v.dot(vertex.w);
     // Separating axis farther than anyone cares about.
-    if (progress > 0.0f && progress * progress > max_distance * max_distance * v_length2 && result.simplex_count > 0) {
+    if (progress > 0.0f && progress * progress > max_distance * max_distance * v_length2 &&
+        result.simplex_count > 0) {
       result.distance = std::sqrt(progress * progress / v_length2);
       return result;
     }

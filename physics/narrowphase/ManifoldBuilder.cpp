@@ -9,7 +9,8 @@ namespace {
 using Polygon = std::array<Vec3, 64>;
 
 // Sutherland-Hodgman: keeps the part of `polygon` on the inner side (plane_normal . (p - plane_point) <= 0).
-int ClipAgainstPlane(const Polygon& in, int count, const Vec3& plane_point, const Vec3& plane_normal, Polygon& out) {
+int ClipAgainstPlane(const Polygon& in, int count, const Vec3& plane_point, const Vec3& plane_normal,
+                     Polygon& out) {
   int written = 0;
   if (count == 0) return 0;
   Vec3 previous = in[count - 1];
@@ -60,14 +61,16 @@ int ReduceContactPoints(ContactPoint* points, int count, const Vec3& normal) {
   chosen[2] = chosen[0];
   float signed_area = 0.0f;
   for (int i = 0; i < count; ++i) {
-    const float area = (position(chosen[0]) - position(i)).cross(position(chosen[1]) - position(i)).dot(normal);
+    const float area =
+        (position(chosen[0]) - position(i)).cross(position(chosen[1]) - position(i)).dot(normal);
     if (std::abs(area) > best) best = std::abs(area), chosen[2] = i, signed_area = area;
   }
   best = -1.0f;
   chosen[3] = chosen[0];
   for (int i = 0; i < count; ++i) {
     // The fourth point should lie on the opposite side of edge (chosen[0], chosen[1]) from chosen[2].
-    const float area = (position(chosen[0]) - position(i)).cross(position(chosen[1]) - position(i)).dot(normal);
+    const float area =
+        (position(chosen[0]) - position(i)).cross(position(chosen[1]) - position(i)).dot(normal);
     const float gain = signed_area > 0 ? -area : area;
     if (gain > best) best = gain, chosen[3] = i;
   }
@@ -75,7 +78,8 @@ int ReduceContactPoints(ContactPoint* points, int count, const Vec3& normal) {
   int kept_count = 0;
   for (int c : chosen) {
     bool duplicate = false;
-    for (int k = 0; k < kept_count; ++k) duplicate |= (kept[k].position_b - points[c].position_b).squaredNorm() < 1e-10f;
+    for (int k = 0; k < kept_count; ++k)
+      duplicate |= (kept[k].position_b - points[c].position_b).squaredNorm() < 1e-10f;
     if (!duplicate) kept[kept_count++] = points[c];
   }
   for (int i = 0; i < kept_count; ++i) points[i] = kept[i];

@@ -30,7 +30,8 @@ void AddEdgeDirections(Polyhedron& p) {
   for (int e = 0; e < p.edge_count; ++e) {
     const Vec3 direction = (p.vertices[p.edges[e][1]] - p.vertices[p.edges[e][0]]).normalized();
     bool known = false;
-    for (int d = 0; d < p.direction_count && !known; ++d) known = std::abs(p.edge_directions[d].dot(direction)) > 0.9999f;
+    for (int d = 0; d < p.direction_count && !known; ++d)
+      known = std::abs(p.edge_directions[d].dot(direction)) > 0.9999f;
     if (!known) p.edge_directions[p.direction_count++] = direction;
   }
 }
@@ -96,7 +97,8 @@ int ExtremeEdge(const Polyhedron& p, const Vec3& direction, const Vec3& axis) {
 }
 
 // Closest points between segments p0-p1 and q0-q1 (Ericson 5.1.9).
-void ClosestPointsOfSegments(const Vec3& p0, const Vec3& p1, const Vec3& q0, const Vec3& q1, Vec3& on_p, Vec3& on_q) {
+void ClosestPointsOfSegments(const Vec3& p0, const Vec3& p1, const Vec3& q0, const Vec3& q1, Vec3& on_p,
+                             Vec3& on_q) {
   const Vec3 d1 = p1 - p0, d2 = q1 - q0, r = p0 - q0;
   const float a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
   float s = 0.0f, t = 0.0f;
@@ -104,8 +106,10 @@ void ClosestPointsOfSegments(const Vec3& p0, const Vec3& p1, const Vec3& q0, con
   const float denominator = a * e - b * b;
   if (denominator > 1e-12f) s = std::clamp((b * f - c * e) / denominator, 0.0f, 1.0f);
   t = e > 0.0f ? (b * s + f) / e : 0.0f;
-  if (t < 0.0f) t = 0.0f, s = a > 0.0f ? std::clamp(-c / a, 0.0f, 1.0f) : 0.0f;
-  else if (t > 1.0f) t = 1.0f, s = a > 0.0f ? std::clamp((b - c) / a, 0.0f, 1.0f) : 0.0f;
+  if (t < 0.0f)
+    t = 0.0f, s = a > 0.0f ? std::clamp(-c / a, 0.0f, 1.0f) : 0.0f;
+  else if (t > 1.0f)
+    t = 1.0f, s = a > 0.0f ? std::clamp((b - c) / a, 0.0f, 1.0f) : 0.0f;
   on_p = p0 + s * d1;
   on_q = q0 + t * d2;
 }
@@ -148,7 +152,8 @@ void Polyhedron::Face(int f, SupportingFace& face) const {
 namespace {
 
 // Box topology: corner i has coordinate signs (bit 0: x, bit 1: y, bit 2: z).
-constexpr int kBoxFaces[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
+constexpr int kBoxFaces[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4},
+                                 {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
 constexpr int kBoxEdges[12][2] = {{0, 1}, {2, 3}, {4, 5}, {6, 7}, {0, 2}, {1, 3},
                                   {4, 6}, {5, 7}, {0, 4}, {1, 5}, {2, 6}, {3, 7}};
 
@@ -156,8 +161,9 @@ void MakeBox(const BoxShape& box, const Pose& pose, Polyhedron& out) {
   const Vec3& half = box.half_extents();
   const Mat3 rotation = pose.rotation.toRotationMatrix();
   for (int i = 0; i < 8; ++i)
-    out.vertices[i] = pose.position + rotation * Vec3(i & 1 ? half.x() : -half.x(), i & 2 ? half.y() : -half.y(),
-                                                      i & 4 ? half.z() : -half.z());
+    out.vertices[i] =
+        pose.position + rotation * Vec3(i & 1 ? half.x() : -half.x(), i & 2 ? half.y() : -half.y(),
+                                        i & 4 ? half.z() : -half.z());
   out.vertex_count = 8;
   for (int f = 0; f < 6; ++f) {
     const int axis = f / 2;
@@ -191,7 +197,8 @@ bool MakeHull(const ConvexHullShape& hull, const Pose& pose, Polyhedron& out) {
     out.face_start[f + 1] = cursor;
   }
   for (const auto& edge : hull.edges()) out.edges[out.edge_count++] = edge;
-  for (const Vec3& direction : hull.edge_directions()) out.edge_directions[out.direction_count++] = rotation * direction;
+  for (const Vec3& direction : hull.edge_directions())
+    out.edge_directions[out.direction_count++] = rotation * direction;
   return true;
 }
 
@@ -205,7 +212,8 @@ bool MakePolyhedron(const ConvexShape& shape, const Pose& pose, Polyhedron& out)
     MakeBox(static_cast<const BoxShape&>(shape), pose, out);
     return true;
   }
-  if (shape.type() == ShapeType::kConvexHull) return MakeHull(static_cast<const ConvexHullShape&>(shape), pose, out);
+  if (shape.type() == ShapeType::kConvexHull)
+    return MakeHull(static_cast<const ConvexHullShape&>(shape), pose, out);
   return false;
 }
 
@@ -223,7 +231,8 @@ void MakeTrianglePolyhedron(const Vec3& a, const Vec3& b, const Vec3& c, Polyhed
   AddEdgeDirections(out);
 }
 
-bool CollidePolyhedra(const Polyhedron& a, const Polyhedron& b, float max_separation, ContactManifold& manifold) {
+bool CollidePolyhedra(const Polyhedron& a, const Polyhedron& b, float max_separation,
+                      ContactManifold& manifold) {
   const Axis face_a = BestFaceAxis(a, b, Axis::kFaceA);
   if (face_a.separation > max_separation) return false;
   const Axis face_b = BestFaceAxis(b, a, Axis::kFaceB);
@@ -260,7 +269,8 @@ bool CollidePolyhedra(const Polyhedron& a, const Polyhedron& b, float max_separa
   const SupportingFace& face_of_a = best_face.kind == Axis::kFaceA ? reference : incident;
   const SupportingFace& face_of_b = best_face.kind == Axis::kFaceA ? incident : reference;
   const Vec3 deepest_a = a.Support(n), deepest_b = b.Support(-n);
-  BuildManifold(face_of_a, face_of_b, {deepest_a, deepest_b, (deepest_b - deepest_a).dot(n)}, max_separation, manifold);
+  BuildManifold(face_of_a, face_of_b, {deepest_a, deepest_b, (deepest_b - deepest_a).dot(n)}, max_separation,
+                manifold);
   return manifold.count > 0;
 }
 

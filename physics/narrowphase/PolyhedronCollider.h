@@ -21,14 +21,14 @@ struct Polyhedron {
   int face_count = 0;
   int edge_count = 0;
   std::array<Vec3, kMaxVertices> vertices;
-  std::array<Vec3, kMaxFaces> face_normals;          ///< outward, unit
-  std::array<float, kMaxFaces> face_offsets;         ///< normal . x on the face
-  std::array<int, kMaxFaces + 1> face_start;         ///< face f's loop is face_loop[face_start[f], face_start[f+1])
+  std::array<Vec3, kMaxFaces> face_normals;   ///< outward, unit
+  std::array<float, kMaxFaces> face_offsets;  ///< normal . x on the face
+  std::array<int, kMaxFaces + 1> face_start;  ///< face f's loop is face_loop[face_start[f], face_start[f+1])
   std::array<int, kMaxFaces * 8> face_loop;
   std::array<std::array<int, 2>, kMaxEdges> edges;  ///< each undirected edge once
-  bool one_sided = false;  ///< a mesh triangle: only its front face collides
+  bool one_sided = false;                           ///< a mesh triangle: only its front face collides
   int direction_count = 0;
-  std::array<Vec3, kMaxEdges> edge_directions;      ///< unit, one per set of parallel edges (SAT axes)
+  std::array<Vec3, kMaxEdges> edge_directions;  ///< unit, one per set of parallel edges (SAT axes)
 
   /// Farthest vertex along `direction`.
   Vec3 Support(const Vec3& direction) const;
@@ -47,6 +47,7 @@ int MostAlignedFace(const Polyhedron& p, const Vec3& direction);
 
 /// Contact between two polyhedra. Returns true and fills `manifold` (normal from A to B and points) when
 /// they are closer than `max_separation`.
-bool CollidePolyhedra(const Polyhedron& a, const Polyhedron& b, float max_separation, ContactManifold& manifold);
+bool CollidePolyhedra(const Polyhedron& a, const Polyhedron& b, float max_separation,
+                      ContactManifold& manifold);
 
 }  // namespace strata

@@ -5,7 +5,9 @@
 namespace strata {
 
 namespace {
-float BoxCoreRadius(const Vec3& half_extents) { return std::min(0.05f, 0.25f * half_extents.minCoeff()); }
+float BoxCoreRadius(const Vec3& half_extents) {
+  return std::min(0.05f, 0.25f * half_extents.minCoeff());
+}
 
 Vec3 SignedCorner(const Vec3& half, const Vec3& direction) {
   return {direction.x() < 0 ? -half.x() : half.x(), direction.y() < 0 ? -half.y() : half.y(),
@@ -29,11 +31,13 @@ MassProperties BoxShape::ComputeMassProperties(float density) const {
   const Vec3 size = 2.0f * half_extents_;
   properties.mass = density * size.prod();
   const Vec3 sq = size.cwiseProduct(size);
-  properties.inertia = (properties.mass / 12.0f * Vec3(sq.y() + sq.z(), sq.x() + sq.z(), sq.x() + sq.y())).asDiagonal();
+  properties.inertia =
+      (properties.mass / 12.0f * Vec3(sq.y() + sq.z(), sq.x() + sq.z(), sq.x() + sq.y())).asDiagonal();
   return properties;
 }
 
-bool BoxShape::CastRay(const Vec3& origin, const Vec3& direction, float max_fraction, ShapeRayHit& hit) const {
+bool BoxShape::CastRay(const Vec3& origin, const Vec3& direction, float max_fraction,
+                       ShapeRayHit& hit) const {
   const AABB box = LocalBounds();
   const float fraction = box.RayEntry(origin, SafeInverse(direction), max_fraction);
   if (fraction < 0.0f) return false;
@@ -53,8 +57,12 @@ bool BoxShape::CastRay(const Vec3& origin, const Vec3& direction, float max_frac
   return true;
 }
 
-Vec3 BoxShape::Support(const Vec3& direction) const { return SignedCorner(half_extents_, direction); }
-Vec3 BoxShape::CoreSupport(const Vec3& direction) const { return SignedCorner(core_half_extents_, direction); }
+Vec3 BoxShape::Support(const Vec3& direction) const {
+  return SignedCorner(half_extents_, direction);
+}
+Vec3 BoxShape::CoreSupport(const Vec3& direction) const {
+  return SignedCorner(core_half_extents_, direction);
+}
 
 void BoxShape::GetSupportingFace(const Vec3& direction, SupportingFace& face) const {
   face.count = 0;

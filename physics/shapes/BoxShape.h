@@ -18,7 +18,8 @@ class BoxShape final : public ConvexShape {
 
   AABB LocalBounds() const override { return {-half_extents_, half_extents_}; }
   MassProperties ComputeMassProperties(float density) const override;
-  bool CastRay(const Vec3& origin, const Vec3& direction, float max_fraction, ShapeRayHit& hit) const override;
+  bool CastRay(const Vec3& origin, const Vec3& direction, float max_fraction,
+               ShapeRayHit& hit) const override;
   Vec3 Support(const Vec3& direction) const override;
   Vec3 CoreSupport(const Vec3& direction) const override;
   void GetSupportingFace(const Vec3& direction, SupportingFace& face) const override;

@@ -21,15 +21,17 @@ MassProperties CapsuleShape::ComputeMassProperties(float density) const {
   const float hemispheres_mass = density * 4.0f / 3.0f * kPi * r2 * radius_;
   const float axial = cylinder_mass * r2 * 0.5f + hemispheres_mass * 0.4f * r2;
   // Each hemisphere's own transverse inertia plus the parallel-axis term for its offset from the centre.
-  const float transverse = cylinder_mass * (r2 / 4.0f + height * height / 12.0f) +
-                           hemispheres_mass * (0.4f * r2 + height * height / 4.0f + 3.0f * height * radius_ / 8.0f);
+  const float transverse =
+      cylinder_mass * (r2 / 4.0f + height * height / 12.0f) +
+      hemispheres_mass * (0.4f * r2 + height * height / 4.0f + 3.0f * height * radius_ / 8.0f);
   MassProperties properties;
   properties.mass = cylinder_mass + hemispheres_mass;
   properties.inertia = Vec3(transverse, axial, transverse).asDiagonal();
   return properties;
 }
 
-bool CapsuleShape::CastRay(const Vec3& origin, const Vec3& direction, float max_fraction, ShapeRayHit& hit) const {
+bool CapsuleShape::CastRay(const Vec3& origin, const Vec3& direction, float max_fraction,
+                           ShapeRayHit& hit) const {
   float best = -1.0f;
   Vec3 best_center = Vec3::Zero();
   // Infinite cylinder around Y, clipped to the segment.

@@ -22,7 +22,8 @@ class CapsuleShape final : public ConvexShape {
     return {-half, half};
   }
   MassProperties ComputeMassProperties(float density) const override;
-  bool CastRay(const Vec3& origin, const Vec3& direction, float max_fraction, ShapeRayHit& hit) const override;
+  bool CastRay(const Vec3& origin, const Vec3& direction, float max_fraction,
+               ShapeRayHit& hit) const override;
   Vec3 Support(const Vec3& direction) const override;
   Vec3 CoreSupport(const Vec3& direction) const override {
     return {0.0f, direction.y() < 0 ? -half_height_ : half_height_, 0.0f};

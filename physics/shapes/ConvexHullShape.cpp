@@ -20,7 +20,8 @@ Result<ShapeRef> ConvexHullShape::Create(std::span<const Vec3> points) {
   return ShapeRef(std::make_shared<ConvexHullShape>(std::move(*hull), interior, core_radius, core_scale));
 }
 
-ConvexHullShape::ConvexHullShape(HullData hull, const Vec3& interior_point, float core_radius, float core_scale)
+ConvexHullShape::ConvexHullShape(HullData hull, const Vec3& interior_point, float core_radius,
+                                 float core_scale)
     : ConvexShape(ShapeType::kConvexHull, core_radius),
       hull_(std::move(hull)),
       interior_point_(interior_point),

@@ -26,7 +26,8 @@ class ConvexHullShape final : public ConvexShape {
 
   AABB LocalBounds() const override { return bounds_; }
   MassProperties ComputeMassProperties(float density) const override;
-  bool CastRay(const Vec3& origin, const Vec3& direction, float max_fraction, ShapeRayHit& hit) const override;
+  bool CastRay(const Vec3& origin, const Vec3& direction, float max_fraction,
+               ShapeRayHit& hit) const override;
   Vec3 Support(const Vec3& direction) const override;
   Vec3 CoreSupport(const Vec3& direction) const override {
     return interior_point_ + core_scale_ * (Support(direction) - interior_point_);

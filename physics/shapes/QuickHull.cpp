@@ -25,7 +25,9 @@ WorkFace MakeFace(const std::vector<Vec3>& p, int a, int b, int c) {
   return face;
 }
 
-float Distance(const WorkFace& face, const Vec3& point) { return face.normal.dot(point) - face.offset; }
+float Distance(const WorkFace& face, const Vec3& point) {
+  return face.normal.dot(point) - face.offset;
+}
 
 // Four points spanning the largest volume we can find cheaply; fails when the cloud is flat.
 Result<std::array<int, 4>> InitialTetrahedron(const std::vector<Vec3>& p, float epsilon) {
@@ -38,7 +40,8 @@ Result<std::array<int, 4>> InitialTetrahedron(const std::vector<Vec3>& p, float 
     }
     if ((p[hi] - p[lo]).norm() <= epsilon) hi = lo;
   }
-  if (lo == hi) return MakeError(ErrorCode::kDegenerateShape, "convex hull points are all (nearly) coincident");
+  if (lo == hi)
+    return MakeError(ErrorCode::kDegenerateShape, "convex hull points are all (nearly) coincident");
   const Vec3 axis = (p[hi] - p[lo]).normalized();
   int third = -1;
   float best = epsilon;
@@ -54,7 +57,8 @@ Result<std::array<int, 4>> InitialTetrahedron(const std::vector<Vec3>& p, float 
     const float d = std::abs(normal.dot(p[i] - p[lo]));
     if (d > best) best = d, fourth = i;
   }
-  if (fourth < 0) return MakeError(ErrorCode::kDegenerateShape, "convex hull points are coplanar (no volume)");
+  if (fourth < 0)
+    return MakeError(ErrorCode::kDegenerateShape, "convex hull points are coplanar (no volume)");
   return std::array<int, 4>{lo, hi, third, fourth};
 }
 
@@ -68,7 +72,8 @@ std::vector<HullFace> MergeCoplanar(const std::vector<Vec3>& p, const std::vecto
     for (std::size_t j = i; j < triangles.size(); ++j) {
       if (used[j]) continue;
       if (triangles[i].normal.dot(triangles[j].normal) > 0.9999f &&
-          std::abs(triangles[i].offset - triangles[j].offset) < 1e-4f * (1.0f + std::abs(triangles[i].offset))) {
+          std::abs(triangles[i].offset - triangles[j].offset) <
+              1e-4f * (1.0f + std::abs(triangles[i].offset))) {
         group.push_back(j);
         used[j] = true;
       }
@@ -104,7 +109,8 @@ std::vector<HullFace> MergeCoplanar(const std::vector<Vec3>& p, const std::vecto
 Result<HullData> BuildConvexHull(std::span<const Vec3> input) {
   for (std::size_t i = 0; i < input.size(); ++i)
     if (!IsFinite(input[i]))
-      return MakeError(ErrorCode::kInvalidArgument, "convex hull point " + std::to_string(i) + " is not finite");
+      return MakeError(ErrorCode::kInvalidArgument,
+                       "convex hull point " + std::to_string(i) + " is not finite");
   if (input.size() < 4)
     return MakeError(ErrorCode::kDegenerateShape,
                      "convex hull needs at least 4 points, got " + std::to_string(input.size()));

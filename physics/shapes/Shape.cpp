@@ -4,11 +4,16 @@ namespace strata {
 
 const char* ToString(ShapeType type) {
   switch (type) {
-    case ShapeType::kSphere: return "sphere";
-    case ShapeType::kBox: return "box";
-    case ShapeType::kCapsule: return "capsule";
-    case ShapeType::kConvexHull: return "convex_hull";
-    case ShapeType::kTriangleMesh: return "mesh";
+    case ShapeType::kSphere:
+      return "sphere";
+    case ShapeType::kBox:
+      return "box";
+    case ShapeType::kCapsule:
+      return "capsule";
+    case ShapeType::kConvexHull:
+      return "convex_hull";
+    case ShapeType::kTriangleMesh:
+      return "mesh";
   }
   return "unknown";
 }

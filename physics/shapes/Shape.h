@@ -19,9 +19,9 @@ const char* ToString(ShapeType type);
 
 /// A ray hit in the shape's local space.
 struct ShapeRayHit {
-  float fraction = 1.0f;           ///< hit point = origin + fraction * direction
-  Vec3 normal = Vec3::UnitY();     ///< surface normal at the hit, local space
-  std::uint32_t sub_shape = 0;     ///< triangle index for meshes, 0 otherwise
+  float fraction = 1.0f;        ///< hit point = origin + fraction * direction
+  Vec3 normal = Vec3::UnitY();  ///< surface normal at the hit, local space
+  std::uint32_t sub_shape = 0;  ///< triangle index for meshes, 0 otherwise
 };
 
 /// One triangle in world space (counter-clockwise seen from its front side).
@@ -52,7 +52,8 @@ class Shape {
 
   /// Ray origin + t * direction, t in [0, max_fraction], in local space. Returns true and fills `hit` on
   /// the first hit from outside; rays starting inside a solid shape hit at fraction 0.
-  virtual bool CastRay(const Vec3& origin, const Vec3& direction, float max_fraction, ShapeRayHit& hit) const = 0;
+  virtual bool CastRay(const Vec3& origin, const Vec3& direction, float max_fraction,
+                       ShapeRayHit& hit) const = 0;
 
   /// Appends the world-space triangles of this shape at `pose` whose bounds overlap `world_box`
   /// (used to gather navmesh input). Convex shapes are triangulated, meshes go through their BVH.

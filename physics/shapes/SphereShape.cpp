@@ -4,8 +4,8 @@ namespace strata {
 
 Result<ShapeRef> SphereShape::Create(float radius) {
   if (!IsFinite(radius) || radius <= 0.0f)
-    return MakeError(ErrorCode::kDegenerateShape, "sphere radius must be a positive finite number, got " +
-                                                      std::to_string(radius));
+    return MakeError(ErrorCode::kDegenerateShape,
+                     "sphere radius must be a positive finite number, got " + std::to_string(radius));
   return ShapeRef(std::make_shared<SphereShape>(radius));
 }
 
@@ -28,7 +28,8 @@ float RaySphere(const Vec3& origin, const Vec3& direction, const Vec3& center, f
   return (-b - std::sqrt(discriminant)) / a;
 }
 
-bool SphereShape::CastRay(const Vec3& origin, const Vec3& direction, float max_fraction, ShapeRayHit& hit) const {
+bool SphereShape::CastRay(const Vec3& origin, const Vec3& direction, float max_fraction,
+                          ShapeRayHit& hit) const {
   const float fraction = RaySphere(origin, direction, Vec3::Zero(), radius_);
   if (fraction < 0.0f || fraction > max_fraction) return false;
   hit.fraction = fraction;

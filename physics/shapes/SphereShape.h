@@ -20,7 +20,8 @@ class SphereShape final : public ConvexShape {
     return {pose.position.array() - radius_, pose.position.array() + radius_};
   }
   MassProperties ComputeMassProperties(float density) const override;
-  bool CastRay(const Vec3& origin, const Vec3& direction, float max_fraction, ShapeRayHit& hit) const override;
+  bool CastRay(const Vec3& origin, const Vec3& direction, float max_fraction,
+               ShapeRayHit& hit) const override;
   Vec3 Support(const Vec3& direction) const override;
   Vec3 CoreSupport(const Vec3&) const override { return Vec3::Zero(); }
   void GetSupportingFace(const Vec3& direction, SupportingFace& face) const override;

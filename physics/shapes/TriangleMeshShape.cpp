@@ -13,12 +13,14 @@ constexpr std::uint32_t kMaxLeafTriangles = 4;
 constexpr float kCoplanarCosine = 0.996f;  // about 5 degrees
 }  // namespace
 
-Result<ShapeRef> TriangleMeshShape::Create(std::span<const Vec3> vertices, std::span<const Indices> triangles) {
+Result<ShapeRef> TriangleMeshShape::Create(std::span<const Vec3> vertices,
+                                           std::span<const Indices> triangles) {
   if (vertices.empty() || triangles.empty())
     return MakeError(ErrorCode::kDegenerateShape, "triangle mesh has no vertices or no triangles");
   for (std::size_t i = 0; i < vertices.size(); ++i)
     if (!IsFinite(vertices[i]))
-      return MakeError(ErrorCode::kInvalidArgument, "triangle mesh vertex " + std::to_string(i) + " is not finite");
+      return MakeError(ErrorCode::kInvalidArgument,
+                       "triangle mesh vertex " + std::to_string(i) + " is not finite");
   std::vector<Indices> kept;
   kept.reserve(triangles.size());
   for (std::size_t t = 0; t < triangles.size(); ++t) {
@@ -32,15 +34,16 @@ Result<ShapeRef> TriangleMeshShape::Create(std::span<const Vec3> vertices, std::
     if (normal.squaredNorm() > 1e-20f) kept.push_back(tri);
   }
   if (kept.empty()) return MakeError(ErrorCode::kDegenerateShape, "every triangle of the mesh is degenerate");
-  return ShapeRef(
-      std::make_shared<TriangleMeshShape>(std::vector<Vec3>(vertices.begin(), vertices.end()), std::move(kept)));
+  return ShapeRef(std::make_shared<TriangleMeshShape>(std::vector<Vec3>(vertices.begin(), vertices.end()),
+                                                      std::move(kept)));
 }
 
 TriangleMeshShape::TriangleMeshShape(std::vector<Vec3> vertices, std::vector<Indices> triangles)
     : Shape(ShapeType::kTriangleMesh), vertices_(std::move(vertices)), triangles_(std::move(triangles)) {
   normals_.reserve(triangles_.size());
   for (const Indices& tri : triangles_)
-    normals_.push_back((vertices_[tri[1]] - vertices_[tri[0]]).cross(vertices_[tri[2]] - vertices_[tri[0]]).normalized());
+    normals_.push_back(
+        (vertices_[tri[1]] - vertices_[tri[0]]).cross(vertices_[tri[2]] - vertices_[tri[0]]).normalized());
   ComputeActiveEdges();
   BuildHierarchy();
 }
@@ -190,7 +193,8 @@ bool TriangleMeshShape::CastRay(const Vec3& origin, const Vec3& direction, float
   if (!found) return false;
   hit.fraction = best;
   hit.sub_shape = best_triangle;
-  hit.normal = normals_[best_triangle].dot(direction) > 0.0f ? Vec3(-normals_[best_triangle]) : normals_[best_triangle];
+  hit.normal = normals_[best_triangle].dot(direction) > 0.0f ? Vec3(-normals_[best_triangle])
+                                                             : normals_[best_triangle];
   return true;
 }
 

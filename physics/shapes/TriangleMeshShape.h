@@ -28,7 +28,9 @@ class TriangleMeshShape final : public Shape {
   const std::vector<Indices>& triangles() const { return triangles_; }
 
   /// Corner `corner` (0..2) of triangle `triangle` in local space.
-  const Vec3& Vertex(std::uint32_t triangle, int corner) const { return vertices_[triangles_[triangle][corner]]; }
+  const Vec3& Vertex(std::uint32_t triangle, int corner) const {
+    return vertices_[triangles_[triangle][corner]];
+  }
   /// Unit normal of the triangle's front side (counter-clockwise winding).
   const Vec3& Normal(std::uint32_t triangle) const { return normals_[triangle]; }
   /// Bit k set = edge (k, k+1) is a real convex or boundary edge; unset = an internal edge between
@@ -40,7 +42,8 @@ class TriangleMeshShape final : public Shape {
 
   AABB LocalBounds() const override { return nodes_.empty() ? AABB() : nodes_[0].bounds; }
   MassProperties ComputeMassProperties(float) const override { return {}; }
-  bool CastRay(const Vec3& origin, const Vec3& direction, float max_fraction, ShapeRayHit& hit) const override;
+  bool CastRay(const Vec3& origin, const Vec3& direction, float max_fraction,
+               ShapeRayHit& hit) const override;
 
  protected:
   void CollectLocalTriangles(const AABB& local_box, std::vector<Triangle>& out) const override;

@@ -4,7 +4,8 @@ namespace strata {
 
 namespace {
 
-float EffectiveMass(const SolverBody& a, const SolverBody& b, const Vec3& r_a, const Vec3& r_b, const Vec3& axis) {
+float EffectiveMass(const SolverBody& a, const SolverBody& b, const Vec3& r_a, const Vec3& r_b,
+                    const Vec3& axis) {
   const Vec3 ra_x = r_a.cross(axis), rb_x = r_b.cross(axis);
   const float k = a.inverse_mass + b.inverse_mass + ra_x.dot(a.inverse_inertia * ra_x) +
                   rb_x.dot(b.inverse_inertia * rb_x);
@@ -12,7 +13,8 @@ float EffectiveMass(const SolverBody& a, const SolverBody& b, const Vec3& r_a, c
 }
 
 Vec3 RelativeVelocity(const SolverBody& a, const SolverBody& b, const Vec3& r_a, const Vec3& r_b) {
-  return b.linear_velocity + b.angular_velocity.cross(r_b) - a.linear_velocity - a.angular_velocity.cross(r_a);
+  return b.linear_velocity + b.angular_velocity.cross(r_b) - a.linear_velocity -
+         a.angular_velocity.cross(r_a);
 }
 
 template <class AxisPart>

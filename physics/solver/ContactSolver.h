@@ -51,8 +51,8 @@ class ContactSolver {
   struct Point {
     AxisPart normal;
     AxisPart tangent[2];
-    Vec3 local_a, local_b;   // contact point from each centre of mass in the body's frame (position pass)
-    float target_velocity;   // the normal velocity the constraint aims for (bounce or speculative)
+    Vec3 local_a, local_b;  // contact point from each centre of mass in the body's frame (position pass)
+    float target_velocity;  // the normal velocity the constraint aims for (bounce or speculative)
     float separation;
   };
   struct Constraint {
@@ -60,7 +60,8 @@ class ContactSolver {
     Vec3 normal;
     Vec3 tangent[2];
     float friction;
-    float bounce_shift;  // metres to pull the bodies together after integration (bouncing speculative contact)
+    float
+        bounce_shift;  // metres to pull the bodies together after integration (bouncing speculative contact)
     int count;
     Point points[ContactManifold::kMaxPoints];
     ContactKey key;

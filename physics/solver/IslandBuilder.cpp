@@ -22,8 +22,10 @@ void IslandBuilder::Link(std::uint32_t a, std::uint32_t b) {
   b = Find(b);
   if (a == b) return;
   // The lower index becomes the root: islands get the same representative whatever the link order.
-  if (a < b) parent_[b] = a;
-  else parent_[a] = b;
+  if (a < b)
+    parent_[b] = a;
+  else
+    parent_[a] = b;
 }
 
 }  // namespace strata

@@ -8,13 +8,17 @@ namespace {
 Status Bad(const std::string& field, const std::string& why) {
   return MakeError(ErrorCode::kInvalidArgument, "physics setting '" + field + "' " + why);
 }
-bool NonNegative(float value) { return IsFinite(value) && value >= 0.0f; }
+bool NonNegative(float value) {
+  return IsFinite(value) && value >= 0.0f;
+}
 }  // namespace
 
 Status PhysicsSettings::Validate() const {
   if (!IsFinite(gravity)) return Bad("gravity", "is not finite");
-  if (velocity_iterations < 1 || velocity_iterations > 1000) return Bad("velocity_iterations", "must be in [1, 1000]");
-  if (position_iterations < 0 || position_iterations > 1000) return Bad("position_iterations", "must be in [0, 1000]");
+  if (velocity_iterations < 1 || velocity_iterations > 1000)
+    return Bad("velocity_iterations", "must be in [1, 1000]");
+  if (position_iterations < 0 || position_iterations > 1000)
+    return Bad("position_iterations", "must be in [0, 1000]");
   if (!NonNegative(speculative_distance)) return Bad("speculative_distance", "must be >= 0");
   if (!NonNegative(penetration_slop)) return Bad("penetration_slop", "must be >= 0");
   if (!(baumgarte > 0.0f && baumgarte <= 1.0f)) return Bad("baumgarte", "must be in (0, 1]");

@@ -9,19 +9,19 @@ namespace strata {
 
 /// Step tunables. Units: metres, seconds.
 struct PhysicsSettings {
-  Vec3 gravity = Vec3(0.0f, -9.81f, 0.0f);  ///< m/s^2
-  int velocity_iterations = 10;             ///< sequential-impulse passes per step, >= 1
-  int position_iterations = 2;              ///< non-linear position passes per step, >= 0
-  bool allow_sleeping = true;               ///< world-wide switch; bodies also have their own flag
-  float speculative_distance = 0.02f;       ///< contacts are made this far before touching (m)
-  float penetration_slop = 0.005f;          ///< overlap left alone by position correction (m)
-  float baumgarte = 0.2f;                   ///< fraction of the overlap fixed per position pass, (0, 1]
-  float max_position_correction = 0.2f;     ///< largest push per position pass (m)
+  Vec3 gravity = Vec3(0.0f, -9.81f, 0.0f);    ///< m/s^2
+  int velocity_iterations = 10;               ///< sequential-impulse passes per step, >= 1
+  int position_iterations = 2;                ///< non-linear position passes per step, >= 0
+  bool allow_sleeping = true;                 ///< world-wide switch; bodies also have their own flag
+  float speculative_distance = 0.02f;         ///< contacts are made this far before touching (m)
+  float penetration_slop = 0.005f;            ///< overlap left alone by position correction (m)
+  float baumgarte = 0.2f;                     ///< fraction of the overlap fixed per position pass, (0, 1]
+  float max_position_correction = 0.2f;       ///< largest push per position pass (m)
   float min_velocity_for_restitution = 1.0f;  ///< slower approaches do not bounce (m/s)
-  float contact_match_distance = 0.02f;     ///< points closer than this between steps share impulses (m)
-  float time_before_sleep = 0.5f;           ///< seconds a body must rest before its island sleeps
-  float sleep_linear_velocity = 0.05f;      ///< m/s
-  float sleep_angular_velocity = 0.05f;     ///< rad/s
+  float contact_match_distance = 0.02f;       ///< points closer than this between steps share impulses (m)
+  float time_before_sleep = 0.5f;             ///< seconds a body must rest before its island sleeps
+  float sleep_linear_velocity = 0.05f;        ///< m/s
+  float sleep_angular_velocity = 0.05f;       ///< rad/s
 
   /// Checks every field; the message names the first bad one.
   Status Validate() const;

@@ -30,7 +30,8 @@ class AllBodiesLock {
 // Runs `function(begin, end, out)` over chunks of [0, count) in parallel and concatenates the chunk
 // outputs in index order, so the result does not depend on how the job system split the range.
 template <class T, class Function>
-void ParallelCollect(JobSystem& jobs, std::size_t count, std::size_t grain, std::vector<T>& out, Function&& function) {
+void ParallelCollect(JobSystem& jobs, std::size_t count, std::size_t grain, std::vector<T>& out,
+                     Function&& function) {
   struct Chunk {
     std::size_t begin;
     std::vector<T> items;
@@ -67,7 +68,8 @@ Result<std::unique_ptr<PhysicsSystem>> PhysicsSystem::Create(const PhysicsSystem
 PhysicsSystem::PhysicsSystem(const PhysicsSystemConfig& config, const PhysicsSettings& settings)
     : settings_(settings),
       layers_(config.layers ? config.layers : std::make_shared<DefaultLayerSetup>()),
-      jobs_(config.job_system ? config.job_system : std::shared_ptr<JobSystem>(MakeDefaultJobSystem(config.thread_count))),
+      jobs_(config.job_system ? config.job_system
+                              : std::shared_ptr<JobSystem>(MakeDefaultJobSystem(config.thread_count))),
       body_manager_(config.max_bodies, config.body_mutex_count),
       broad_phase_(config.broad_phase ? config.broad_phase
                                       : std::make_shared<BruteForceBroadPhase>(config.max_bodies)),
@@ -112,7 +114,8 @@ void PhysicsSystem::RemoveFromWorldList(std::uint32_t index) {
   // Order-preserving erase keeps the step's iteration order (and so its results) reproducible.
   const std::uint32_t position = world_position_[index];
   world_list_.erase(world_list_.begin() + position);
-  for (std::size_t i = position; i < world_list_.size(); ++i) world_position_[world_list_[i]] = static_cast<std::uint32_t>(i);
+  for (std::size_t i = position; i < world_list_.size(); ++i)
+    world_position_[world_list_[i]] = static_cast<std::uint32_t>(i);
   world_position_[index] = kNotInWorld;
 }
 
@@ -143,7 +146,8 @@ AABB PhysicsSystem::BroadPhaseBounds(const Body& body, float dt) const {
 
 Status PhysicsSystem::Step(float dt) {
   if (!IsFinite(dt) || dt <= 0.0f)
-    return MakeError(ErrorCode::kInvalidArgument, "step dt must be a positive finite number, got " + std::to_string(dt));
+    return MakeError(ErrorCode::kInvalidArgument,
+                     "step dt must be a positive finite number, got " + std::to_string(dt));
   std::unique_lock step(step_mutex_);
   AllBodiesLock bodies(body_manager_);
   last_dt_ = dt;
@@ -193,7 +197,8 @@ void PhysicsSystem::ApplyForces(float dt) {
   for (const BodyID id : active_) {
     Body& body = body_manager_.BodyAt(id.index);
     if (!body.IsDynamic()) continue;
-    body.linear_velocity_ += dt * (settings_.gravity * body.gravity_factor_ + body.inverse_mass_ * body.force_);
+    body.linear_velocity_ +=
+        dt * (settings_.gravity * body.gravity_factor_ + body.inverse_mass_ * body.force_);
     body.angular_velocity_ += dt * (body.InverseInertiaWorld() * body.torque_);
     body.force_.setZero();
     body.torque_.setZero();
@@ -208,9 +213,11 @@ void PhysicsSystem::ApplyForces(float dt) {
 
 void PhysicsSystem::FindPairs(float dt) {
   pairs_.clear();
-  ParallelCollect(*jobs_, active_.size(), kPairGrain, pairs_, [&](std::size_t begin, std::size_t end, auto& out) {
-    broad_phase_->FindPairs(std::span<const BodyID>(active_).subspan(begin, end - begin), active_flags_, *layers_, out);
-  });
+  ParallelCollect(*jobs_, active_.size(), kPairGrain, pairs_,
+                  [&](std::size_t begin, std::size_t end, auto& out) {
+                    broad_phase_->FindPairs(std::span<const BodyID>(active_).subspan(begin, end - begin),
+                                            active_flags_, *layers_, out);
+                  });
   // Keep only pairs with a dynamic body (kinematic vs static or kinematic makes no contact), with the
   // convex shape first so the narrow phase always sees mesh as B.
   std::vector<BodyPair> kept;
@@ -226,23 +233,25 @@ void PhysicsSystem::FindPairs(float dt) {
   pairs_.swap(kept);
   pair_max_separation_.resize(pairs_.size());
   for (std::size_t i = 0; i < pairs_.size(); ++i)
-    pair_max_separation_[i] = settings_.speculative_distance + MotionBound(body_manager_.BodyAt(pairs_[i].a.index), dt) +
+    pair_max_separation_[i] = settings_.speculative_distance +
+                              MotionBound(body_manager_.BodyAt(pairs_[i].a.index), dt) +
                               MotionBound(body_manager_.BodyAt(pairs_[i].b.index), dt);
   stats_.pairs = pairs_.size();
 }
 
 void PhysicsSystem::RunNarrowPhase() {
   manifolds_.clear();
-  ParallelCollect(*jobs_, pairs_.size(), kPairGrain, manifolds_, [&](std::size_t begin, std::size_t end, auto& out) {
-    for (std::size_t i = begin; i < end; ++i) {
-      const Body& a = body_manager_.BodyAt(pairs_[i].a.index);
-      const Body& b = body_manager_.BodyAt(pairs_[i].b.index);
-      ContactManifold prototype;
-      prototype.body_a = a.id();
-      prototype.body_b = b.id();
-      CollideShapes(*a.shape(), a.pose(), *b.shape(), b.pose(), pair_max_separation_[i], prototype, out);
-    }
-  });
+  ParallelCollect(
+      *jobs_, pairs_.size(), kPairGrain, manifolds_, [&](std::size_t begin, std::size_t end, auto& out) {
+        for (std::size_t i = begin; i < end; ++i) {
+          const Body& a = body_manager_.BodyAt(pairs_[i].a.index);
+          const Body& b = body_manager_.BodyAt(pairs_[i].b.index);
+          ContactManifold prototype;
+          prototype.body_a = a.id();
+          prototype.body_b = b.id();
+          CollideShapes(*a.shape(), a.pose(), *b.shape(), b.pose(), pair_max_separation_[i], prototype, out);
+        }
+      });
   stats_.manifolds = manifolds_.size();
   for (const ContactManifold& manifold : manifolds_) stats_.contact_points += manifold.count;
 }
@@ -331,7 +340,8 @@ void PhysicsSystem::Solve(float dt) {
 }
 
 void PhysicsSystem::UpdateBroadPhaseBounds(float dt) {
-  for (const BodyID id : active_) broad_phase_->UpdateBody(id, BroadPhaseBounds(body_manager_.BodyAt(id.index), dt));
+  for (const BodyID id : active_)
+    broad_phase_->UpdateBody(id, BroadPhaseBounds(body_manager_.BodyAt(id.index), dt));
 }
 
 void PhysicsSystem::UpdateSleeping(float dt) {
@@ -351,8 +361,8 @@ void PhysicsSystem::UpdateSleeping(float dt) {
     const bool resting = body.linear_velocity_.norm() < settings_.sleep_linear_velocity &&
                          body.angular_velocity_.norm() < settings_.sleep_angular_velocity;
     body.sleep_timer_ = resting ? body.sleep_timer_ + dt : 0.0f;
-    const bool may_sleep = settings_.allow_sleeping && body.allow_sleeping_ &&
-                           body.sleep_timer_ >= settings_.time_before_sleep;
+    const bool may_sleep =
+        settings_.allow_sleeping && body.allow_sleeping_ && body.sleep_timer_ >= settings_.time_before_sleep;
     if (!may_sleep) island_awake[islands_.Find(i)] = 1;
   }
   std::vector<std::uint32_t> island_key(active_count, 0);

@@ -24,9 +24,9 @@ class WorldQuery;
 
 /// Sizes and plug-ins fixed when the world is created.
 struct PhysicsSystemConfig {
-  std::uint32_t max_bodies = 65536;      ///< capacity of the body slot array
-  std::uint32_t body_mutex_count = 32;   ///< read/write mutexes shared by the bodies
-  int thread_count = 0;                  ///< threads of the default job system (0 = all cores)
+  std::uint32_t max_bodies = 65536;          ///< capacity of the body slot array
+  std::uint32_t body_mutex_count = 32;       ///< read/write mutexes shared by the bodies
+  int thread_count = 0;                      ///< threads of the default job system (0 = all cores)
   std::shared_ptr<const LayerSetup> layers;  ///< null = DefaultLayerSetup
   std::shared_ptr<JobSystem> job_system;     ///< null = oneTBB default (serial without oneTBB)
   std::shared_ptr<BroadPhase> broad_phase;   ///< null = BruteForceBroadPhase
@@ -113,10 +113,10 @@ class PhysicsSystem {
   // Step exclusivity: Step holds it uniquely, interface calls and queries share it.
   mutable std::shared_mutex step_mutex_;
   mutable std::mutex membership_mutex_;
-  std::vector<std::uint32_t> world_list_;       // indices of bodies in the world
-  std::vector<std::uint32_t> world_position_;   // index -> position in world_list_
+  std::vector<std::uint32_t> world_list_;      // indices of bodies in the world
+  std::vector<std::uint32_t> world_position_;  // index -> position in world_list_
   std::mutex wake_mutex_;
-  std::vector<std::uint32_t> pending_wakes_;    // island keys to wake at the next step
+  std::vector<std::uint32_t> pending_wakes_;  // island keys to wake at the next step
   std::uint32_t next_island_key_ = 1;
   float last_dt_ = 1.0f / 60.0f;
 
@@ -127,7 +127,7 @@ class PhysicsSystem {
   std::vector<float> pair_max_separation_;
   std::vector<ContactManifold> manifolds_;
   std::vector<SolverBody> solver_bodies_;
-  std::vector<std::uint32_t> solver_index_;     // body index -> solver index (kNoSolverIndex if none)
+  std::vector<std::uint32_t> solver_index_;       // body index -> solver index (kNoSolverIndex if none)
   std::vector<std::uint32_t> solver_body_index_;  // solver index -> body index
   ContactCache contact_cache_;
   ContactSolver contact_solver_;

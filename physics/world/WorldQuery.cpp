@@ -30,10 +30,11 @@ Status CheckRay(const Vec3& origin, const Vec3& direction) {
   return Status::Ok();
 }
 
-std::optional<RayCastHit> CastAgainst(const BodySnapshot& body, BodyID id, const Vec3& origin, const Vec3& direction,
-                                      float max_fraction) {
+std::optional<RayCastHit> CastAgainst(const BodySnapshot& body, BodyID id, const Vec3& origin,
+                                      const Vec3& direction, float max_fraction) {
   ShapeRayHit local;
-  if (!body.shape->CastRay(body.pose.ToLocal(origin), body.pose.DirectionToLocal(direction), max_fraction, local))
+  if (!body.shape->CastRay(body.pose.ToLocal(origin), body.pose.DirectionToLocal(direction), max_fraction,
+                           local))
     return std::nullopt;
   RayCastHit hit;
   hit.body = id;
@@ -62,7 +63,8 @@ Result<std::optional<RayCastHit>> WorldQuery::CastRay(const Vec3& origin, const 
     const std::optional<BodySnapshot> body = Snapshot(system_.body_manager_, candidate.id);
     if (!body) continue;
     const auto hit = CastAgainst(*body, candidate.id, origin, direction, best ? best->fraction : 1.0f);
-    if (hit && (!best || hit->fraction < best->fraction || (hit->fraction == best->fraction && hit->body < best->body)))
+    if (hit && (!best || hit->fraction < best->fraction ||
+                (hit->fraction == best->fraction && hit->body < best->body)))
       best = hit;
   }
   return best;
@@ -87,7 +89,8 @@ Result<std::vector<RayCastHit>> WorldQuery::CastRayAll(const Vec3& origin, const
 }
 
 Result<std::vector<BodyID>> WorldQuery::CollideAABB(const AABB& box, const QueryFilter& filter) const {
-  if (!box.IsValid()) return MakeError(ErrorCode::kInvalidArgument, "query box must be finite with min <= max");
+  if (!box.IsValid())
+    return MakeError(ErrorCode::kInvalidArgument, "query box must be finite with min <= max");
   std::shared_lock step(system_.step_mutex_);
   std::vector<BodyID> candidates;
   system_.broad_phase_->CollideAABB(box, filter, candidates);

@@ -18,10 +18,10 @@ class PhysicsSystem;
 /// A ray hit on a body.
 struct RayCastHit {
   BodyID body;
-  float fraction = 1.0f;           ///< hit point = origin + fraction * direction
-  Vec3 position = Vec3::Zero();    ///< world
-  Vec3 normal = Vec3::UnitY();     ///< world, facing the ray
-  std::uint32_t sub_shape = 0;     ///< triangle index for meshes
+  float fraction = 1.0f;         ///< hit point = origin + fraction * direction
+  Vec3 position = Vec3::Zero();  ///< world
+  Vec3 normal = Vec3::UnitY();   ///< world, facing the ray
+  std::uint32_t sub_shape = 0;   ///< triangle index for meshes
 };
 
 /// A body overlapping a query shape.

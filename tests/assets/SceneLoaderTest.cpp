@@ -30,7 +30,8 @@ TEST(SceneLoader, BundledScenesLoadAndRun) {
 }
 
 TEST(SceneLoader, FieldsAreRead) {
-  Result<Scene> scene = ParseScene(R"({"settings": {"gravity": [0, -5, 0], "dt": 0.01, "velocity_iterations": 7,
+  Result<Scene> scene =
+      ParseScene(R"({"settings": {"gravity": [0, -5, 0], "dt": 0.01, "velocity_iterations": 7,
       "position_iterations": 3, "sleeping": false},
       "bodies": [{"name": "a", "shape": {"type": "capsule", "radius": 0.5, "half_height": 1},
                   "position": [1, 2, 3], "rotation": [0, 0, 1, 0], "motion": "kinematic", "friction": 0.9,
@@ -38,7 +39,7 @@ TEST(SceneLoader, FieldsAreRead) {
                  {"name": "b", "shape": {"type": "mesh", "vertices": [[0,0,0],[1,0,0],[0,0,1]], "indices": [0, 2, 1]},
                   "motion": "static"},
                  {"shape": {"type": "sphere", "radius": 1}, "mass": 3}]})",
-                                   "inline", kScenes);
+                 "inline", kScenes);
   ASSERT_TRUE(scene.ok()) << scene.error().message;
   EXPECT_FLOAT_EQ(scene->physics.gravity.y(), -5.0f);
   EXPECT_FLOAT_EQ(scene->dt, 0.01f);
@@ -59,26 +60,33 @@ TEST(SceneLoader, FieldsAreRead) {
 
 TEST(SceneLoader, ErrorsNameTheFileAndJsonPath) {
   EXPECT_NE(ParseError("{ not json").find("test.json: invalid JSON"), std::string::npos);
-  EXPECT_NE(ParseError(R"({"bodies": [{"shape": {"type": "sphere", "radius": -1}}]})").find("/bodies/0/shape/radius"),
+  EXPECT_NE(ParseError(R"({"bodies": [{"shape": {"type": "sphere", "radius": -1}}]})")
+                .find("/bodies/0/shape/radius"),
             std::string::npos);
   EXPECT_NE(ParseError(R"({"bodies": [{"shape": {"type": "box", "half_extents": [1, 2]}}]})")
                 .find("/bodies/0/shape/half_extents"),
             std::string::npos);
-  EXPECT_NE(ParseError(R"({"bodies": [{"shape": {"type": "sphere", "radius": 1}, "mass": 0}]})").find("/bodies/0/mass"),
+  EXPECT_NE(ParseError(R"({"bodies": [{"shape": {"type": "sphere", "radius": 1}, "mass": 0}]})")
+                .find("/bodies/0/mass"),
             std::string::npos);
   EXPECT_NE(ParseError(R"({"bodies": [{"shape": {"type": "sphere", "radius": 1}, "positon": [0, 0, 0]}]})")
                 .find("/bodies/0/positon: unknown key"),
             std::string::npos);
-  EXPECT_NE(ParseError(R"({"bodies": [{"shape": {"type": "convex_hull", "points": [[0,0,0],[1,0,0],[0,1,0],[1,1,0]]}}]})")
-                .find("coplanar"),
+  EXPECT_NE(
+      ParseError(
+          R"({"bodies": [{"shape": {"type": "convex_hull", "points": [[0,0,0],[1,0,0],[0,1,0],[1,1,0]]}}]})")
+          .find("coplanar"),
+      std::string::npos);
+  EXPECT_NE(ParseError(R"({"bodies": [{"shape": {"type": "mesh", "vertices": [], "indices": []}}]})")
+                .find("/bodies/0/shape"),
             std::string::npos);
-  EXPECT_NE(ParseError(R"({"bodies": [{"shape": {"type": "mesh", "vertices": [], "indices": []}}]})").find("/bodies/0/shape"),
-            std::string::npos);
-  EXPECT_NE(ParseError(R"({"bodies": [{"shape": {"type": "mesh", "file": "missing.obj"}, "motion": "static"}]})")
-                .find("missing.obj: file not found"),
-            std::string::npos);
+  EXPECT_NE(
+      ParseError(R"({"bodies": [{"shape": {"type": "mesh", "file": "missing.obj"}, "motion": "static"}]})")
+          .find("missing.obj: file not found"),
+      std::string::npos);
   EXPECT_NE(ParseError(R"({"settings": {"dt": 0}, "bodies": []})").find("/settings/dt"), std::string::npos);
-  EXPECT_NE(ParseError(R"({"bodies": [{"shape": {"type": "cone"}}]})").find("/bodies/0/shape/type"), std::string::npos);
+  EXPECT_NE(ParseError(R"({"bodies": [{"shape": {"type": "cone"}}]})").find("/bodies/0/shape/type"),
+            std::string::npos);
   EXPECT_NE(ParseError(R"({"bodies": [{"name": "x", "shape": {"type": "sphere", "radius": 1}},
                                        {"name": "x", "shape": {"type": "sphere", "radius": 1}}]})")
                 .find("duplicate"),
@@ -91,13 +99,15 @@ TEST(SceneLoader, MeshFilesImportThroughAssimp) {
   std::filesystem::create_directories(directory);
   std::ofstream(directory / "quad.obj") << "v 0 0 0\nv 4 0 0\nv 4 0 4\nv 0 0 4\nf 1 3 2\nf 1 4 3\n";
   std::ofstream(directory / "broken.obj") << "this is not a mesh\n";
-  Result<Scene> scene = ParseScene(R"({"bodies": [{"shape": {"type": "mesh", "file": "quad.obj"}, "motion": "static"}]})",
-                                   "inline", directory);
+  Result<Scene> scene =
+      ParseScene(R"({"bodies": [{"shape": {"type": "mesh", "file": "quad.obj"}, "motion": "static"}]})",
+                 "inline", directory);
   ASSERT_TRUE(scene.ok()) << scene.error().message;
   const auto& mesh = static_cast<const TriangleMeshShape&>(*scene->bodies[0].settings.shape);
   EXPECT_EQ(mesh.triangle_count(), 2u);
-  Result<Scene> broken = ParseScene(R"({"bodies": [{"shape": {"type": "mesh", "file": "broken.obj"}, "motion": "static"}]})",
-                                    "inline", directory);
+  Result<Scene> broken =
+      ParseScene(R"({"bodies": [{"shape": {"type": "mesh", "file": "broken.obj"}, "motion": "static"}]})",
+                 "inline", directory);
   ASSERT_FALSE(broken.ok());
   EXPECT_NE(broken.error().message.find("broken.obj"), std::string::npos);
   std::filesystem::remove_all(directory);

@@ -15,8 +15,8 @@ struct WorldSnapshot {
   std::size_t broad_phase;
 
   static WorldSnapshot Of(PhysicsSystem& world) {
-    WorldSnapshot snapshot{world.BodiesInWorld(), {}, world.body_manager().body_count(),
-                           world.broad_phase().body_count()};
+    WorldSnapshot snapshot{
+        world.BodiesInWorld(), {}, world.body_manager().body_count(), world.broad_phase().body_count()};
     for (const BodyID id : snapshot.in_world) snapshot.positions.push_back(Position(world, id));
     return snapshot;
   }
@@ -93,7 +93,9 @@ TEST_F(BodyInterfaceTest, BadMassAndShapesAreRejected) {
   // A mesh cannot be dynamic.
   const std::vector<Vec3> vertices = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 0, 1)};
   const std::vector<TriangleMeshShape::Indices> triangles = {{0, 1, 2}};
-  EXPECT_FALSE(world_->bodies().CreateAndAddBody(Dynamic(*TriangleMeshShape::Create(vertices, triangles), Vec3::Zero())).ok());
+  EXPECT_FALSE(world_->bodies()
+                   .CreateAndAddBody(Dynamic(*TriangleMeshShape::Create(vertices, triangles), Vec3::Zero()))
+                   .ok());
   settings = Dynamic(Sphere(1), Vec3::Zero());
   settings.object_layer = 77;
   EXPECT_FALSE(world_->bodies().CreateAndAddBody(settings).ok());
@@ -104,11 +106,11 @@ TEST_F(BodyInterfaceTest, BadMassAndShapesAreRejected) {
 }
 
 TEST_F(BodyInterfaceTest, WrongStatesAreRejected) {
-  EXPECT_EQ(world_->bodies().AddBody(box_).error().code, ErrorCode::kInvalidState);         // already added
-  EXPECT_EQ(world_->bodies().DestroyBody(box_).error().code, ErrorCode::kInvalidState);     // still in the world
-  EXPECT_FALSE(world_->bodies().SetLinearVelocity(floor_, Vec3(1, 0, 0)).ok());             // static
+  EXPECT_EQ(world_->bodies().AddBody(box_).error().code, ErrorCode::kInvalidState);      // already added
+  EXPECT_EQ(world_->bodies().DestroyBody(box_).error().code, ErrorCode::kInvalidState);  // still in the world
+  EXPECT_FALSE(world_->bodies().SetLinearVelocity(floor_, Vec3(1, 0, 0)).ok());          // static
   ASSERT_TRUE(world_->bodies().RemoveBody(box_).ok());
-  EXPECT_EQ(world_->bodies().RemoveBody(box_).error().code, ErrorCode::kInvalidState);      // removed twice
+  EXPECT_EQ(world_->bodies().RemoveBody(box_).error().code, ErrorCode::kInvalidState);  // removed twice
   ASSERT_TRUE(world_->bodies().AddBody(box_).ok());
   ExpectUnchanged();
 }
@@ -130,7 +132,8 @@ TEST_F(BodyInterfaceTest, BatchAddIsAllOrNothing) {
 
 TEST_F(BodyInterfaceTest, CapacityIsEnforced) {
   std::vector<BodyID> created;
-  for (int i = 0; i < 6; ++i) created.push_back(*world_->bodies().CreateBody(Dynamic(Sphere(0.1f), Vec3(0, 5, 0))));
+  for (int i = 0; i < 6; ++i)
+    created.push_back(*world_->bodies().CreateBody(Dynamic(Sphere(0.1f), Vec3(0, 5, 0))));
   auto overflow = world_->bodies().CreateBody(Dynamic(Sphere(0.1f), Vec3(0, 5, 0)));
   ASSERT_FALSE(overflow.ok());
   EXPECT_EQ(overflow.error().code, ErrorCode::kCapacityExceeded);
@@ -139,7 +142,9 @@ TEST_F(BodyInterfaceTest, CapacityIsEnforced) {
 }
 
 TEST_F(BodyInterfaceTest, SettersAndGettersRoundTrip) {
-  ASSERT_TRUE(world_->bodies().SetPositionAndRotation(box_, Vec3(1, 2, 3), Quat(Eigen::AngleAxisf(0.5f, Vec3::UnitY()))).ok());
+  ASSERT_TRUE(world_->bodies()
+                  .SetPositionAndRotation(box_, Vec3(1, 2, 3), Quat(Eigen::AngleAxisf(0.5f, Vec3::UnitY())))
+                  .ok());
   EXPECT_TRUE(Position(*world_, box_).isApprox(Vec3(1, 2, 3)));
   EXPECT_TRUE(world_->bodies().GetRotation(box_)->isApprox(Quat(Eigen::AngleAxisf(0.5f, Vec3::UnitY()))));
   ASSERT_TRUE(world_->bodies().SetLinearVelocity(box_, Vec3(1, 0, 0)).ok());
@@ -149,42 +154,57 @@ TEST_F(BodyInterfaceTest, SettersAndGettersRoundTrip) {
   EXPECT_TRUE(bounds.Contains(Vec3(1, 2, 3)));
 }
 
-TEST(BodyInterfaceThreads, ConcurrentCreateMoveQueryAndStep) {
+// Worker threads create, move, query and destroy bodies while another thread steps the world.
+void ConcurrentCreateMoveQueryAndStep(int workers, int bodies_per_worker) {
   PhysicsSystemConfig config;
-  config.max_bodies = 2048;
+  config.max_bodies = static_cast<std::uint32_t>(workers * bodies_per_worker + 16);
   config.thread_count = 2;
   auto world = std::move(*PhysicsSystem::Create(config));
   Add(*world, Static(Box(100, 1, 100), Vec3(0, -1, 0)));
   std::atomic<bool> stop{false};
   std::atomic<int> failures{0};
+  std::atomic<int> removed{0};
   auto worker = [&](int seed) {
     std::vector<BodyID> mine;
-    for (int i = 0; i < 200; ++i) {
-      auto id = world->bodies().CreateAndAddBody(Dynamic(Sphere(0.3f), Vec3(seed * 5.0f, 1.0f + i % 7, (i % 10) * 1.0f)));
+    for (int i = 0; i < bodies_per_worker; ++i) {
+      const Vec3 position(seed * 5.0f - 40.0f, 1.0f + i % 7, (i % 10) * 1.0f);
+      auto id = world->bodies().CreateAndAddBody(Dynamic(Sphere(0.3f), position));
       if (!id.ok()) {
         ++failures;
         continue;
       }
       mine.push_back(*id);
       if (!world->bodies().SetLinearVelocity(*id, Vec3(0.5f, 0, 0)).ok()) ++failures;
-      if (!world->query().CastRay(Vec3(seed * 5.0f, 10, 0), Vec3(0, -20, 0)).ok()) ++failures;
+      auto hit = world->query().CastRay(position + Vec3(0, 10, 0), Vec3(0, -20, 0));
+      if (!hit.ok() || !hit->has_value()) ++failures;  // the floor is always there
       if (i % 3 == 0) {
         if (!world->bodies().RemoveAndDestroyBody(mine.front()).ok()) ++failures;
         mine.erase(mine.begin());
+        ++removed;
       }
     }
   };
   std::thread stepper([&] {
     while (!stop) (void)world->Step(1.0f / 60.0f);
   });
-  std::thread a(worker, 1), b(worker, 2), c(worker, 3);
-  a.join(), b.join(), c.join();
+  std::vector<std::thread> threads;
+  for (int w = 0; w < workers; ++w) threads.emplace_back(worker, w + 1);
+  for (std::thread& thread : threads) thread.join();
   stop = true;
   stepper.join();
   EXPECT_EQ(failures.load(), 0);
-  // 1 floor + 3 workers x (200 - 67 removed).
-  EXPECT_EQ(world->body_count_in_world(), 1u + 3u * (200u - 67u));
-  EXPECT_EQ(world->broad_phase().body_count(), world->body_count_in_world());
+  const std::size_t expected = 1 + static_cast<std::size_t>(workers * bodies_per_worker - removed.load());
+  EXPECT_EQ(world->body_count_in_world(), expected);
+  EXPECT_EQ(world->broad_phase().body_count(), expected);
+  EXPECT_EQ(world->body_manager().body_count(), expected);
+}
+
+TEST(BodyInterfaceThreads, ConcurrentCreateMoveQueryAndStep) {
+  ConcurrentCreateMoveQueryAndStep(3, 200);
+}
+
+TEST(BodyInterfaceThreadsStress, ConcurrentCreateMoveQueryAndStepLong) {
+  ConcurrentCreateMoveQueryAndStep(8, 3000);
 }
 
 }  // namespace

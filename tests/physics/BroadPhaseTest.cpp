@@ -3,8 +3,8 @@
 #include <map>
 #include <random>
 
-#include "physics/broadphase/BruteForceBroadPhase.h"
 #include "TestWorld.h"
+#include "physics/broadphase/BruteForceBroadPhase.h"
 
 namespace strata::test {
 namespace {
@@ -69,7 +69,8 @@ TEST(BroadPhase, RandomOperationsMatchDirectComputation) {
       if (entry.first.Overlaps(query)) expected_hits.insert(i);
     EXPECT_EQ(hit_set, expected_hits);
     // Ray query.
-    const Vec3 origin(position(random), 5.0f, position(random)), direction(position(random), -10.0f, position(random));
+    const Vec3 origin(position(random), 5.0f, position(random)),
+        direction(position(random), -10.0f, position(random));
     std::vector<BroadPhaseRayHit> ray_hits;
     broad_phase.CastRay(origin, direction, 1.0f, {}, ray_hits);
     std::set<std::uint32_t> ray_set, expected_ray;

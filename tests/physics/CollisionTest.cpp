@@ -1,4 +1,5 @@
-// Narrow phase: GJK distances, EPA depths, manifolds from face clipping, meshes without internal-edge catches.
+// Narrow phase: GJK distances, EPA depths, manifolds from face clipping, meshes without internal-edge
+// catches.
 #include "TestWorld.h"
 #include "physics/narrowphase/CollideShapes.h"
 #include "physics/narrowphase/Epa.h"
@@ -7,13 +8,16 @@
 namespace strata::test {
 namespace {
 
-const ConvexShape& Convex(const ShapeRef& shape) { return static_cast<const ConvexShape&>(*shape); }
+const ConvexShape& Convex(const ShapeRef& shape) {
+  return static_cast<const ConvexShape&>(*shape);
+}
 
 TEST(Collision, GjkDistanceBetweenBoxes) {
   const ShapeRef box = Box(1, 1, 1);
   const Pose a{Vec3(0, 0, 0), Quat::Identity()};
   const Pose b{Vec3(3.5f, 0.3f, -0.2f), Quat::Identity()};
-  const GjkResult result = GjkClosestPoints(PosedConvex(Convex(box), a, false), PosedConvex(Convex(box), b, false), 10);
+  const GjkResult result =
+      GjkClosestPoints(PosedConvex(Convex(box), a, false), PosedConvex(Convex(box), b, false), 10);
   ASSERT_FALSE(result.overlapping);
   EXPECT_NEAR(result.distance, 1.5f, 1e-4f);
   EXPECT_NEAR(result.point_a.x(), 1.0f, 1e-4f);
@@ -60,8 +64,9 @@ TEST(Collision, RotatedBoxCornerGivesOnePoint) {
   const Quat corner_down = Quat::FromTwoVectors(Vec3(1, 1, 1).normalized(), Vec3(0, -1, 0));
   const float corner = std::sqrt(3.0f);
   ContactManifold manifold;
-  ASSERT_TRUE(CollideConvexConvex(Convex(box), Pose{Vec3(0, corner - 0.01f, 0), corner_down}, Convex(Box(5, 1, 5)),
-                                  Pose{Vec3(0, -1, 0), Quat::Identity()}, 0.02f, manifold));
+  ASSERT_TRUE(CollideConvexConvex(Convex(box), Pose{Vec3(0, corner - 0.01f, 0), corner_down},
+                                  Convex(Box(5, 1, 5)), Pose{Vec3(0, -1, 0), Quat::Identity()}, 0.02f,
+                                  manifold));
   EXPECT_EQ(manifold.count, 1);
   EXPECT_NEAR(manifold.points[0].separation, -0.01f, 1e-3f);
   EXPECT_TRUE(manifold.normal.isApprox(Vec3(0, -1, 0), 1e-3f));
@@ -69,22 +74,26 @@ TEST(Collision, RotatedBoxCornerGivesOnePoint) {
 
 TEST(Collision, SphereFastPathsMatchGeometry) {
   ContactManifold manifold;
-  ASSERT_TRUE(CollideConvexConvex(Convex(Sphere(1)), Pose{Vec3(0, 0, 0), Quat::Identity()}, Convex(Sphere(0.5f)),
-                                  Pose{Vec3(1.4f, 0, 0), Quat::Identity()}, 0.0f, manifold));
+  ASSERT_TRUE(CollideConvexConvex(Convex(Sphere(1)), Pose{Vec3(0, 0, 0), Quat::Identity()},
+                                  Convex(Sphere(0.5f)), Pose{Vec3(1.4f, 0, 0), Quat::Identity()}, 0.0f,
+                                  manifold));
   EXPECT_NEAR(manifold.points[0].separation, -0.1f, 1e-5f);
-  ASSERT_TRUE(CollideConvexConvex(Convex(Sphere(0.5f)), Pose{Vec3(0, 1.4f, 0), Quat::Identity()}, Convex(Box(1, 1, 1)),
-                                  Pose{Vec3(0, 0, 0), Quat::Identity()}, 0.0f, manifold));
+  ASSERT_TRUE(CollideConvexConvex(Convex(Sphere(0.5f)), Pose{Vec3(0, 1.4f, 0), Quat::Identity()},
+                                  Convex(Box(1, 1, 1)), Pose{Vec3(0, 0, 0), Quat::Identity()}, 0.0f,
+                                  manifold));
   EXPECT_NEAR(manifold.points[0].separation, -0.1f, 1e-5f);
   EXPECT_TRUE(manifold.normal.isApprox(Vec3(0, -1, 0), 1e-5f));
-  EXPECT_FALSE(CollideConvexConvex(Convex(Sphere(0.5f)), Pose{Vec3(0, 3, 0), Quat::Identity()}, Convex(Box(1, 1, 1)),
-                                   Pose{Vec3(0, 0, 0), Quat::Identity()}, 0.1f, manifold));
+  EXPECT_FALSE(CollideConvexConvex(Convex(Sphere(0.5f)), Pose{Vec3(0, 3, 0), Quat::Identity()},
+                                   Convex(Box(1, 1, 1)), Pose{Vec3(0, 0, 0), Quat::Identity()}, 0.1f,
+                                   manifold));
 }
 
 TEST(Collision, CapsuleLyingOnBoxTouchesAlongItsLength) {
   const Quat lying(Eigen::AngleAxisf(kPi / 2, Vec3::UnitZ()));
   ContactManifold manifold;
-  ASSERT_TRUE(CollideConvexConvex(Convex(Capsule(1, 0.5f)), Pose{Vec3(0, 0.49f, 0), lying}, Convex(Box(5, 0.5f, 5)),
-                                  Pose{Vec3(0, -0.5f, 0), Quat::Identity()}, 0.02f, manifold));
+  ASSERT_TRUE(CollideConvexConvex(Convex(Capsule(1, 0.5f)), Pose{Vec3(0, 0.49f, 0), lying},
+                                  Convex(Box(5, 0.5f, 5)), Pose{Vec3(0, -0.5f, 0), Quat::Identity()}, 0.02f,
+                                  manifold));
   EXPECT_EQ(manifold.count, 2);
   for (int i = 0; i < manifold.count; ++i) EXPECT_NEAR(manifold.points[i].separation, -0.01f, 1e-3f);
 }
@@ -93,7 +102,8 @@ std::shared_ptr<const TriangleMeshShape> FlatGrid(int cells, float size) {
   std::vector<Vec3> vertices;
   std::vector<TriangleMeshShape::Indices> triangles;
   for (int z = 0; z <= cells; ++z)
-    for (int x = 0; x <= cells; ++x) vertices.emplace_back(x * size - cells * size / 2, 0.0f, z * size - cells * size / 2);
+    for (int x = 0; x <= cells; ++x)
+      vertices.emplace_back(x * size - cells * size / 2, 0.0f, z * size - cells * size / 2);
   for (int z = 0; z < cells; ++z)
     for (int x = 0; x < cells; ++x) {
       const std::uint32_t i0 = z * (cells + 1) + x, i1 = i0 + 1, i2 = i0 + cells + 1, i3 = i2 + 1;
@@ -107,8 +117,8 @@ TEST(Collision, BoxOnMeshEdgeUsesFaceNormal) {
   const auto grid = FlatGrid(4, 1.0f);
   // A box whose bottom spans an internal diagonal and a grid line.
   std::vector<ContactManifold> manifolds;
-  CollideConvexMesh(Convex(Box(0.3f, 0.3f, 0.3f)), Pose{Vec3(0.0f, 0.29f, 0.0f), Quat::Identity()}, *grid, Pose{},
-                    0.02f, ContactManifold{}, manifolds);
+  CollideConvexMesh(Convex(Box(0.3f, 0.3f, 0.3f)), Pose{Vec3(0.0f, 0.29f, 0.0f), Quat::Identity()}, *grid,
+                    Pose{}, 0.02f, ContactManifold{}, manifolds);
   ASSERT_FALSE(manifolds.empty());
   for (const ContactManifold& manifold : manifolds) {
     EXPECT_GT(-manifold.normal.y(), 0.999f);
@@ -138,8 +148,8 @@ TEST(Collision, BoxSlidingOverMeshDoesNotCatchOnInternalEdges) {
     max_vertical = std::max(max_vertical, std::abs(Velocity(*world, id).y()));
     min_forward = std::min(min_forward, Velocity(*world, id).x());
   }
-  EXPECT_LT(max_vertical, 0.1f);    // no hops over triangle edges
-  EXPECT_GT(min_forward, 5.9f);     // no speed lost to catching
+  EXPECT_LT(max_vertical, 0.1f);  // no hops over triangle edges
+  EXPECT_GT(min_forward, 5.9f);   // no speed lost to catching
   EXPECT_NEAR(Position(*world, id).y(), 0.25f, 0.01f);
 }
 
@@ -151,10 +161,12 @@ TEST(Collision, EveryShapeRestsOnAMesh) {
   ground.motion_type = MotionType::kStatic;
   ground.object_layer = layers::kNonMoving;
   Add(*world, ground);
-  const std::vector<Vec3> hull_points = {Vec3(0, 1, 0), Vec3(1, 0, 0), Vec3(-1, 0, 0), Vec3(0, 0, 1), Vec3(0, 0, -1)};
-  const std::vector<std::pair<ShapeRef, float>> shapes = {
-      {Box(0.5f, 0.75f, 1.0f), 0.75f}, {Sphere(0.5f), 0.5f}, {Capsule(0.75f, 0.5f), 1.25f},
-      {*ConvexHullShape::Create(hull_points), 0.0f}};
+  const std::vector<Vec3> hull_points = {Vec3(0, 1, 0), Vec3(1, 0, 0), Vec3(-1, 0, 0), Vec3(0, 0, 1),
+                                         Vec3(0, 0, -1)};
+  const std::vector<std::pair<ShapeRef, float>> shapes = {{Box(0.5f, 0.75f, 1.0f), 0.75f},
+                                                          {Sphere(0.5f), 0.5f},
+                                                          {Capsule(0.75f, 0.5f), 1.25f},
+                                                          {*ConvexHullShape::Create(hull_points), 0.0f}};
   std::vector<BodyID> ids;
   for (std::size_t i = 0; i < shapes.size(); ++i)
     ids.push_back(Add(*world, Dynamic(shapes[i].first, Vec3(4.0f * i - 6.0f, 3.0f, 1.0f))));

@@ -18,19 +18,28 @@ class QueryTest : public ::testing::Test {
     for (int i = 0; i < 120; ++i) {
       ShapeRef shape;
       switch (i % 3) {
-        case 0: shape = Box(size(random), size(random), size(random)); break;
-        case 1: shape = Sphere(size(random)); break;
-        default: shape = Capsule(size(random), size(random)); break;
+        case 0:
+          shape = Box(size(random), size(random), size(random));
+          break;
+        case 1:
+          shape = Sphere(size(random));
+          break;
+        default:
+          shape = Capsule(size(random), size(random));
+          break;
       }
-      const Quat rotation(Eigen::AngleAxisf(spread(random), Vec3(spread(random), 1, spread(random)).normalized()));
-      BodyCreationSettings settings = Dynamic(shape, Vec3(spread(random), height(random), spread(random)), rotation);
+      const Quat rotation(
+          Eigen::AngleAxisf(spread(random), Vec3(spread(random), 1, spread(random)).normalized()));
+      BodyCreationSettings settings =
+          Dynamic(shape, Vec3(spread(random), height(random), spread(random)), rotation);
       if (i % 4 == 0) settings.motion_type = MotionType::kKinematic;
       ids_.push_back(Add(*world_, settings));
     }
   }
 
   // Exhaustive reference: every body's exact shape.
-  std::optional<RayCastHit> ReferenceRay(const Vec3& origin, const Vec3& direction, const QueryFilter& filter) {
+  std::optional<RayCastHit> ReferenceRay(const Vec3& origin, const Vec3& direction,
+                                         const QueryFilter& filter) {
     std::optional<RayCastHit> best;
     for (const BodyID id : ids_) {
       BodyLockRead lock(world_->body_manager(), id);
@@ -39,7 +48,8 @@ class QueryTest : public ::testing::Test {
       ShapeRayHit hit;
       if (lock.body().shape()->CastRay(pose.ToLocal(origin), pose.DirectionToLocal(direction), 1.0f, hit) &&
           (!best || hit.fraction < best->fraction))
-        best = RayCastHit{id, hit.fraction, origin + hit.fraction * direction, pose.DirectionToWorld(hit.normal), 0};
+        best = RayCastHit{id, hit.fraction, origin + hit.fraction * direction,
+                          pose.DirectionToWorld(hit.normal), 0};
     }
     return best;
   }
@@ -123,8 +133,9 @@ TEST_F(QueryTest, ShapeOverlapFindsExactlyTheTouchedBodies) {
       BodyLockRead lock(world_->body_manager(), id);
       if (!lock.body().shape()->IsConvex()) continue;
       const ConvexShape& convex = static_cast<const ConvexShape&>(*lock.body().shape());
-      const GjkResult gjk = GjkClosestPoints(PosedConvex(convex, lock.body().pose(), false),
-                                             PosedConvex(static_cast<const ConvexShape&>(*probe), pose, false), 100);
+      const GjkResult gjk =
+          GjkClosestPoints(PosedConvex(convex, lock.body().pose(), false),
+                           PosedConvex(static_cast<const ConvexShape&>(*probe), pose, false), 100);
       if (gjk.overlapping) {
         EXPECT_TRUE(found.count(id)) << "missed body " << id.index;
       } else if (gjk.distance > 1e-4f) {

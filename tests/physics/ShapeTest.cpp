@@ -29,7 +29,8 @@ TEST(Shapes, SphereAndCapsuleMassProperties) {
 
 TEST(Shapes, HullOfCubeMatchesBox) {
   std::vector<Vec3> points;
-  for (int i = 0; i < 8; ++i) points.emplace_back(i & 1 ? 1.0f : -1.0f, i & 2 ? 2.0f : -2.0f, i & 4 ? 0.5f : -0.5f);
+  for (int i = 0; i < 8; ++i)
+    points.emplace_back(i & 1 ? 1.0f : -1.0f, i & 2 ? 2.0f : -2.0f, i & 4 ? 0.5f : -0.5f);
   points.emplace_back(0.1f, 0.2f, 0.0f);  // interior point must not become a vertex
   auto hull = ConvexHullShape::Create(points);
   ASSERT_TRUE(hull.ok()) << hull.error().message;
@@ -53,7 +54,8 @@ TEST(Shapes, HullOfOffsetTetrahedronHasItsCentroid) {
 }
 
 TEST(Shapes, DegenerateHullsAreRejected) {
-  const std::vector<Vec3> coplanar = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 0, 1), Vec3(1, 0, 1), Vec3(0.5f, 0, 0.5f)};
+  const std::vector<Vec3> coplanar = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 0, 1), Vec3(1, 0, 1),
+                                      Vec3(0.5f, 0, 0.5f)};
   const std::vector<Vec3> collinear = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(2, 0, 0), Vec3(3, 0, 0)};
   const std::vector<Vec3> coincident(5, Vec3(1, 1, 1));
   const std::vector<Vec3> too_few = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)};
@@ -99,7 +101,8 @@ ShapeRef Grid(int cells, float size, std::vector<Vec3>* vertices_out = nullptr) 
   std::vector<Vec3> vertices;
   std::vector<TriangleMeshShape::Indices> triangles;
   for (int z = 0; z <= cells; ++z)
-    for (int x = 0; x <= cells; ++x) vertices.emplace_back(x * size, 0.05f * std::sin(x * 0.3f + z * 0.2f), z * size);
+    for (int x = 0; x <= cells; ++x)
+      vertices.emplace_back(x * size, 0.05f * std::sin(x * 0.3f + z * 0.2f), z * size);
   for (int z = 0; z < cells; ++z) {
     for (int x = 0; x < cells; ++x) {
       const std::uint32_t i0 = z * (cells + 1) + x, i1 = i0 + 1, i2 = i0 + cells + 1, i3 = i2 + 1;
@@ -174,8 +177,8 @@ TEST(Shapes, MeshInternalEdgesAreInactiveAndBorderEdgesActive) {
 
 TEST(Shapes, TrianglesInsideABox) {
   std::vector<Triangle> triangles;
-  Box(1, 1, 1)->GetTrianglesInBox(AABB(Vec3(-10, -10, -10), Vec3(10, 10, 10)), Pose{Vec3(5, 0, 0), Quat::Identity()},
-                                  triangles);
+  Box(1, 1, 1)->GetTrianglesInBox(AABB(Vec3(-10, -10, -10), Vec3(10, 10, 10)),
+                                  Pose{Vec3(5, 0, 0), Quat::Identity()}, triangles);
   ASSERT_EQ(triangles.size(), 12u);
   for (const Triangle& t : triangles)
     for (const Vec3& v : t.vertices) EXPECT_NEAR(std::abs(v.x() - 5.0f), 1.0f, 1.01f);

@@ -29,7 +29,8 @@ TEST(Sleep, IslandSleepsAndWakesTogether) {
   auto world = MakeWorld();
   Add(*world, Static(Box(10, 1, 10), Vec3(0, -1, 0)));
   std::vector<BodyID> stack;
-  for (int i = 0; i < 3; ++i) stack.push_back(Add(*world, Dynamic(Box(0.5f, 0.5f, 0.5f), Vec3(0, 0.5f + i, 0))));
+  for (int i = 0; i < 3; ++i)
+    stack.push_back(Add(*world, Dynamic(Box(0.5f, 0.5f, 0.5f), Vec3(0, 0.5f + i, 0))));
   StepFor(*world, 90);
   for (const BodyID id : stack) EXPECT_FALSE(*world->bodies().IsActive(id));
   // Pushing the top box wakes the whole stack on the next step.

@@ -15,11 +15,18 @@
 
 namespace strata::test {
 
-inline ShapeRef Box(float x, float y, float z) { return *BoxShape::Create({x, y, z}); }
-inline ShapeRef Sphere(float r) { return *SphereShape::Create(r); }
-inline ShapeRef Capsule(float half_height, float r) { return *CapsuleShape::Create(half_height, r); }
+inline ShapeRef Box(float x, float y, float z) {
+  return *BoxShape::Create({x, y, z});
+}
+inline ShapeRef Sphere(float r) {
+  return *SphereShape::Create(r);
+}
+inline ShapeRef Capsule(float half_height, float r) {
+  return *CapsuleShape::Create(half_height, r);
+}
 
-inline std::unique_ptr<PhysicsSystem> MakeWorld(PhysicsSettings settings = {}, std::uint32_t max_bodies = 4096) {
+inline std::unique_ptr<PhysicsSystem> MakeWorld(PhysicsSettings settings = {},
+                                                std::uint32_t max_bodies = 4096) {
   PhysicsSystemConfig config;
   config.max_bodies = max_bodies;
   config.job_system = std::make_shared<SerialJobSystem>();
@@ -28,7 +35,8 @@ inline std::unique_ptr<PhysicsSystem> MakeWorld(PhysicsSettings settings = {}, s
   return std::move(*world);
 }
 
-inline BodyCreationSettings Static(ShapeRef shape, const Vec3& position, const Quat& rotation = Quat::Identity()) {
+inline BodyCreationSettings Static(ShapeRef shape, const Vec3& position,
+                                   const Quat& rotation = Quat::Identity()) {
   BodyCreationSettings settings;
   settings.shape = std::move(shape);
   settings.position = position;
@@ -38,7 +46,8 @@ inline BodyCreationSettings Static(ShapeRef shape, const Vec3& position, const Q
   return settings;
 }
 
-inline BodyCreationSettings Dynamic(ShapeRef shape, const Vec3& position, const Quat& rotation = Quat::Identity()) {
+inline BodyCreationSettings Dynamic(ShapeRef shape, const Vec3& position,
+                                    const Quat& rotation = Quat::Identity()) {
   BodyCreationSettings settings;
   settings.shape = std::move(shape);
   settings.position = position;
@@ -56,7 +65,11 @@ inline void StepFor(PhysicsSystem& world, int steps, float dt = 1.0f / 60.0f) {
   for (int i = 0; i < steps; ++i) ASSERT_TRUE(world.Step(dt).ok());
 }
 
-inline Vec3 Position(PhysicsSystem& world, BodyID id) { return *world.bodies().GetPosition(id); }
-inline Vec3 Velocity(PhysicsSystem& world, BodyID id) { return *world.bodies().GetLinearVelocity(id); }
+inline Vec3 Position(PhysicsSystem& world, BodyID id) {
+  return *world.bodies().GetPosition(id);
+}
+inline Vec3 Velocity(PhysicsSystem& world, BodyID id) {
+  return *world.bodies().GetLinearVelocity(id);
+}
 
 }  // namespace strata::test

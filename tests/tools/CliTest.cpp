@@ -20,12 +20,15 @@ int RunCli(const std::string& arguments) {
 }
 
 std::filesystem::path TempFile(const std::string& name) {
-  return std::filesystem::temp_directory_path() / ("strata_cli_test_" + std::to_string(::getpid()) + "_" + name);
+  return std::filesystem::temp_directory_path() /
+         ("strata_cli_test_" + std::to_string(::getpid()) + "_" + name);
 }
 
 TEST(Cli, SimulateWritesOneLinePerRecordedStep) {
   const auto out = TempFile("states.jsonl");
-  ASSERT_EQ(RunCli("simulate " + (kScenes / "bounce.json").string() + " --steps 120 --every 30 --out " + out.string()), 0);
+  ASSERT_EQ(RunCli("simulate " + (kScenes / "bounce.json").string() + " --steps 120 --every 30 --out " +
+                   out.string()),
+            0);
   std::ifstream file(out);
   std::string line;
   int lines = 0;

@@ -31,11 +31,16 @@ void HashBytes(std::uint64_t& hash, const void* data, std::size_t size) {
 
 ShapeRef MakeShape(const BenchScene& scene, const BenchBody& body) {
   switch (body.shape) {
-    case BenchShape::kBox: return *BoxShape::Create(body.half_extents);
-    case BenchShape::kSphere: return *SphereShape::Create(body.radius);
-    case BenchShape::kCapsule: return *CapsuleShape::Create(body.half_height, body.radius);
-    case BenchShape::kHull: return *ConvexHullShape::Create(scene.hull_points);
-    case BenchShape::kMesh: return *TriangleMeshShape::Create(scene.mesh_vertices, scene.mesh_triangles);
+    case BenchShape::kBox:
+      return *BoxShape::Create(body.half_extents);
+    case BenchShape::kSphere:
+      return *SphereShape::Create(body.radius);
+    case BenchShape::kCapsule:
+      return *CapsuleShape::Create(body.half_height, body.radius);
+    case BenchShape::kHull:
+      return *ConvexHullShape::Create(scene.hull_points);
+    case BenchShape::kMesh:
+      return *TriangleMeshShape::Create(scene.mesh_vertices, scene.mesh_triangles);
   }
   return nullptr;
 }
@@ -95,9 +100,12 @@ EngineResult RunStrata(const BenchScene& scene, int threads) {
   std::vector<BodyID> all_ids;
   for (const BenchBody& body : scene.bodies) {
     BodyCreationSettings create;
-    if (body.shape == BenchShape::kHull) create.shape = hull ? hull : (hull = MakeShape(scene, body));
-    else if (body.shape == BenchShape::kMesh) create.shape = mesh ? mesh : (mesh = MakeShape(scene, body));
-    else create.shape = MakeShape(scene, body);
+    if (body.shape == BenchShape::kHull)
+      create.shape = hull ? hull : (hull = MakeShape(scene, body));
+    else if (body.shape == BenchShape::kMesh)
+      create.shape = mesh ? mesh : (mesh = MakeShape(scene, body));
+    else
+      create.shape = MakeShape(scene, body);
     create.position = body.position;
     create.motion_type = body.dynamic ? MotionType::kDynamic : MotionType::kStatic;
     create.object_layer = body.dynamic ? layers::kMoving : layers::kNonMoving;
@@ -118,7 +126,8 @@ EngineResult RunStrata(const BenchScene& scene, int threads) {
   }
   SummarizeTimes(std::move(times), result);
   std::vector<FinalPose> poses;
-  for (const BodyID id : dynamic_ids) poses.push_back({*world.bodies().GetPosition(id), *world.bodies().GetRotation(id)});
+  for (const BodyID id : dynamic_ids)
+    poses.push_back({*world.bodies().GetPosition(id), *world.bodies().GetRotation(id)});
   Summarize(scene, poses, result);
   result.bodies = static_cast<int>(scene.bodies.size());
   result.peak_memory_kb = PeakMemoryKb();

@@ -46,12 +46,27 @@ BenchScene MakeConvexVsMesh() {
   for (int x = -10; x <= 10; ++x) {
     for (int y = 0; y < 4; ++y) {
       for (int z = -10; z <= 10; ++z) {
-        BenchBody body{BenchShape::kBox, Vec3::Zero(), 0, 0, Vec3(7.5f * x, 15.0f + 2.0f * y, 7.5f * z), true, 0.5f, 0.6f};
+        BenchBody body{BenchShape::kBox,
+                       Vec3::Zero(),
+                       0,
+                       0,
+                       Vec3(7.5f * x, 15.0f + 2.0f * y, 7.5f * z),
+                       true,
+                       0.5f,
+                       0.6f};
         switch (y) {
-          case 0: body.shape = BenchShape::kBox, body.half_extents = Vec3(0.5f, 0.75f, 1.0f); break;
-          case 1: body.shape = BenchShape::kSphere, body.radius = 0.5f; break;
-          case 2: body.shape = BenchShape::kCapsule, body.half_height = 0.75f, body.radius = 0.5f; break;
-          default: body.shape = BenchShape::kHull; break;
+          case 0:
+            body.shape = BenchShape::kBox, body.half_extents = Vec3(0.5f, 0.75f, 1.0f);
+            break;
+          case 1:
+            body.shape = BenchShape::kSphere, body.radius = 0.5f;
+            break;
+          case 2:
+            body.shape = BenchShape::kCapsule, body.half_height = 0.75f, body.radius = 0.5f;
+            break;
+          default:
+            body.shape = BenchShape::kHull;
+            break;
         }
         scene.bodies.push_back(body);
       }

@@ -30,8 +30,8 @@ struct BenchBody {
 struct BenchScene {
   std::string name;
   std::vector<BenchBody> bodies;
-  std::vector<Vec3> hull_points;                      ///< shared by every kHull body
-  std::vector<Vec3> mesh_vertices;                    ///< shared by every kMesh body
+  std::vector<Vec3> hull_points;    ///< shared by every kHull body
+  std::vector<Vec3> mesh_vertices;  ///< shared by every kMesh body
   std::vector<std::array<std::uint32_t, 3>> mesh_triangles;
   float dt = 1.0f / 60.0f;
   int velocity_iterations = 10;

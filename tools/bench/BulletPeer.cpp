@@ -12,7 +12,9 @@ namespace strata::bench {
 
 namespace {
 
-btVector3 ToBullet(const Vec3& v) { return {v.x(), v.y(), v.z()}; }
+btVector3 ToBullet(const Vec3& v) {
+  return {v.x(), v.y(), v.z()};
+}
 
 }  // namespace
 
@@ -39,8 +41,12 @@ EngineResult RunBullet(const BenchScene& scene) {
   for (const BenchBody& body : scene.bodies) {
     btCollisionShape* shape = nullptr;
     switch (body.shape) {
-      case BenchShape::kBox: shapes.push_back(std::make_unique<btBoxShape>(ToBullet(body.half_extents))); break;
-      case BenchShape::kSphere: shapes.push_back(std::make_unique<btSphereShape>(body.radius)); break;
+      case BenchShape::kBox:
+        shapes.push_back(std::make_unique<btBoxShape>(ToBullet(body.half_extents)));
+        break;
+      case BenchShape::kSphere:
+        shapes.push_back(std::make_unique<btSphereShape>(body.radius));
+        break;
       case BenchShape::kCapsule:
         shapes.push_back(std::make_unique<btCapsuleShape>(body.radius, 2.0f * body.half_height));
         break;

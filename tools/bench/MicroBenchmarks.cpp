@@ -39,7 +39,8 @@ const GridMesh& MillionTriangleGrid() {
 }
 
 const TriangleMeshShape& MillionTriangleMesh() {
-  static const ShapeRef mesh = *TriangleMeshShape::Create(MillionTriangleGrid().vertices, MillionTriangleGrid().triangles);
+  static const ShapeRef mesh =
+      *TriangleMeshShape::Create(MillionTriangleGrid().vertices, MillionTriangleGrid().triangles);
   return static_cast<const TriangleMeshShape&>(*mesh);
 }
 
@@ -84,7 +85,8 @@ void CollidePair(benchmark::State& state, MakeA make_a, MakeB make_b, const Pose
   for (auto _ : state) {
     ContactManifold manifold;
     benchmark::DoNotOptimize(CollideConvexConvex(static_cast<const ConvexShape&>(*a), pose_a,
-                                                 static_cast<const ConvexShape&>(*b), pose_b, 0.02f, manifold));
+                                                 static_cast<const ConvexShape&>(*b), pose_b, 0.02f,
+                                                 manifold));
   }
 }
 
@@ -97,7 +99,8 @@ BENCHMARK(BM_CollideBoxOnBox);
 
 void BM_CollideCapsuleOnBox(benchmark::State& state) {
   CollidePair(
-      state, [] { return *BoxShape::Create(Vec3(2, 1, 2)); }, [] { return *CapsuleShape::Create(0.75f, 0.5f); },
+      state, [] { return *BoxShape::Create(Vec3(2, 1, 2)); },
+      [] { return *CapsuleShape::Create(0.75f, 0.5f); },
       Pose{Vec3(0.2f, 1.49f, 0.1f), Quat(Eigen::AngleAxisf(1.5f, Vec3::UnitZ()))});
 }
 BENCHMARK(BM_CollideCapsuleOnBox);

@@ -22,17 +22,20 @@ void Print(const char* engine, const bench::BenchScene& scene, const bench::Engi
     std::printf("  %-8s failed\n", engine);
     return;
   }
-  std::printf("  %-8s %5d bodies  %7.1f steps/s  %7.2f ms/step median  %7.2f ms max  %7.1f MiB peak  "
-              "%5d %s  hash %016llx\n",
-              engine, r.bodies, r.StepsPerSecond(), r.median_step_ms, r.max_step_ms, r.peak_memory_kb / 1024.0,
-              r.bodies_in_footprint, scene.name == "pyramid" ? "in footprint" : "above y=0",
-              static_cast<unsigned long long>(r.state_hash));
+  std::printf(
+      "  %-8s %5d bodies  %7.1f steps/s  %7.2f ms/step median  %7.2f ms max  %7.1f MiB peak  "
+      "%5d %s  hash %016llx\n",
+      engine, r.bodies, r.StepsPerSecond(), r.median_step_ms, r.max_step_ms, r.peak_memory_kb / 1024.0,
+      r.bodies_in_footprint, scene.name == "pyramid" ? "in footprint" : "above y=0",
+      static_cast<unsigned long long>(r.state_hash));
 }
 
 int RunBench(const BenchOptions& options) {
   std::vector<std::string> names;
-  if (options.scene == "all") names = {"pyramid", "convex_vs_mesh"};
-  else names = {options.scene};
+  if (options.scene == "all")
+    names = {"pyramid", "convex_vs_mesh"};
+  else
+    names = {options.scene};
   for (const std::string& name : names) {
     bench::BenchScene scene = bench::MakeBenchScene(name);
     if (scene.bodies.empty()) {
@@ -40,11 +43,12 @@ int RunBench(const BenchOptions& options) {
       return 2;
     }
     if (options.steps > 0) scene.steps = options.steps;
-    std::printf("%s: %zu bodies, %d steps of %.4f s, %d velocity / %d position iterations, sleeping %s, "
-                "threads %s\n",
-                name.c_str(), scene.bodies.size(), scene.steps, scene.dt, scene.velocity_iterations,
-                scene.position_iterations, scene.sleeping ? "on" : "off",
-                options.threads == 0 ? "all" : std::to_string(options.threads).c_str());
+    std::printf(
+        "%s: %zu bodies, %d steps of %.4f s, %d velocity / %d position iterations, sleeping %s, "
+        "threads %s\n",
+        name.c_str(), scene.bodies.size(), scene.steps, scene.dt, scene.velocity_iterations,
+        scene.position_iterations, scene.sleeping ? "on" : "off",
+        options.threads == 0 ? "all" : std::to_string(options.threads).c_str());
     const bench::EngineResult strata =
         bench::RunIsolated([&] { return bench::RunStrata(scene, options.threads); });
     Print("strata", scene, strata);
@@ -69,10 +73,13 @@ int RunBench(const BenchOptions& options) {
 
 std::function<int()> AddBenchCommand(CLI::App& app) {
   auto options = std::make_shared<BenchOptions>();
-  CLI::App* command = app.add_subcommand("bench", "Run the pyramid and convex_vs_mesh benchmarks (Bullet side by side)");
+  CLI::App* command =
+      app.add_subcommand("bench", "Run the pyramid and convex_vs_mesh benchmarks (Bullet side by side)");
   command->add_option("--scene", options->scene, "pyramid, convex_vs_mesh or all");
-  command->add_option("--steps", options->steps, "Steps per scene (default: the scene's 500)")->check(CLI::PositiveNumber);
-  command->add_option("--threads", options->threads, "Strata worker threads (0 = all cores)")->check(CLI::NonNegativeNumber);
+  command->add_option("--steps", options->steps, "Steps per scene (default: the scene's 500)")
+      ->check(CLI::PositiveNumber);
+  command->add_option("--threads", options->threads, "Strata worker threads (0 = all cores)")
+      ->check(CLI::NonNegativeNumber);
   command->add_flag("!--no-bullet", options->bullet, "Skip the Bullet peer");
   return [options] { return RunBench(*options); };
 }

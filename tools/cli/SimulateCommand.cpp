@@ -43,21 +43,23 @@ nlohmann::json StateLine(const Scene& scene, SceneWorld& world, int step, float 
 }
 
 // A person-readable account of the run, printed when the states go to a file.
-void PrintSummary(const Scene& scene, SceneWorld& world, const SimulateOptions& options, int lines, double total_ms,
-                  double slowest_ms) {
-  std::printf("%s: %zu bodies, %d steps of %.4f s (%.2f s simulated) in %.1f ms (%.3f ms/step, slowest %.3f ms)\n",
-              options.scene.c_str(), scene.bodies.size(), options.steps, scene.dt, options.steps * scene.dt, total_ms,
-              total_ms / options.steps, slowest_ms);
-  std::printf("wrote %d state lines to %s\n%-12s %28s %10s %s\n", lines, options.out.c_str(), "body", "position (m)",
-              "speed m/s", "state");
+void PrintSummary(const Scene& scene, SceneWorld& world, const SimulateOptions& options, int lines,
+                  double total_ms, double slowest_ms) {
+  std::printf(
+      "%s: %zu bodies, %d steps of %.4f s (%.2f s simulated) in %.1f ms (%.3f ms/step, slowest %.3f ms)\n",
+      options.scene.c_str(), scene.bodies.size(), options.steps, scene.dt, options.steps * scene.dt, total_ms,
+      total_ms / options.steps, slowest_ms);
+  std::printf("wrote %d state lines to %s\n%-12s %28s %10s %s\n", lines, options.out.c_str(), "body",
+              "position (m)", "speed m/s", "state");
   BodyInterface& interface = world.system->bodies();
   for (std::size_t i = 0; i < world.ids.size(); ++i) {
     const Vec3 p = *interface.GetPosition(world.ids[i]);
     const float speed = interface.GetLinearVelocity(world.ids[i])->norm();
     const MotionType motion = scene.bodies[i].settings.motion_type;
-    const char* state = motion == MotionType::kStatic ? "static" : (*interface.IsActive(world.ids[i]) ? "awake" : "asleep");
-    std::printf("%-12s (%8.3f, %8.3f, %8.3f) %10.3f %s\n", scene.bodies[i].name.c_str(), p.x(), p.y(), p.z(), speed,
-                state);
+    const char* state =
+        motion == MotionType::kStatic ? "static" : (*interface.IsActive(world.ids[i]) ? "awake" : "asleep");
+    std::printf("%-12s (%8.3f, %8.3f, %8.3f) %10.3f %s\n", scene.bodies[i].name.c_str(), p.x(), p.y(), p.z(),
+                speed, state);
   }
 }
 
@@ -91,7 +93,8 @@ int RunSimulate(const SimulateOptions& options) {
       std::cerr << "strata simulate: step " << step << ": " << stepped.message() << "\n";
       return 1;
     }
-    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    const double ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     slowest_ms = std::max(slowest_ms, ms);
     total_ms += ms;
     if (step % options.every == 0 || step == options.steps) {
@@ -111,8 +114,10 @@ std::function<int()> AddSimulateCommand(CLI::App& app) {
   command->add_option("scene", options->scene, "Scene file (see assets/scenes/README.md)")->required();
   command->add_option("--steps", options->steps, "Number of steps")->check(CLI::PositiveNumber);
   command->add_option("--out", options->out, "Write JSON lines here instead of standard output");
-  command->add_option("--every", options->every, "Record every K-th step (and the last)")->check(CLI::PositiveNumber);
-  command->add_option("--threads", options->threads, "Worker threads (0 = all cores)")->check(CLI::NonNegativeNumber);
+  command->add_option("--every", options->every, "Record every K-th step (and the last)")
+      ->check(CLI::PositiveNumber);
+  command->add_option("--threads", options->threads, "Worker threads (0 = all cores)")
+      ->check(CLI::NonNegativeNumber);
   return [options] { return RunSimulate(*options); };
 }
 
