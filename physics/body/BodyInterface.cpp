@@ -94,18 +94,22 @@ Status BodyInterface::AddBodies(std::span<const BodyID> ids, Activation activati
 }
 
 Status BodyInterface::RemoveBody(BodyID id) {
-  std::shared_lock step(system_.step_mutex_);
-  std::lock_guard membership(system_.membership_mutex_);
-  BodyLockWrite lock(system_.body_manager_, id);
-  if (!lock.Succeeded()) return lock.status();
-  Body& body = lock.body();
-  if (!body.in_world())
-    return MakeError(ErrorCode::kInvalidState, "body " + std::to_string(id.index) + " is not in the world");
-  system_.broad_phase_->RemoveBody(id);
-  system_.RemoveFromWorldList(id.index);
-  body.in_world_ = false;
-  body.sleeping_ = false;
-  return Status::Ok();
+  AABB vacated;
+  {
+    std::shared_lock step(system_.step_mutex_);
+    std::lock_guard membership(system_.membership_mutex_);
+    BodyLockWrite lock(system_.body_manager_, id);
+    if (!lock.Succeeded()) return lock.status();
+    Body& body = lock.body();
+    if (!body.in_world())
+      return MakeError(ErrorCode::kInvalidState, "body " + std::to_string(id.index) + " is not in the world");
+    vacated = body.world_bounds();
+    system_.broad_phase_->RemoveBody(id);
+    system_.RemoveFromWorldList(id.index);
+    body.in_world_ = false;
+    body.sleeping_ = false;
+  }
+  return ActivateBodiesInBox(vacated);
 }
 
 Status BodyInterface::DestroyBody(BodyID id) {
@@ -156,38 +160,37 @@ Result<MotionType> BodyInterface::GetMotionType(BodyID id) const {
   return Read(id, [](const Body& b) { return b.motion_type(); });
 }
 
-Status BodyInterface::SetPosition(BodyID id, const Vec3& position) {
-  if (!IsFinite(position)) return NotFinite("position");
-  return Write(id, [&](Body& body) {
-    body.pose_.position = position;
+Status BodyInterface::Teleport(BodyID id, const std::optional<Vec3>& position, const std::optional<Quat>& rotation) {
+  AABB vacated;
+  bool in_world = false;
+  const Status moved = Write(id, [&](Body& body) {
+    vacated = body.world_bounds();
+    in_world = body.in_world();
+    if (position) body.pose_.position = *position;
+    if (rotation) body.pose_.rotation = rotation->normalized();
     body.UpdateWorldBounds();
     RefreshBounds(body);
     WakeLocked(body);
     return Status::Ok();
   });
+  if (!moved || !in_world) return moved;
+  return ActivateBodiesInBox(vacated);
+}
+
+Status BodyInterface::SetPosition(BodyID id, const Vec3& position) {
+  if (!IsFinite(position)) return NotFinite("position");
+  return Teleport(id, position, std::nullopt);
 }
 
 Status BodyInterface::SetRotation(BodyID id, const Quat& rotation) {
   if (!IsFinite(rotation) || rotation.norm() < 1e-6f) return NotFinite("rotation");
-  return Write(id, [&](Body& body) {
-    body.pose_.rotation = rotation.normalized();
-    body.UpdateWorldBounds();
-    RefreshBounds(body);
-    WakeLocked(body);
-    return Status::Ok();
-  });
+  return Teleport(id, std::nullopt, rotation);
 }
 
 Status BodyInterface::SetPositionAndRotation(BodyID id, const Vec3& position, const Quat& rotation) {
   if (!IsFinite(position)) return NotFinite("position");
   if (!IsFinite(rotation) || rotation.norm() < 1e-6f) return NotFinite("rotation");
-  return Write(id, [&](Body& body) {
-    body.pose_ = {position, rotation.normalized()};
-    body.UpdateWorldBounds();
-    RefreshBounds(body);
-    WakeLocked(body);
-    return Status::Ok();
-  });
+  return Teleport(id, position, rotation);
 }
 
 Status BodyInterface::SetLinearVelocity(BodyID id, const Vec3& velocity) {
@@ -262,6 +265,18 @@ Status BodyInterface::AddImpulse(BodyID id, const Vec3& impulse, const Vec3& poi
     WakeLocked(body);
     return Status::Ok();
   });
+}
+
+Status BodyInterface::ActivateBodiesInBox(const AABB& box) {
+  if (!box.IsValid()) return MakeError(ErrorCode::kInvalidArgument, "activation box must be finite with min <= max");
+  std::shared_lock step(system_.step_mutex_);
+  std::vector<BodyID> candidates;
+  system_.broad_phase_->CollideAABB(box.Expanded(system_.settings_.speculative_distance), {}, candidates);
+  for (const BodyID candidate : candidates) {
+    BodyLockWrite lock(system_.body_manager_, candidate);
+    if (lock.Succeeded() && lock.body().sleeping()) WakeLocked(lock.body());
+  }
+  return Status::Ok();
 }
 
 Status BodyInterface::ActivateBody(BodyID id) {

@@ -3,6 +3,7 @@
 // NaN/Inf values or wrong states. Calls from many threads run at once; they wait while a step runs.
 #pragma once
 
+#include <optional>
 #include <span>
 
 #include "physics/body/Body.h"
@@ -65,12 +66,17 @@ class BodyInterface {
   Status AddImpulse(BodyID id, const Vec3& impulse, const Vec3& point);
   /// Wakes the body and its sleeping island.
   Status ActivateBody(BodyID id);
+  /// Wakes every sleeping body whose bounds overlap `box`. Removing or teleporting a body does this for
+  /// the space it left, so nothing stays asleep in mid-air.
+  Status ActivateBodiesInBox(const AABB& box);
 
  private:
   template <class Function>
   auto Read(BodyID id, Function&& function) const -> Result<decltype(function(std::declval<const Body&>()))>;
   template <class Function>
   Status Write(BodyID id, Function&& function);
+  /// Moves a body to `pose` and wakes what rested on it where it was.
+  Status Teleport(BodyID id, const std::optional<Vec3>& position, const std::optional<Quat>& rotation);
   void WakeLocked(Body& body);
   void RefreshBounds(const Body& body);
 

@@ -55,6 +55,18 @@ TEST(Sleep, FallingBodyWakesSleepingBody) {
   EXPECT_TRUE(woke);
 }
 
+TEST(Sleep, RemovingWhatHoldsASleepingBodyWakesIt) {
+  auto world = MakeWorld();
+  Add(*world, Static(Box(10, 1, 10), Vec3(0, -1, 0)));
+  const BodyID shelf = Add(*world, Static(Box(1, 0.1f, 1), Vec3(0, 2, 0)));
+  const BodyID box = Add(*world, Dynamic(Box(0.3f, 0.3f, 0.3f), Vec3(0, 2.4f, 0)));
+  StepFor(*world, 60);
+  ASSERT_FALSE(*world->bodies().IsActive(box));
+  ASSERT_TRUE(world->bodies().RemoveBody(shelf).ok());
+  StepFor(*world, 90);
+  EXPECT_NEAR(Position(*world, box).y(), 0.3f, 0.02f);  // fell to the floor
+}
+
 TEST(Sleep, SleepingBodiesKeepTheirPlace) {
   auto world = MakeWorld();
   Add(*world, Static(Box(10, 1, 10), Vec3(0, -1, 0)));
