@@ -135,17 +135,26 @@ void ContactSolver::SolveVelocities(std::span<SolverBody> bodies, int iteration)
     SolverBody& a = bodies[c.a];
     SolverBody& b = bodies[c.b];
     // Friction first, bounded by the current normal impulse, then the non-penetration constraint, which
-    // is the one that must hold best at the end of the pass.
+    // is the one that must hold best at the end of the pass. Both friction axes are solved together with
+    // one mass and clamped to the friction circle, so the friction impulse opposes the sliding velocity
+    // whatever the tangent basis (a per-axis mass or a box clamp would skew it and spin sliding bodies).
     for (int k = 0; k < c.count; ++k) {
       Point& p = c.points[reverse ? c.count - 1 - k : k];
       const float limit = c.friction * p.normal.impulse;
-      for (int axis = 0; axis < 2; ++axis) {
-        AxisPart& part = p.tangent[axis];
-        const float velocity = AxisVelocity(a, b, c.tangent[axis], part);
-        const float old_impulse = part.impulse;
-        part.impulse = std::clamp(old_impulse - velocity * part.mass, -limit, limit);
-        ApplyAxisImpulse(a, b, c.tangent[axis], part, part.impulse - old_impulse);
+      const float mass = std::min(p.tangent[0].mass, p.tangent[1].mass);
+      const float old_first = p.tangent[0].impulse, old_second = p.tangent[1].impulse;
+      float first = old_first - AxisVelocity(a, b, c.tangent[0], p.tangent[0]) * mass;
+      float second = old_second - AxisVelocity(a, b, c.tangent[1], p.tangent[1]) * mass;
+      const float length2 = first * first + second * second;
+      if (length2 > limit * limit) {
+        const float scale = length2 > 0.0f ? limit / std::sqrt(length2) : 0.0f;
+        first *= scale;
+        second *= scale;
       }
+      p.tangent[0].impulse = first;
+      p.tangent[1].impulse = second;
+      ApplyAxisImpulse(a, b, c.tangent[0], p.tangent[0], first - old_first);
+      ApplyAxisImpulse(a, b, c.tangent[1], p.tangent[1], second - old_second);
     }
     for (int k = 0; k < c.count; ++k) {
       Point& p = c.points[reverse ? c.count - 1 - k : k];

@@ -68,12 +68,13 @@ struct InclineResult {
   float acceleration;
 };
 
-InclineResult SlideOnIncline(float degrees) {
+InclineResult SlideOnIncline(float degrees, float yaw_degrees = 0.0f) {
   PhysicsSettings settings;
   settings.allow_sleeping = false;
   auto world = MakeWorld(settings);
   const float angle = degrees * kPi / 180.0f;
-  const Quat tilt(Eigen::AngleAxisf(angle, Vec3::UnitZ()));
+  const Quat tilt = Quat(Eigen::AngleAxisf(yaw_degrees * kPi / 180.0f, Vec3::UnitY())) *
+                    Quat(Eigen::AngleAxisf(angle, Vec3::UnitZ()));
   BodyCreationSettings ramp = Static(Box(20, 0.5f, 5), Vec3::Zero(), tilt);
   ramp.friction = 0.6f;
   Add(*world, ramp);
@@ -102,6 +103,16 @@ TEST(Simulation, BoxSlidesOnThirtyFiveDegreeInclineWithCoulombAcceleration) {
   const float angle = 35.0f * kPi / 180.0f;
   const float expected = 9.81f * (std::sin(angle) - 0.6f * std::cos(angle));
   EXPECT_NEAR(result.acceleration, expected, 0.05f * expected);
+}
+
+TEST(Simulation, FrictionIsTheSameInEveryDirection) {
+  // Yawing the ramp turns the sliding direction relative to the solver's tangent axes.
+  const float angle = 35.0f * kPi / 180.0f;
+  const float expected = 9.81f * (std::sin(angle) - 0.6f * std::cos(angle));
+  for (float yaw : {30.0f, 45.0f, 110.0f}) {
+    const InclineResult result = SlideOnIncline(35.0f, yaw);
+    EXPECT_NEAR(result.acceleration, expected, 0.05f * expected) << "yaw " << yaw;
+  }
 }
 
 TEST(Simulation, HeadOnSphereCollisionConservesMomentum) {
