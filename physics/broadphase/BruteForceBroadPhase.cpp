@@ -1,6 +1,7 @@
 #include "physics/broadphase/BruteForceBroadPhase.h"
 
 #include <cassert>
+#include <cstring>
 #include <mutex>
 
 namespace strata {
@@ -71,13 +72,20 @@ void BruteForceBroadPhase::FindPairs(std::span<const BodyID> active,
       for (std::size_t k = 0; k < count; ++k)
         hits[k] = (ax0 <= x1[k]) & (x0[k] <= ax1) & (ay0 <= y1[k]) & (y0[k] <= ay1) & (az0 <= z1[k]) &
                   (z0[k] <= az1);
-      for (std::size_t k = 0; k < count; ++k) {
-        const std::size_t j = start + k;
-        if (!hits[k] || j == s) continue;
-        const BodyID b = ids_[j];
-        if (active_flags[b.index] && b.index < a.index) continue;  // reported from b's side
-        if (!layers.ShouldCollide(layers_[s], layers_[j])) continue;
-        out.push_back({a, b});
+      for (std::size_t k = count; k < kBlock; ++k) hits[k] = 0;
+      // Hits are rare: skip eight misses at a time.
+      for (std::size_t word = 0; word < kBlock; word += 8) {
+        std::uint64_t eight;
+        std::memcpy(&eight, hits + word, sizeof(eight));
+        if (eight == 0) continue;
+        for (std::size_t k = word; k < word + 8; ++k) {
+          const std::size_t j = start + k;
+          if (!hits[k] || j == s) continue;
+          const BodyID b = ids_[j];
+          if (active_flags[b.index] && b.index < a.index) continue;  // reported from b's side
+          if (!layers.ShouldCollide(layers_[s], layers_[j])) continue;
+          out.push_back({a, b});
+        }
       }
     }
   }

@@ -160,6 +160,24 @@ bool IsPolyhedron(const ConvexShape& shape) {
   return shape.type() == ShapeType::kBox || shape.type() == ShapeType::kConvexHull;
 }
 
+// Sphere against one triangle in closed form: the closest point of the triangle to the centre.
+bool SphereTriangleContact(const Vec3& center, float radius, const TriangleSupport& triangle,
+                           const Vec3& face_normal, float max_separation, Vec3& normal,
+                           ContactPoint& deepest) {
+  SimplexVertex simplex[4];
+  for (int i = 0; i < 3; ++i)
+    simplex[i] = {triangle.vertex(i) - center, triangle.vertex(i), triangle.vertex(i)};
+  int count = 3;
+  float weights[4];
+  Vec3 offset;  // closest triangle point relative to the centre
+  ClosestPointOnSimplex(simplex, count, weights, offset);
+  const float distance = offset.norm();
+  if (distance - radius > max_separation) return false;
+  normal = distance > 1e-6f ? Vec3(offset / distance) : Vec3(-face_normal);
+  deepest = {center + radius * normal, center + offset, distance - radius};
+  return true;
+}
+
 void MergeManifold(const ContactManifold& manifold, std::size_t first, std::vector<ContactManifold>& out) {
   for (std::size_t i = first; i < out.size(); ++i) {
     ContactManifold& existing = out[i];
@@ -242,6 +260,10 @@ void CollideConvexMesh(const ConvexShape& a, const Pose& pose_a, const TriangleM
       deepest = manifold.points[0];
       for (int i = 1; i < manifold.count; ++i)
         if (manifold.points[i].separation < deepest.separation) deepest = manifold.points[i];
+    } else if (a.type() == ShapeType::kSphere) {
+      if (!SphereTriangleContact(pose_a.position, a.core_radius(), triangle, face_normal, max_separation,
+                                 normal, deepest))
+        continue;
     } else if (!FindContact(core_a, exact_a, a.core_radius(), triangle, triangle, 0.0f, max_separation,
                             normal, deepest)) {
       continue;
