@@ -37,7 +37,6 @@ class BodyManager {
   /// Direct slot access for code that already holds the lock (or all locks, as the step does).
   Body& BodyAt(std::uint32_t index) { return bodies_[index]; }
   const Body& BodyAt(std::uint32_t index) const { return bodies_[index]; }
-  bool SlotInUse(std::uint32_t index) const { return !bodies_[index].id().IsInvalid(); }
 
   /// Takes every body lock for writing (in index order, so it cannot deadlock with itself).
   void LockAll();

@@ -43,11 +43,6 @@ class ContactCache {
     return it != previous_.end() && it->key == key ? &it->manifold : nullptr;
   }
   void Store(const ContactKey& key, const CachedManifold& manifold) { current_.push_back({key, manifold}); }
-  std::size_t size() const { return current_.size(); }
-  void Clear() {
-    previous_.clear();
-    current_.clear();
-  }
 
  private:
   struct Entry {
