@@ -1,6 +1,5 @@
 #include "physics/body/BodyInterface.h"
 
-#include <shared_mutex>
 #include <string>
 
 #include "physics/world/PhysicsSystem.h"
@@ -16,7 +15,6 @@ Status NotFinite(const char* what) {
 template <class Function>
 auto BodyInterface::Read(BodyID id, Function&& function) const
     -> Result<decltype(function(std::declval<const Body&>()))> {
-  std::shared_lock step(system_.step_mutex_);
   BodyLockRead lock(system_.body_manager_, id);
   if (!lock.Succeeded()) return lock.status().error();
   return function(lock.body());
@@ -24,7 +22,6 @@ auto BodyInterface::Read(BodyID id, Function&& function) const
 
 template <class Function>
 Status BodyInterface::Write(BodyID id, Function&& function) {
-  std::shared_lock step(system_.step_mutex_);
   BodyLockWrite lock(system_.body_manager_, id);
   if (!lock.Succeeded()) return lock.status();
   return function(lock.body());
@@ -40,7 +37,7 @@ void BodyInterface::WakeLocked(Body& body) {
 }
 
 void BodyInterface::RefreshBounds(const Body& body) {
-  if (body.in_world_) system_.broad_phase_->UpdateBody(body.id_, system_.BroadPhaseBounds(body, 0.0f));
+  if (body.in_world_) (void)system_.broad_phase_->UpdateBody(body.id_, system_.BroadPhaseBounds(body, 0.0f));
 }
 
 Result<BodyID> BodyInterface::CreateBody(const BodyCreationSettings& settings) {
@@ -65,56 +62,89 @@ Status BodyInterface::AddBody(BodyID id, Activation activation) {
 }
 
 Status BodyInterface::AddBodies(std::span<const BodyID> ids, Activation activation) {
-  std::shared_lock step(system_.step_mutex_);
-  std::lock_guard membership(system_.membership_mutex_);
-  // Check everything before changing anything: all or nothing.
-  for (std::size_t i = 0; i < ids.size(); ++i) {
-    BodyLockRead lock(system_.body_manager_, ids[i]);
-    if (!lock.Succeeded()) return lock.status();
-    if (lock.body().in_world())
-      return MakeError(ErrorCode::kInvalidState,
-                       "body " + std::to_string(ids[i].index) + " is already in the world");
-    for (std::size_t j = 0; j < i; ++j)
-      if (ids[j] == ids[i])
-        return MakeError(ErrorCode::kInvalidArgument,
-                         "body " + std::to_string(ids[i].index) + " is listed twice");
-  }
+  Result<BodyAddBatch> batch = AddBodiesPrepare(ids, activation);
+  if (!batch) return batch.error();
+  return AddBodiesFinalize(*batch);
+}
+
+Result<BodyAddBatch> BodyInterface::AddBodiesPrepare(std::span<const BodyID> ids, Activation activation) {
+  BodyAddBatch batch;
+  batch.activation = activation;
+  batch.ids.assign(ids.begin(), ids.end());
+  std::vector<ObjectLayer> layers;
   for (const BodyID id : ids) {
-    BodyLockWrite lock(system_.body_manager_, id);
-    Body& body = lock.body();
-    body.in_world_ = true;
-    body.sleeping_ = activation == Activation::kDontActivate && !body.IsStatic();
-    body.sleep_timer_ = 0.0f;
-    if (body.sleeping_) body.sleep_island_ = system_.next_island_key_++;
-    body.UpdateWorldBounds();
-    system_.broad_phase_->AddBody(id, system_.BroadPhaseBounds(body, 0.0f), body.object_layer());
-    system_.AddToWorldList(id.index);
+    BodyLockRead lock(system_.body_manager_, id);
+    if (!lock.Succeeded()) return lock.status().error();
+    if (lock.body().in_world())
+      return MakeError(ErrorCode::kInvalidState, "body " + std::to_string(id.index) + " is already in the world");
+    batch.bounds.push_back(system_.BroadPhaseBounds(lock.body(), 0.0f));
+    layers.push_back(lock.body().object_layer());
   }
+  Result<AddBatch> prepared = system_.broad_phase_->AddBodiesPrepare(ids, batch.bounds, layers);
+  if (!prepared) return prepared.error();
+  batch.broad_phase = std::move(*prepared);
+  return batch;
+}
+
+void BodyInterface::UndoAdd(std::span<const BodyID> flagged, std::span<const BodyID> all) {
+  for (const BodyID id : flagged) {
+    BodyLockWrite lock(system_.body_manager_, id);
+    lock.body().in_world_ = false;
+    lock.body().sleeping_ = false;
+  }
+  system_.in_world_count_.fetch_sub(flagged.size(), std::memory_order_relaxed);
+  (void)system_.broad_phase_->RemoveBodies(all);
+}
+
+Status BodyInterface::AddBodiesFinalize(BodyAddBatch& batch) {
+  // The broad phase first: a step that starts meanwhile skips bodies it finds there but not yet in the world.
+  if (Status linked = system_.broad_phase_->AddBodiesFinalize(batch.broad_phase); !linked) return linked;
+  for (std::size_t i = 0; i < batch.ids.size(); ++i) {
+    if (Status flagged = MarkAdded(batch, i); !flagged) {
+      UndoAdd(std::span<const BodyID>(batch.ids).first(i), batch.ids);
+      return flagged;
+    }
+  }
+  return Status::Ok();
+}
+
+Status BodyInterface::MarkAdded(const BodyAddBatch& batch, std::size_t i) {
+  const BodyID id = batch.ids[i];
+  BodyLockWrite lock(system_.body_manager_, id);
+  if (!lock.Succeeded()) return lock.status();
+  Body& body = lock.body();
+  if (body.in_world())
+    return MakeError(ErrorCode::kInvalidState, "body " + std::to_string(id.index) + " was added to the world meanwhile");
+  body.in_world_ = true;
+  body.sleeping_ = batch.activation == Activation::kDontActivate && !body.IsStatic();
+  body.sleep_timer_ = 0.0f;
+  if (body.sleeping_) body.sleep_island_ = system_.next_island_key_.fetch_add(1, std::memory_order_relaxed);
+  system_.in_world_count_.fetch_add(1, std::memory_order_relaxed);
+  // The body may have moved since it was prepared.
+  const AABB bounds = system_.BroadPhaseBounds(body, 0.0f);
+  if (!(bounds.min == batch.bounds[i].min && bounds.max == batch.bounds[i].max))
+    (void)system_.broad_phase_->UpdateBody(id, bounds);
   return Status::Ok();
 }
 
 Status BodyInterface::RemoveBody(BodyID id) {
   AABB vacated;
   {
-    std::shared_lock step(system_.step_mutex_);
-    std::lock_guard membership(system_.membership_mutex_);
     BodyLockWrite lock(system_.body_manager_, id);
     if (!lock.Succeeded()) return lock.status();
     Body& body = lock.body();
     if (!body.in_world())
       return MakeError(ErrorCode::kInvalidState, "body " + std::to_string(id.index) + " is not in the world");
+    if (Status removed = system_.broad_phase_->RemoveBody(id); !removed) return removed;
     vacated = body.world_bounds();
-    system_.broad_phase_->RemoveBody(id);
-    system_.RemoveFromWorldList(id.index);
     body.in_world_ = false;
     body.sleeping_ = false;
+    system_.in_world_count_.fetch_sub(1, std::memory_order_relaxed);
   }
   return ActivateBodiesInBox(vacated);
 }
 
 Status BodyInterface::DestroyBody(BodyID id) {
-  std::shared_lock step(system_.step_mutex_);
-  std::lock_guard membership(system_.membership_mutex_);
   return system_.body_manager_.DestroyBody(id);
 }
 
@@ -269,9 +299,9 @@ Status BodyInterface::AddImpulse(BodyID id, const Vec3& impulse, const Vec3& poi
 
 Status BodyInterface::ActivateBodiesInBox(const AABB& box) {
   if (!box.IsValid()) return MakeError(ErrorCode::kInvalidArgument, "activation box must be finite with min <= max");
-  std::shared_lock step(system_.step_mutex_);
   std::vector<BodyID> candidates;
-  system_.broad_phase_->CollideAABB(box.Expanded(system_.settings_.speculative_distance), {}, candidates);
+  system_.broad_phase_->CollideAABB(box.Expanded(system_.speculative_distance_.load(std::memory_order_relaxed)), {},
+                                    candidates);
   for (const BodyID candidate : candidates) {
     BodyLockWrite lock(system_.body_manager_, candidate);
     if (lock.Succeeded() && lock.body().sleeping()) WakeLocked(lock.body());

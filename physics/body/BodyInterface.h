@@ -1,12 +1,14 @@
 // BodyInterface: the thread-safe front door to bodies: create, add, remove, destroy, and read or change
 // their state. Every call validates its input and returns an error (world unchanged) for stale ids,
-// NaN/Inf values or wrong states. Calls from many threads run at once; they wait while a step runs.
+// NaN/Inf values or wrong states. Calls from many threads run at once with no global lock; reads go on
+// while a step runs, changes wait for it to end. AddBodiesPrepare may run on a loading thread at any time.
 #pragma once
 
 #include <optional>
 #include <span>
 
 #include "physics/body/Body.h"
+#include "physics/broadphase/BroadPhase.h"
 
 namespace strata {
 
@@ -14,6 +16,15 @@ class PhysicsSystem;
 
 /// Whether a body added to the world starts awake.
 enum class Activation { kActivate, kDontActivate };
+
+/// Bodies prepared by AddBodiesPrepare, to be put in the world by AddBodiesFinalize. Move-only; dropping
+/// it unfinalized gives the bodies back (still created, not in the world).
+struct BodyAddBatch {
+  std::vector<BodyID> ids;
+  std::vector<AABB> bounds;
+  Activation activation = Activation::kActivate;
+  AddBatch broad_phase;
+};
 
 /// Thread-safe access to the bodies of one PhysicsSystem.
 class BodyInterface {
@@ -29,6 +40,12 @@ class BodyInterface {
   Status AddBody(BodyID id, Activation activation = Activation::kActivate);
   /// Adds several bodies; all ids are checked first, so either all are added or none.
   Status AddBodies(std::span<const BodyID> ids, Activation activation = Activation::kActivate);
+  /// First half of AddBodies, for a loading thread: checks the bodies and builds their broad-phase
+  /// sub-tree without touching anything shared. Fails (nothing claimed) like AddBodies.
+  Result<BodyAddBatch> AddBodiesPrepare(std::span<const BodyID> ids, Activation activation = Activation::kActivate);
+  /// Second half: links the sub-tree in O(1) and marks the bodies in the world. Fails, adding none, if the
+  /// batch was finalized before or a body was destroyed or added meanwhile.
+  Status AddBodiesFinalize(BodyAddBatch& batch);
   /// Takes a body out of the world; it keeps its state and can be added again.
   Status RemoveBody(BodyID id);
   /// Frees a body that is not in the world; its id goes stale.
@@ -79,6 +96,10 @@ class BodyInterface {
   Status Teleport(BodyID id, const std::optional<Vec3>& position, const std::optional<Quat>& rotation);
   void WakeLocked(Body& body);
   void RefreshBounds(const Body& body);
+  /// Puts batch body `i` in the world (finalize's per-body part).
+  Status MarkAdded(const BodyAddBatch& batch, std::size_t i);
+  /// Takes bodies added by a failed finalize back out again.
+  void UndoAdd(std::span<const BodyID> flagged, std::span<const BodyID> all);
 
   PhysicsSystem& system_;
 };

@@ -33,6 +33,8 @@ Result<BodyID> BodyManager::CreateBody(const BodyCreationSettings& settings) {
     id.index = free_slots_.back();
     free_slots_.pop_back();
     id.generation = generations_[id.index];
+    if (id.index >= slot_limit_.load(std::memory_order_relaxed))
+      slot_limit_.store(id.index + 1, std::memory_order_release);
   }
   std::unique_lock lock(MutexFor(id.index));
   bodies_[id.index].Reset(settings, id);
@@ -49,11 +51,11 @@ Status BodyManager::CheckId(BodyID id) const {
 
 Status BodyManager::DestroyBody(BodyID id) {
   {
-    std::unique_lock lock(MutexFor(id.index < capacity() ? id.index : 0));
-    if (Status valid = CheckId(id); !valid) return valid;
-    if (bodies_[id.index].in_world())
+    BodyLockWrite lock(*this, id);
+    if (!lock.Succeeded()) return lock.status();
+    if (lock.body().in_world())
       return MakeError(ErrorCode::kInvalidState, Describe(id) + " is still in the world; remove it first");
-    bodies_[id.index] = Body();
+    lock.body() = Body();
   }
   std::lock_guard lock(allocation_mutex_);
   // Skip generation 0 on wrap so a zeroed id never matches a live body.
@@ -70,13 +72,31 @@ void BodyManager::UnlockAll() {
   for (std::shared_mutex& mutex : mutexes_) mutex.unlock();
 }
 
+void BodyManager::BeginStep() {
+  stepping_.store(true, std::memory_order_seq_cst);
+}
+
+void BodyManager::EndStep() {
+  stepping_.store(false, std::memory_order_release);
+  stepping_.notify_all();
+}
+
 BodyLockRead::BodyLockRead(const BodyManager& manager, BodyID id)
     : lock_(manager.MutexFor(id.index < manager.capacity() ? id.index : 0)), status_(manager.CheckId(id)) {
   if (status_.ok()) body_ = &manager.BodyAt(id.index);
 }
 
 BodyLockWrite::BodyLockWrite(BodyManager& manager, BodyID id)
-    : lock_(manager.MutexFor(id.index < manager.capacity() ? id.index : 0)), status_(manager.CheckId(id)) {
+    : lock_(manager.MutexFor(id.index < manager.capacity() ? id.index : 0)) {
+  // A writer that got the lock while a step runs backs off until the step ends: the step reads bodies
+  // unlocked between its own LockAll windows. Taking the lock first orders this check after the step's
+  // LockAll/UnlockAll, so no writer slips in once BeginStep has been called.
+  while (manager.stepping()) {
+    lock_.unlock();
+    manager.stepping_.wait(true, std::memory_order_acquire);
+    lock_.lock();
+  }
+  status_ = manager.CheckId(id);
   if (status_.ok()) body_ = &manager.BodyAt(id.index);
 }
 

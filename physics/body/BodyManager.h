@@ -1,8 +1,10 @@
 // BodyManager: owns every body in a fixed-capacity slot array (chosen at creation) and a fixed set of
 // read/write mutexes; body slot i is guarded by mutex i % mutex_count. Create/Destroy are thread-safe.
-// Read a body through BodyLockRead, change it through BodyLockWrite; the step holds all locks at once.
+// Read a body through BodyLockRead, change it through BodyLockWrite. While a step runs, writers wait
+// (BeginStep/EndStep); readers wait only while the step holds every lock (LockAll), at its start and end.
 #pragma once
 
+#include <atomic>
 #include <memory>
 #include <mutex>
 #include <shared_mutex>
@@ -42,12 +44,25 @@ class BodyManager {
   void LockAll();
   void UnlockAll();
 
+  /// From BeginStep to EndStep every new BodyLockWrite (and DestroyBody) waits, so the step may read bodies
+  /// without locks between its LockAll windows while readers carry on.
+  void BeginStep();
+  void EndStep();
+  bool stepping() const { return stepping_.load(std::memory_order_acquire); }
+
+  /// Every body index handed out so far is below this (the step scans [0, slot_limit)).
+  std::uint32_t slot_limit() const { return slot_limit_.load(std::memory_order_acquire); }
+
  private:
+  friend class BodyLockWrite;
+
   std::vector<Body> bodies_;
   std::vector<std::uint32_t> generations_;
   std::vector<std::uint32_t> free_slots_;
   mutable std::mutex allocation_mutex_;  // guards free_slots_ and generations_
   mutable std::vector<std::shared_mutex> mutexes_;
+  std::atomic<bool> stepping_{false};
+  std::atomic<std::uint32_t> slot_limit_{0};
 };
 
 /// RAII read access to one body; check Succeeded() (false for a stale or unknown id).
@@ -64,7 +79,8 @@ class BodyLockRead {
   const Body* body_ = nullptr;
 };
 
-/// RAII write access to one body; check Succeeded() (false for a stale or unknown id).
+/// RAII write access to one body; check Succeeded() (false for a stale or unknown id). Waits while a
+/// step runs.
 class BodyLockWrite {
  public:
   BodyLockWrite(BodyManager& manager, BodyID id);

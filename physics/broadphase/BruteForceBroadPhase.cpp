@@ -3,44 +3,122 @@
 #include <cassert>
 #include <cstring>
 #include <mutex>
+#include <string>
 
 namespace strata {
 
-BruteForceBroadPhase::BruteForceBroadPhase(std::uint32_t capacity) : dense_of_index_(capacity, kAbsent) {}
+struct BruteForceBroadPhase::PreparedBatch final : AddBatch::State {
+  std::vector<BodyID> ids;
+  std::vector<AABB> bounds;
+  std::vector<ObjectLayer> layers;
+};
 
-void BruteForceBroadPhase::AddBody(BodyID id, const AABB& bounds, ObjectLayer layer) {
-  std::unique_lock lock(mutex_);
-  assert(dense_of_index_[id.index] == kAbsent);
+BruteForceBroadPhase::BruteForceBroadPhase(std::uint32_t capacity, std::shared_ptr<const LayerSetup> layers)
+    : layers_(std::move(layers)), dense_of_index_(capacity, kAbsent), prepared_(capacity, 0) {}
+
+std::uint32_t BruteForceBroadPhase::DenseSlot(BodyID id) const {
+  if (id.IsInvalid() || id.index >= dense_of_index_.size()) return kAbsent;
+  const std::uint32_t slot = dense_of_index_[id.index];
+  return slot != kAbsent && ids_[slot] == id ? slot : kAbsent;
+}
+
+void BruteForceBroadPhase::Insert(BodyID id, const AABB& bounds, ObjectLayer layer) {
   dense_of_index_[id.index] = static_cast<std::uint32_t>(ids_.size());
   ids_.push_back(id);
-  layers_.push_back(layer);
+  layers_of_.push_back(layer);
   min_x_.push_back(bounds.min.x()), min_y_.push_back(bounds.min.y()), min_z_.push_back(bounds.min.z());
   max_x_.push_back(bounds.max.x()), max_y_.push_back(bounds.max.y()), max_z_.push_back(bounds.max.z());
 }
 
-void BruteForceBroadPhase::RemoveBody(BodyID id) {
-  std::unique_lock lock(mutex_);
-  const std::uint32_t slot = dense_of_index_[id.index];
-  assert(slot != kAbsent);
-  const std::uint32_t last = static_cast<std::uint32_t>(ids_.size()) - 1;
-  // Swap-remove keeps the arrays dense.
-  auto move_last = [&](auto& array) {
-    array[slot] = array[last];
-    array.pop_back();
-  };
-  dense_of_index_[ids_[last].index] = slot;
-  dense_of_index_[id.index] = kAbsent;
-  move_last(ids_), move_last(layers_);
-  move_last(min_x_), move_last(min_y_), move_last(min_z_), move_last(max_x_), move_last(max_y_),
-      move_last(max_z_);
+Status BruteForceBroadPhase::AddBody(BodyID id, const AABB& bounds, ObjectLayer layer) {
+  Result<AddBatch> batch = AddBodiesPrepare({&id, 1}, {&bounds, 1}, {&layer, 1});
+  if (!batch) return batch.error();
+  return AddBodiesFinalize(*batch);
 }
 
-void BruteForceBroadPhase::UpdateBody(BodyID id, const AABB& bounds) {
+Result<AddBatch> BruteForceBroadPhase::AddBodiesPrepare(std::span<const BodyID> ids, std::span<const AABB> bounds,
+                                                        std::span<const ObjectLayer> layers) {
+  if (Status valid = CheckAddBatch(ids, bounds, layers, layers_->ObjectLayerCount()); !valid) return valid.error();
   std::unique_lock lock(mutex_);
-  const std::uint32_t slot = dense_of_index_[id.index];
-  assert(slot != kAbsent);
+  for (const BodyID id : ids) {
+    if (id.index >= dense_of_index_.size())
+      return MakeError(ErrorCode::kStaleBodyId, "body " + std::to_string(id.index) + " is outside the broad phase");
+    if (dense_of_index_[id.index] != kAbsent || prepared_[id.index])
+      return MakeError(ErrorCode::kInvalidState,
+                       "body " + std::to_string(id.index) + " is already in the broad phase or a prepared batch");
+  }
+  for (const BodyID id : ids) prepared_[id.index] = 1;
+  auto state = std::make_unique<PreparedBatch>();
+  state->ids.assign(ids.begin(), ids.end());
+  state->bounds.assign(bounds.begin(), bounds.end());
+  state->layers.assign(layers.begin(), layers.end());
+  return AddBatch(this, std::move(state), ids.size());
+}
+
+Status BruteForceBroadPhase::AddBodiesFinalize(AddBatch& batch) {
+  if (batch.owner() != this) return MakeError(ErrorCode::kInvalidArgument, "batch belongs to another broad phase");
+  if (!batch.prepared()) return MakeError(ErrorCode::kInvalidState, "batch was already finalized or aborted");
+  const std::unique_ptr<AddBatch::State> taken = batch.TakeState();
+  const auto& state = static_cast<const PreparedBatch&>(*taken);
+  std::unique_lock lock(mutex_);
+  for (std::size_t i = 0; i < state.ids.size(); ++i) {
+    prepared_[state.ids[i].index] = 0;
+    Insert(state.ids[i], state.bounds[i], state.layers[i]);
+  }
+  return Status::Ok();
+}
+
+void BruteForceBroadPhase::AddBodiesAbort(AddBatch& batch) {
+  if (batch.owner() != this || !batch.prepared()) return;
+  const std::unique_ptr<AddBatch::State> taken = batch.TakeState();
+  std::unique_lock lock(mutex_);
+  for (const BodyID id : static_cast<const PreparedBatch&>(*taken).ids) prepared_[id.index] = 0;
+}
+
+Status BruteForceBroadPhase::RemoveBody(BodyID id) {
+  return RemoveBodies({&id, 1});
+}
+
+Status BruteForceBroadPhase::RemoveBodies(std::span<const BodyID> ids) {
+  std::unique_lock lock(mutex_);
+  for (std::size_t i = 0; i < ids.size(); ++i) {
+    if (DenseSlot(ids[i]) == kAbsent)
+      return MakeError(ErrorCode::kInvalidState, "body " + std::to_string(ids[i].index) + " is not in the broad phase");
+    for (std::size_t j = 0; j < i; ++j)
+      if (ids[j] == ids[i])
+        return MakeError(ErrorCode::kInvalidState, "body " + std::to_string(ids[i].index) + " is listed twice");
+  }
+  for (const BodyID id : ids) {
+    const std::uint32_t slot = dense_of_index_[id.index];
+    const std::uint32_t last = static_cast<std::uint32_t>(ids_.size()) - 1;
+    // Swap-remove keeps the arrays dense.
+    auto move_last = [&](auto& array) {
+      array[slot] = array[last];
+      array.pop_back();
+    };
+    dense_of_index_[ids_[last].index] = slot;
+    dense_of_index_[id.index] = kAbsent;
+    move_last(ids_), move_last(layers_of_);
+    move_last(min_x_), move_last(min_y_), move_last(min_z_), move_last(max_x_), move_last(max_y_),
+        move_last(max_z_);
+  }
+  return Status::Ok();
+}
+
+Status BruteForceBroadPhase::UpdateBody(BodyID id, const AABB& bounds) {
+  if (Status valid = CheckBounds(bounds); !valid) return valid;
+  std::unique_lock lock(mutex_);
+  const std::uint32_t slot = DenseSlot(id);
+  if (slot == kAbsent)
+    return MakeError(ErrorCode::kInvalidState, "body " + std::to_string(id.index) + " is not in the broad phase");
   min_x_[slot] = bounds.min.x(), min_y_[slot] = bounds.min.y(), min_z_[slot] = bounds.min.z();
   max_x_[slot] = bounds.max.x(), max_y_[slot] = bounds.max.y(), max_z_[slot] = bounds.max.z();
+  return Status::Ok();
+}
+
+bool BruteForceBroadPhase::Contains(BodyID id) const {
+  std::shared_lock lock(mutex_);
+  return DenseSlot(id) != kAbsent;
 }
 
 std::size_t BruteForceBroadPhase::body_count() const {
@@ -83,7 +161,7 @@ void BruteForceBroadPhase::FindPairs(std::span<const BodyID> active,
           if (!hits[k] || j == s) continue;
           const BodyID b = ids_[j];
           if (active_flags[b.index] && b.index < a.index) continue;  // reported from b's side
-          if (!layers.ShouldCollide(layers_[s], layers_[j])) continue;
+          if (!layers.ShouldCollide(layers_of_[s], layers_of_[j])) continue;
           out.push_back({a, b});
         }
       }
@@ -91,27 +169,44 @@ void BruteForceBroadPhase::FindPairs(std::span<const BodyID> active,
   }
 }
 
-void BruteForceBroadPhase::CollideAABB(const AABB& box, const QueryFilter& filter,
-                                       std::vector<BodyID>& out) const {
+template <class Visitor>
+void BruteForceBroadPhase::ForEachAccepted(const QueryFilter& filter, Visitor&& visit) const {
   std::shared_lock lock(mutex_);
-  for (std::size_t j = 0; j < ids_.size(); ++j) {
-    const bool overlap = box.min.x() <= max_x_[j] && min_x_[j] <= box.max.x() && box.min.y() <= max_y_[j] &&
-                         min_y_[j] <= box.max.y() && box.min.z() <= max_z_[j] && min_z_[j] <= box.max.z();
-    if (overlap && filter.AcceptsLayer(layers_[j]) && ids_[j].index != filter.ignore_body_index)
-      out.push_back(ids_[j]);
-  }
+  for (std::size_t j = 0; j < ids_.size(); ++j)
+    if (filter.AcceptsLayer(layers_of_[j]) && ids_[j].index != filter.ignore_body_index && !visit(j)) return;
 }
 
-void BruteForceBroadPhase::CastRay(const Vec3& origin, const Vec3& direction, float max_fraction,
-                                   const QueryFilter& filter, std::vector<BroadPhaseRayHit>& out) const {
-  std::shared_lock lock(mutex_);
-  const Vec3 inverse = SafeInverse(direction);
-  for (std::size_t j = 0; j < ids_.size(); ++j) {
-    if (!filter.AcceptsLayer(layers_[j]) || ids_[j].index == filter.ignore_body_index) continue;
-    const AABB bounds({min_x_[j], min_y_[j], min_z_[j]}, {max_x_[j], max_y_[j], max_z_[j]});
-    const float entry = bounds.RayEntry(origin, inverse, max_fraction);
-    if (entry >= 0.0f) out.push_back({ids_[j], entry});
-  }
+void BruteForceBroadPhase::CollideAABB(const BroadPhasePin&, const AABB& box, const QueryFilter& filter,
+                                       BroadPhaseCollector& collector) const {
+  ForEachAccepted(filter, [&](std::size_t j) {
+    if (BoundsAt(j).Overlaps(box)) collector.AddHit(ids_[j], 0.0f);
+    return !collector.ShouldStop();
+  });
+}
+
+void BruteForceBroadPhase::CollideSphere(const BroadPhasePin&, const Vec3& center, float radius,
+                                         const QueryFilter& filter, BroadPhaseCollector& collector) const {
+  ForEachAccepted(filter, [&](std::size_t j) {
+    if (SquaredDistanceToBox(BoundsAt(j), center) <= radius * radius) collector.AddHit(ids_[j], 0.0f);
+    return !collector.ShouldStop();
+  });
+}
+
+void BruteForceBroadPhase::CastRay(const BroadPhasePin& pin, const Vec3& origin, const Vec3& direction,
+                                   const QueryFilter& filter, BroadPhaseCollector& collector) const {
+  CastAABB(pin, AABB(origin, origin), direction, filter, collector);
+}
+
+void BruteForceBroadPhase::CastAABB(const BroadPhasePin&, const AABB& box, const Vec3& displacement,
+                                    const QueryFilter& filter, BroadPhaseCollector& collector) const {
+  const Vec3 inverse = SafeInverse(displacement);
+  const Vec3 center = box.Center();
+  const Vec3 half = box.HalfExtents();
+  ForEachAccepted(filter, [&](std::size_t j) {
+    const float entry = BoundsAt(j).Expanded(half).RayEntry(center, inverse, std::min(1.0f, collector.early_out_fraction()));
+    if (entry >= 0.0f) collector.AddHit(ids_[j], entry);
+    return !collector.ShouldStop();
+  });
 }
 
 }  // namespace strata

@@ -1,10 +1,12 @@
 #include "physics/world/PhysicsSystem.h"
 
 #include <algorithm>
+#include <cassert>
+#include <shared_mutex>
 #include <string>
 
 #include "physics/body/BodyInterface.h"
-#include "physics/broadphase/BruteForceBroadPhase.h"
+#include "physics/broadphase/QuadTreeBroadPhase.h"
 #include "physics/narrowphase/CollideShapes.h"
 #include "physics/world/WorldQuery.h"
 
@@ -12,7 +14,6 @@ namespace strata {
 
 namespace {
 constexpr std::uint32_t kNoSolverIndex = 0xffffffffu;
-constexpr std::uint32_t kNotInWorld = 0xffffffffu;
 constexpr std::size_t kPairGrain = 64;
 
 // Releases the step's hold on every body lock however the step leaves.
@@ -22,6 +23,18 @@ class AllBodiesLock {
   ~AllBodiesLock() { manager_.UnlockAll(); }
   AllBodiesLock(const AllBodiesLock&) = delete;
   AllBodiesLock& operator=(const AllBodiesLock&) = delete;
+
+ private:
+  BodyManager& manager_;
+};
+
+// Makes body writers wait from construction to destruction (see BodyManager::BeginStep).
+class StepScope {
+ public:
+  explicit StepScope(BodyManager& manager) : manager_(manager) { manager_.BeginStep(); }
+  ~StepScope() { manager_.EndStep(); }
+  StepScope(const StepScope&) = delete;
+  StepScope& operator=(const StepScope&) = delete;
 
  private:
   BodyManager& manager_;
@@ -55,6 +68,12 @@ Status PhysicsSystemConfig::Validate() const {
   if (body_mutex_count == 0 || body_mutex_count > 4096)
     return MakeError(ErrorCode::kInvalidArgument, "body_mutex_count must be in [1, 4096]");
   if (thread_count < 0) return MakeError(ErrorCode::kInvalidArgument, "thread_count must be >= 0");
+  if (!broad_phase && layers && layers->BroadPhaseLayerCount() > QuadTreeBroadPhase::kMaxBroadPhaseLayers)
+    return MakeError(ErrorCode::kInvalidArgument, "the quad-tree broad phase supports at most " +
+                                                      std::to_string(QuadTreeBroadPhase::kMaxBroadPhaseLayers) +
+                                                      " broad-phase layers");
+  if (layers && layers->BroadPhaseLayerCount() == 0)
+    return MakeError(ErrorCode::kInvalidArgument, "the layer setup needs at least one broad-phase layer");
   return Status::Ok();
 }
 
@@ -72,10 +91,10 @@ PhysicsSystem::PhysicsSystem(const PhysicsSystemConfig& config, const PhysicsSet
                               : std::shared_ptr<JobSystem>(MakeDefaultJobSystem(config.thread_count))),
       body_manager_(config.max_bodies, config.body_mutex_count),
       broad_phase_(config.broad_phase ? config.broad_phase
-                                      : std::make_shared<BruteForceBroadPhase>(config.max_bodies)),
+                                      : std::make_shared<QuadTreeBroadPhase>(config.max_bodies, layers_)),
       body_interface_(std::make_unique<BodyInterface>(*this)),
       query_(std::make_unique<WorldQuery>(*this)),
-      world_position_(config.max_bodies, kNotInWorld),
+      speculative_distance_(settings.speculative_distance),
       active_flags_(config.max_bodies, 0),
       solver_index_(config.max_bodies, kNoSolverIndex) {}
 
@@ -83,40 +102,23 @@ PhysicsSystem::~PhysicsSystem() = default;
 
 Status PhysicsSystem::SetSettings(const PhysicsSettings& settings) {
   if (Status valid = settings.Validate(); !valid) return valid;
-  std::unique_lock step(step_mutex_);
+  std::lock_guard step(step_mutex_);
+  StepScope no_writers(body_manager_);
+  AllBodiesLock bodies(body_manager_);
   settings_ = settings;
+  speculative_distance_.store(settings.speculative_distance, std::memory_order_relaxed);
   return Status::Ok();
 }
 
 std::vector<BodyID> PhysicsSystem::BodiesInWorld() const {
-  std::shared_lock step(step_mutex_);
-  std::lock_guard membership(membership_mutex_);
   std::vector<BodyID> ids;
-  ids.reserve(world_list_.size());
-  for (const std::uint32_t index : world_list_) {
-    BodyLockRead lock(body_manager_, body_manager_.BodyAt(index).id());
-    if (lock.Succeeded()) ids.push_back(lock.body().id());
+  const std::uint32_t limit = body_manager_.slot_limit();
+  for (std::uint32_t index = 0; index < limit; ++index) {
+    std::shared_lock lock(body_manager_.MutexFor(index));
+    const Body& body = body_manager_.BodyAt(index);
+    if (body.in_world()) ids.push_back(body.id());
   }
   return ids;
-}
-
-std::size_t PhysicsSystem::body_count_in_world() const {
-  std::lock_guard membership(membership_mutex_);
-  return world_list_.size();
-}
-
-void PhysicsSystem::AddToWorldList(std::uint32_t index) {
-  world_position_[index] = static_cast<std::uint32_t>(world_list_.size());
-  world_list_.push_back(index);
-}
-
-void PhysicsSystem::RemoveFromWorldList(std::uint32_t index) {
-  // Order-preserving erase keeps the step's iteration order (and so its results) reproducible.
-  const std::uint32_t position = world_position_[index];
-  world_list_.erase(world_list_.begin() + position);
-  for (std::size_t i = position; i < world_list_.size(); ++i)
-    world_position_[world_list_[i]] = static_cast<std::uint32_t>(i);
-  world_position_[index] = kNotInWorld;
 }
 
 void PhysicsSystem::RequestWake(std::uint32_t island_key) {
@@ -134,7 +136,7 @@ AABB PhysicsSystem::BroadPhaseBounds(const Body& body, float dt) const {
   AABB bounds = body.world_bounds().Expanded(settings_.speculative_distance);
   if (!body.IsActive()) return bounds;
   // Sweep over the coming step so speculative contacts are found before bodies touch.
-  const float step = dt > 0.0f ? dt : last_dt_;
+  const float step = dt > 0.0f ? dt : last_dt_.load(std::memory_order_relaxed);
   const Vec3 travel = body.linear_velocity() * step;
   const float turn = body.angular_velocity().norm() * step * body.shape()->LocalBounds().HalfExtents().norm();
   AABB swept = bounds;
@@ -148,19 +150,30 @@ Status PhysicsSystem::Step(float dt) {
   if (!IsFinite(dt) || dt <= 0.0f)
     return MakeError(ErrorCode::kInvalidArgument,
                      "step dt must be a positive finite number, got " + std::to_string(dt));
-  std::unique_lock step(step_mutex_);
-  AllBodiesLock bodies(body_manager_);
-  last_dt_ = dt;
+  std::lock_guard step(step_mutex_);
+  StepScope no_writers(body_manager_);
   stats_ = {};
-  WakePendingIslands();
-  CollectActiveBodies();
-  ApplyForces(dt);
+  {
+    AllBodiesLock bodies(body_manager_);
+    last_dt_.store(dt, std::memory_order_relaxed);
+    WakePendingIslands();
+    CollectActiveBodies();
+    ApplyForces(dt);
+  }
+  // Between the two windows only this step changes anything, so bodies are read here without locks while
+  // queries and other readers carry on. The broad phase swaps in a rebuilt generation; pinned readers keep
+  // the old one.
+  broad_phase_->Update();
   FindPairs(dt);
   RunNarrowPhase();
   WakeTouchedSleepers();
   Solve(dt);
-  UpdateBroadPhaseBounds(dt);
-  UpdateSleeping(dt);
+  {
+    AllBodiesLock bodies(body_manager_);
+    WriteBackSolvedBodies();
+    UpdateBroadPhaseBounds(dt);
+    UpdateSleeping(dt);
+  }
   return Status::Ok();
 }
 
@@ -172,7 +185,8 @@ void PhysicsSystem::WakePendingIslands() {
   }
   if (keys.empty()) return;
   std::sort(keys.begin(), keys.end());
-  for (const std::uint32_t index : world_list_) {
+  const std::uint32_t limit = body_manager_.slot_limit();
+  for (std::uint32_t index = 0; index < limit; ++index) {
     Body& body = body_manager_.BodyAt(index);
     if (body.sleeping_ && std::binary_search(keys.begin(), keys.end(), body.sleep_island_)) {
       body.sleeping_ = false;
@@ -184,7 +198,9 @@ void PhysicsSystem::WakePendingIslands() {
 void PhysicsSystem::CollectActiveBodies() {
   for (const BodyID id : active_) active_flags_[id.index] = 0;
   active_.clear();
-  for (const std::uint32_t index : world_list_) {
+  // Index order: the same bodies give the same order, whatever order threads added them in.
+  const std::uint32_t limit = body_manager_.slot_limit();
+  for (std::uint32_t index = 0; index < limit; ++index) {
     const Body& body = body_manager_.BodyAt(index);
     if (!body.IsActive()) continue;
     active_.push_back(body.id());
@@ -225,6 +241,8 @@ void PhysicsSystem::FindPairs(float dt) {
   for (BodyPair pair : pairs_) {
     const Body& a = body_manager_.BodyAt(pair.a.index);
     const Body& b = body_manager_.BodyAt(pair.b.index);
+    // The broad phase may briefly hold a body another thread is adding or removing.
+    if (!b.in_world() || b.id() != pair.b) continue;
     if (!a.IsDynamic() && !b.IsDynamic()) continue;
     if (!a.shape()->IsConvex()) std::swap(pair.a, pair.b);
     kept.push_back(pair);
@@ -327,7 +345,9 @@ void PhysicsSystem::Solve(float dt) {
   for (int i = 0; i < settings_.position_iterations; ++i)
     penetration = contact_solver_.SolvePositions(solver_bodies_, settings_);
   stats_.max_penetration = -penetration;
+}
 
+void PhysicsSystem::WriteBackSolvedBodies() {
   for (std::size_t i = 0; i < active_.size(); ++i) {
     Body& body = body_manager_.BodyAt(active_[i].index);
     const SolverBody& solved = solver_bodies_[i];
@@ -340,8 +360,11 @@ void PhysicsSystem::Solve(float dt) {
 }
 
 void PhysicsSystem::UpdateBroadPhaseBounds(float dt) {
-  for (const BodyID id : active_)
-    broad_phase_->UpdateBody(id, BroadPhaseBounds(body_manager_.BodyAt(id.index), dt));
+  for (const BodyID id : active_) {
+    const Status updated = broad_phase_->UpdateBody(id, BroadPhaseBounds(body_manager_.BodyAt(id.index), dt));
+    assert(updated.ok());
+    (void)updated;
+  }
 }
 
 void PhysicsSystem::UpdateSleeping(float dt) {
@@ -376,7 +399,7 @@ void PhysicsSystem::UpdateSleeping(float dt) {
     body.sleep_island_ = island_key[root];
     body.linear_velocity_.setZero();
     body.angular_velocity_.setZero();
-    broad_phase_->UpdateBody(body.id(), BroadPhaseBounds(body, dt));
+    (void)broad_phase_->UpdateBody(body.id(), BroadPhaseBounds(body, dt));
     ++stats_.bodies_put_to_sleep;
   }
 }

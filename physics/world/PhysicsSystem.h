@@ -1,12 +1,13 @@
 // PhysicsSystem: owns the bodies, the broad phase, the contact cache and the job system, and runs the
 // step: forces -> broad phase -> narrow phase -> islands -> sequential impulses -> integration.
-// Step() takes the world exclusively; BodyInterface calls and WorldQuery queries from any number of
-// threads run concurrently with each other (sharded body locks) and wait while a step runs.
+// One Step at a time. BodyInterface calls and WorldQuery queries from any number of threads run at once
+// (sharded body locks, lock-free broad phase). While a step runs, queries and reads go on (they pause
+// only for its short LockAll windows at the start and end); body writes wait for the step to end.
 #pragma once
 
+#include <atomic>
 #include <memory>
 #include <mutex>
-#include <shared_mutex>
 #include <vector>
 
 #include "physics/body/BodyManager.h"
@@ -29,7 +30,7 @@ struct PhysicsSystemConfig {
   int thread_count = 0;                      ///< threads of the default job system (0 = all cores)
   std::shared_ptr<const LayerSetup> layers;  ///< null = DefaultLayerSetup
   std::shared_ptr<JobSystem> job_system;     ///< null = oneTBB default (serial without oneTBB)
-  std::shared_ptr<BroadPhase> broad_phase;   ///< null = BruteForceBroadPhase
+  std::shared_ptr<BroadPhase> broad_phase;   ///< null = QuadTreeBroadPhase
 
   Status Validate() const;
 };
@@ -70,13 +71,14 @@ class PhysicsSystem {
   const LayerSetup& layers() const { return *layers_; }
   JobSystem& job_system() { return *jobs_; }
 
-  /// Ids of the bodies currently in the world, in the order they were added.
+  /// Ids of the bodies currently in the world, in index order.
   std::vector<BodyID> BodiesInWorld() const;
-  std::size_t body_count_in_world() const;
+  std::size_t body_count_in_world() const { return in_world_count_.load(std::memory_order_relaxed); }
 
   BodyManager& body_manager() { return body_manager_; }
   const BodyManager& body_manager() const { return body_manager_; }
   const BroadPhase& broad_phase() const { return *broad_phase_; }
+  BroadPhase& broad_phase() { return *broad_phase_; }
 
  private:
   friend class BodyInterface;
@@ -92,12 +94,11 @@ class PhysicsSystem {
   void RunNarrowPhase();
   void WakeTouchedSleepers();
   void Solve(float dt);
+  void WriteBackSolvedBodies();
   void UpdateBroadPhaseBounds(float dt);
   void UpdateSleeping(float dt);
 
-  // Membership and wake-ups, shared with BodyInterface.
-  void AddToWorldList(std::uint32_t index);
-  void RemoveFromWorldList(std::uint32_t index);
+  // Wake-ups, shared with BodyInterface.
   void RequestWake(std::uint32_t island_key);
   AABB BroadPhaseBounds(const Body& body, float dt) const;
   float MotionBound(const Body& body, float dt) const;
@@ -110,15 +111,14 @@ class PhysicsSystem {
   std::unique_ptr<BodyInterface> body_interface_;
   std::unique_ptr<WorldQuery> query_;
 
-  // Step exclusivity: Step holds it uniquely, interface calls and queries share it.
-  mutable std::shared_mutex step_mutex_;
-  mutable std::mutex membership_mutex_;
-  std::vector<std::uint32_t> world_list_;      // indices of bodies in the world
-  std::vector<std::uint32_t> world_position_;  // index -> position in world_list_
+  std::mutex step_mutex_;  // one Step (or SetSettings) at a time
+  std::atomic<std::size_t> in_world_count_{0};
   std::mutex wake_mutex_;
   std::vector<std::uint32_t> pending_wakes_;  // island keys to wake at the next step
-  std::uint32_t next_island_key_ = 1;
-  float last_dt_ = 1.0f / 60.0f;
+  std::atomic<std::uint32_t> next_island_key_{1};
+  // Read by BodyInterface outside the step; written only under every body lock.
+  std::atomic<float> last_dt_{1.0f / 60.0f};
+  std::atomic<float> speculative_distance_;
 
   // Per-step scratch, kept to avoid reallocation.
   std::vector<BodyID> active_;

@@ -1,7 +1,6 @@
 #include "physics/world/WorldQuery.h"
 
 #include <algorithm>
-#include <shared_mutex>
 
 #include "physics/narrowphase/CollideShapes.h"
 #include "physics/world/PhysicsSystem.h"
@@ -50,32 +49,39 @@ std::optional<RayCastHit> CastAgainst(const BodySnapshot& body, BodyID id, const
 Result<std::optional<RayCastHit>> WorldQuery::CastRay(const Vec3& origin, const Vec3& direction,
                                                       const QueryFilter& filter) const {
   if (Status valid = CheckRay(origin, direction); !valid) return valid.error();
-  std::shared_lock step(system_.step_mutex_);
-  std::vector<BroadPhaseRayHit> candidates;
-  system_.broad_phase_->CastRay(origin, direction, 1.0f, filter, candidates);
-  // Nearest bounds first, so farther candidates can be skipped once a closer hit is known.
-  std::sort(candidates.begin(), candidates.end(), [](const BroadPhaseRayHit& a, const BroadPhaseRayHit& b) {
-    return a.fraction < b.fraction || (a.fraction == b.fraction && a.id < b.id);
-  });
-  std::optional<RayCastHit> best;
-  for (const BroadPhaseRayHit& candidate : candidates) {
-    if (best && candidate.fraction > best->fraction) break;
-    const std::optional<BodySnapshot> body = Snapshot(system_.body_manager_, candidate.id);
-    if (!body) continue;
-    const auto hit = CastAgainst(*body, candidate.id, origin, direction, best ? best->fraction : 1.0f);
-    if (hit && (!best || hit->fraction < best->fraction ||
-                (hit->fraction == best->fraction && hit->body < best->body)))
+  // The tree hands over bodies nearest bounds first; each exact hit lowers the early out and prunes the rest.
+  class ClosestHitCollector final : public BroadPhaseCollector {
+   public:
+    ClosestHitCollector(const BodyManager& bodies, const Vec3& origin, const Vec3& direction)
+        : bodies_(bodies), origin_(origin), direction_(direction) {
+      SetEarlyOutFraction(1.0f);
+    }
+    void AddHit(BodyID id, float) override {
+      const std::optional<BodySnapshot> body = Snapshot(bodies_, id);
+      if (!body) return;
+      const auto hit = CastAgainst(*body, id, origin_, direction_, early_out_fraction());
+      if (!hit || (best && (hit->fraction > best->fraction || (hit->fraction == best->fraction && hit->body > best->body))))
+        return;
       best = hit;
-  }
-  return best;
+      SetEarlyOutFraction(hit->fraction);
+    }
+    std::optional<RayCastHit> best;
+
+   private:
+    const BodyManager& bodies_;
+    const Vec3& origin_;
+    const Vec3& direction_;
+  };
+  ClosestHitCollector collector(system_.body_manager_, origin, direction);
+  system_.broad_phase_->CastRay(system_.broad_phase_->Pin(), origin, direction, filter, collector);
+  return collector.best;
 }
 
 Result<std::vector<RayCastHit>> WorldQuery::CastRayAll(const Vec3& origin, const Vec3& direction,
                                                        const QueryFilter& filter) const {
   if (Status valid = CheckRay(origin, direction); !valid) return valid.error();
-  std::shared_lock step(system_.step_mutex_);
   std::vector<BroadPhaseRayHit> candidates;
-  system_.broad_phase_->CastRay(origin, direction, 1.0f, filter, candidates);
+  system_.broad_phase_->CastRay(origin, direction, filter, candidates);
   std::vector<RayCastHit> hits;
   for (const BroadPhaseRayHit& candidate : candidates) {
     const std::optional<BodySnapshot> body = Snapshot(system_.body_manager_, candidate.id);
@@ -91,7 +97,6 @@ Result<std::vector<RayCastHit>> WorldQuery::CastRayAll(const Vec3& origin, const
 Result<std::vector<BodyID>> WorldQuery::CollideAABB(const AABB& box, const QueryFilter& filter) const {
   if (!box.IsValid())
     return MakeError(ErrorCode::kInvalidArgument, "query box must be finite with min <= max");
-  std::shared_lock step(system_.step_mutex_);
   std::vector<BodyID> candidates;
   system_.broad_phase_->CollideAABB(box, filter, candidates);
   std::vector<BodyID> result;
@@ -109,7 +114,6 @@ Result<std::vector<ShapeOverlap>> WorldQuery::CollideShape(const Shape& shape, c
   if (!IsFinite(pose.position) || !IsFinite(pose.rotation))
     return MakeError(ErrorCode::kInvalidArgument, "query pose must be finite");
   const Pose query_pose{pose.position, pose.rotation.normalized()};
-  std::shared_lock step(system_.step_mutex_);
   std::vector<BodyID> candidates;
   system_.broad_phase_->CollideAABB(shape.WorldBounds(query_pose), filter, candidates);
   std::sort(candidates.begin(), candidates.end());

@@ -1,0 +1,186 @@
+// QuadTree: one broad-phase layer's bounding-volume tree with 4 children per node, after the Jolt Physics
+// broad phase (Rouwe, GDC). Queries read it lock-free at any time; Widen, Remove and Link run concurrently
+// with queries and with each other; Rebuild needs the other writers kept out (QuadTreeBroadPhase does).
+#pragma once
+
+#include <array>
+#include <atomic>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "physics/broadphase/TreeGenerations.h"
+#include "physics/core/FixedSizeFreeList.h"
+#include "physics/math/AABB.h"
+
+namespace strata {
+
+/// A tree node: the bounds of its 4 children laid out for a 4-wide test, the children, and the parent.
+/// Empty children are inside out at +/-1e30 so no query enters them.
+struct alignas(64) QuadTreeNode {
+  std::array<std::atomic<float>, 4> min_x, min_y, min_z, max_x, max_y, max_z;
+  std::array<std::atomic<std::uint32_t>, 4> children;  // node index, kBodyTag | body index, or kInvalid
+  std::atomic<std::uint32_t> parent;                   // node index, kNoParent (root) or kUnlinked
+  std::atomic<std::uint32_t> changed;                  // something below moved, came or went since the build
+};
+
+/// Where a body sits and what a query needs to report it; one per body index, shared by all trees.
+struct BodyLocation {
+  std::atomic<std::uint32_t> node{0xffffffffu};  // node holding the body, kInvalid while unlinked
+  std::atomic<std::uint8_t> slot{0};
+  std::atomic<std::uint8_t> tree{0};
+  std::atomic<std::uint8_t> claimed{0};  // 1 from AddBodiesPrepare until removal
+  std::atomic<std::uint16_t> layer{0};
+  std::atomic<std::uint32_t> generation{0};
+  std::array<std::atomic<float>, 6> bounds;  // exact bounds: min x, y, z, max x, y, z
+
+  AABB Bounds() const;
+  void SetBounds(const AABB& box);
+};
+
+using QuadTreeNodePool = FixedSizeFreeList<QuadTreeNode>;
+
+/// The algorithms over one tree; the nodes live in a pool and the roots in TreeGenerations, both shared
+/// with the other layers' trees.
+class QuadTree {
+ public:
+  static constexpr std::uint32_t kInvalid = 0xffffffffu;
+  static constexpr std::uint32_t kNoParent = 0xffffffffu;
+  static constexpr std::uint32_t kUnlinked = 0xfffffffeu;
+  static constexpr std::uint32_t kBodyTag = 0x80000000u;
+
+  /// Something to build a tree over: a body (kBodyTag | index) or a kept node, with its bounds.
+  struct Item {
+    std::uint32_t entry;
+    AABB bounds;
+  };
+
+  QuadTree(QuadTreeNodePool& pool, std::vector<BodyLocation>& locations, std::uint8_t tree_index)
+      : pool_(pool), locations_(locations), tree_index_(tree_index) {}
+
+  /// Upper bound of the nodes Build uses for `item_count` items (reserve them first).
+  static std::uint32_t NodesToBuild(std::size_t item_count) {
+    return static_cast<std::uint32_t>(std::max<std::size_t>(item_count, 1));
+  }
+  /// A node with no children (from a reservation).
+  std::uint32_t MakeEmptyNode(std::uint32_t parent);
+  /// Builds nodes over `items` (from a reservation), splitting at the middle of the longest axis of their
+  /// centres, twice per level. Points the items at their new parents. Returns the top node and adds the
+  /// number of nodes it took to `nodes_used`.
+  std::uint32_t Build(std::span<Item> items, std::uint32_t parent, std::uint32_t& nodes_used);
+  /// Frees the nodes of an unlinked subtree and returns how many it freed.
+  std::uint32_t FreeSubtree(std::uint32_t entry);
+  /// Bodies in an unlinked subtree (for abort).
+  void CollectBodies(std::uint32_t entry, std::vector<std::uint32_t>& bodies) const;
+
+  /// Links `entry` (a body or an unlinked subtree) under the current root: a free root slot claimed with
+  /// compare-exchange, else a new root swapped in with compare-exchange. The caller reserves one node for
+  /// that new root; returns false when the reservation was not touched (give it back).
+  bool Link(TreeGenerations& generations, std::uint32_t entry, const AABB& bounds);
+
+  /// True when the body's location leads up to a linked root.
+  bool IsLinked(std::uint32_t body_index) const;
+  /// Grows the body's slot and every ancestor's to cover `bounds` (atomic min/max) and marks them changed.
+  void Widen(std::uint32_t body_index, const AABB& bounds);
+  /// Empties the body's slot (bounds inside out first, so no query sees it after this returns).
+  void Remove(std::uint32_t body_index);
+
+  /// First half of a rebuild: the items to rebuild `root` from (bodies of changed nodes with their exact
+  /// bounds, unchanged subtrees whole; everything when `full`) and the nodes the new tree drops. False
+  /// (nothing collected) when nothing under `root` changed.
+  bool CollectForRebuild(std::uint32_t root, bool full, std::vector<Item>& items,
+                         std::vector<std::uint32_t>& dropped) const;
+  /// Second half: a new root over `items` (an empty root for none), from a reservation of
+  /// NodesToBuild(items.size()) nodes.
+  std::uint32_t BuildRoot(std::span<Item> items, std::uint32_t& nodes_used);
+
+  /// Visits the bodies under `root` whose slot passes `test`, which marks the children to enter in a
+  /// 4-bit mask and writes each one's distance (0 for overlap tests; nearer children are entered first).
+  /// `visit(body_index, distance)` returns false to stop.
+  template <class ChildTest, class BodyVisitor>
+  void Walk(std::uint32_t root, ChildTest&& test, BodyVisitor&& visit) const;
+
+  /// The bounds of one node's 4 children, loaded for a 4-wide test.
+  struct ChildBounds {
+    alignas(16) float min_x[4], min_y[4], min_z[4], max_x[4], max_y[4], max_z[4];
+  };
+
+  /// Nodes on the longest path from `root` down to a body (for stats; walks the whole tree).
+  std::uint32_t Depth(std::uint32_t root) const;
+
+  const QuadTreeNode& node(std::uint32_t index) const { return pool_.Get(index); }
+  std::uint8_t tree_index() const { return tree_index_; }
+
+ private:
+  QuadTreeNode& node(std::uint32_t index) { return pool_.Get(index); }
+  void SetParent(std::uint32_t entry, std::uint32_t parent, std::uint32_t slot);
+  void WriteSlot(std::uint32_t node_index, std::uint32_t slot, std::uint32_t entry, const AABB& bounds);
+  void MarkChangedUpwards(std::uint32_t node_index);
+  AABB NodeBounds(std::uint32_t node_index) const;
+  static int SlotOf(const QuadTreeNode& parent, std::uint32_t child);
+
+  QuadTreeNodePool& pool_;
+  std::vector<BodyLocation>& locations_;
+  std::uint8_t tree_index_;
+};
+
+/// Loads a node's child bounds with relaxed atomic reads.
+QuadTree::ChildBounds LoadChildBounds(const QuadTreeNode& node);
+
+template <class ChildTest, class BodyVisitor>
+void QuadTree::Walk(std::uint32_t root, ChildTest&& test, BodyVisitor&& visit) const {
+  if (root == kInvalid) return;
+  // A degraded tree (many single adds before a rebuild) can be deep: grow past the inline stack.
+  struct Entry {
+    std::uint32_t entry;
+    float distance;
+  };
+  std::array<Entry, 128> inline_stack;
+  std::vector<Entry> overflow;
+  std::size_t size = 0;
+  auto push = [&](Entry e) {
+    if (size < inline_stack.size()) {
+      inline_stack[size++] = e;
+    } else {
+      overflow.push_back(e);
+      ++size;
+    }
+  };
+  auto pop = [&]() -> Entry {
+    --size;
+    if (size >= inline_stack.size()) {
+      const Entry e = overflow.back();
+      overflow.pop_back();
+      return e;
+    }
+    return inline_stack[size];
+  };
+  push({root, 0.0f});
+  while (size > 0) {
+    const Entry top = pop();
+    if (top.entry & kBodyTag) {
+      if (!visit(top.entry & ~kBodyTag, top.distance)) return;
+      continue;
+    }
+    const QuadTreeNode& current = node(top.entry);
+    const ChildBounds bounds = LoadChildBounds(current);
+    float distance[4];
+    const int mask = test(bounds, distance);
+    if (mask == 0) continue;
+    std::uint32_t children[4];
+    int order[4];
+    int count = 0;
+    for (int i = 0; i < 4; ++i) {
+      if (!(mask & (1 << i))) continue;
+      children[i] = current.children[i].load(std::memory_order_acquire);
+      if (children[i] == kInvalid) continue;
+      order[count++] = i;
+    }
+    // Push the farthest first so the nearest is entered first (a ray's early out then prunes the rest).
+    for (int i = 1; i < count; ++i)
+      for (int j = i; j > 0 && distance[order[j]] > distance[order[j - 1]]; --j) std::swap(order[j], order[j - 1]);
+    for (int i = 0; i < count; ++i) push({children[order[i]], distance[order[i]]});
+  }
+}
+
+}  // namespace strata
