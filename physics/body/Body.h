@@ -4,6 +4,7 @@
 
 #include "physics/body/BodyCreationSettings.h"
 #include "physics/body/BodyID.h"
+#include "physics/core/RelaxedAtomic.h"
 
 namespace strata {
 
@@ -17,6 +18,7 @@ class Body {
   bool IsDynamic() const { return motion_type_ == MotionType::kDynamic; }
   bool IsStatic() const { return motion_type_ == MotionType::kStatic; }
   bool in_world() const { return in_world_; }
+  /// Also safe to read without the body's lock, as a hint (see BodyInterface::ActivateBodiesInBox).
   bool sleeping() const { return sleeping_; }
   /// Dynamic or kinematic and awake: the step moves it.
   bool IsActive() const { return in_world_ && !sleeping_ && motion_type_ != MotionType::kStatic; }
@@ -87,7 +89,7 @@ class Body {
   MotionType motion_type_ = MotionType::kStatic;
   ObjectLayer object_layer_ = layers::kNonMoving;
   bool in_world_ = false;
-  bool sleeping_ = false;
+  RelaxedAtomic<bool> sleeping_ = false;
   bool allow_sleeping_ = true;
 };
 

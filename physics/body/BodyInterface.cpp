@@ -303,6 +303,9 @@ Status BodyInterface::ActivateBodiesInBox(const AABB& box) {
   system_.broad_phase_->CollideAABB(box.Expanded(system_.speculative_distance_.load(std::memory_order_relaxed)), {},
                                     candidates);
   for (const BodyID candidate : candidates) {
+    // Most candidates are awake: peek at the flag without a lock, so only sleepers are locked (and checked
+    // again under the lock). Game threads teleporting many objects then rarely meet on a body mutex.
+    if (!system_.body_manager_.BodyAt(candidate.index).sleeping()) continue;
     BodyLockWrite lock(system_.body_manager_, candidate);
     if (lock.Succeeded() && lock.body().sleeping()) WakeLocked(lock.body());
   }

@@ -1,5 +1,6 @@
 #include "physics/body/BodyManager.h"
 
+#include <chrono>
 #include <string>
 
 namespace strata {
@@ -8,7 +9,23 @@ namespace {
 std::string Describe(BodyID id) {
   return "body " + std::to_string(id.index) + "#" + std::to_string(id.generation);
 }
+
+thread_local std::uint64_t lock_wait_nanoseconds = 0;
+
+// Locks `lock` (constructed deferred), timing the wait only when the mutex is taken.
+template <class Lock>
+void LockTimingWait(Lock& lock) {
+  if (lock.try_lock()) return;
+  const auto start = std::chrono::steady_clock::now();
+  lock.lock();
+  lock_wait_nanoseconds += static_cast<std::uint64_t>(
+      std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - start).count());
+}
 }  // namespace
+
+std::uint64_t ThreadBodyLockWaitNanoseconds() {
+  return lock_wait_nanoseconds;
+}
 
 BodyManager::BodyManager(std::uint32_t capacity, std::uint32_t mutex_count)
     : bodies_(capacity), generations_(capacity, 1), mutexes_(mutex_count == 0 ? 1 : mutex_count) {
@@ -65,11 +82,11 @@ Status BodyManager::DestroyBody(BodyID id) {
 }
 
 void BodyManager::LockAll() {
-  for (std::shared_mutex& mutex : mutexes_) mutex.lock();
+  for (SpinningSharedMutex& mutex : mutexes_) mutex.lock();
 }
 
 void BodyManager::UnlockAll() {
-  for (std::shared_mutex& mutex : mutexes_) mutex.unlock();
+  for (SpinningSharedMutex& mutex : mutexes_) mutex.unlock();
 }
 
 void BodyManager::BeginStep() {
@@ -82,19 +99,22 @@ void BodyManager::EndStep() {
 }
 
 BodyLockRead::BodyLockRead(const BodyManager& manager, BodyID id)
-    : lock_(manager.MutexFor(id.index < manager.capacity() ? id.index : 0)), status_(manager.CheckId(id)) {
+    : lock_(manager.MutexFor(id.index < manager.capacity() ? id.index : 0), std::defer_lock) {
+  LockTimingWait(lock_);
+  status_ = manager.CheckId(id);
   if (status_.ok()) body_ = &manager.BodyAt(id.index);
 }
 
 BodyLockWrite::BodyLockWrite(BodyManager& manager, BodyID id)
-    : lock_(manager.MutexFor(id.index < manager.capacity() ? id.index : 0)) {
+    : lock_(manager.MutexFor(id.index < manager.capacity() ? id.index : 0), std::defer_lock) {
+  LockTimingWait(lock_);
   // A writer that got the lock while a step runs backs off until the step ends: the step reads bodies
   // unlocked between its own LockAll windows. Taking the lock first orders this check after the step's
   // LockAll/UnlockAll, so no writer slips in once BeginStep has been called.
   while (manager.stepping()) {
     lock_.unlock();
     manager.stepping_.wait(true, std::memory_order_acquire);
-    lock_.lock();
+    LockTimingWait(lock_);
   }
   status_ = manager.CheckId(id);
   if (status_.ok()) body_ = &manager.BodyAt(id.index);

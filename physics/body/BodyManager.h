@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "physics/body/Body.h"
+#include "physics/core/SpinningSharedMutex.h"
 
 namespace strata {
 
@@ -31,7 +32,7 @@ class BodyManager {
   Status DestroyBody(BodyID id);
 
   /// The mutex guarding `index`.
-  std::shared_mutex& MutexFor(std::uint32_t index) const { return mutexes_[index % mutexes_.size()]; }
+  SpinningSharedMutex& MutexFor(std::uint32_t index) const { return mutexes_[index % mutexes_.size()]; }
 
   /// Checks `id` against its slot; call with the body's lock held.
   Status CheckId(BodyID id) const;
@@ -60,10 +61,14 @@ class BodyManager {
   std::vector<std::uint32_t> generations_;
   std::vector<std::uint32_t> free_slots_;
   mutable std::mutex allocation_mutex_;  // guards free_slots_ and generations_
-  mutable std::vector<std::shared_mutex> mutexes_;
+  mutable std::vector<SpinningSharedMutex> mutexes_;
   std::atomic<bool> stepping_{false};
   std::atomic<std::uint32_t> slot_limit_{0};
 };
+
+/// Time this thread has spent blocked on body mutexes (ns) since it started. Only contended acquisitions are
+/// timed (a failed try-lock starts the clock), so the uncontended path costs nothing extra.
+std::uint64_t ThreadBodyLockWaitNanoseconds();
 
 /// RAII read access to one body; check Succeeded() (false for a stale or unknown id).
 class BodyLockRead {
@@ -74,7 +79,7 @@ class BodyLockRead {
   const Body& body() const { return *body_; }
 
  private:
-  std::shared_lock<std::shared_mutex> lock_;
+  std::shared_lock<SpinningSharedMutex> lock_;
   Status status_;
   const Body* body_ = nullptr;
 };
@@ -89,7 +94,7 @@ class BodyLockWrite {
   Body& body() const { return *body_; }
 
  private:
-  std::unique_lock<std::shared_mutex> lock_;
+  std::unique_lock<SpinningSharedMutex> lock_;
   Status status_;
   Body* body_ = nullptr;
 };

@@ -220,7 +220,7 @@ Status QuadTreeBroadPhase::AddBodiesFinalize(AddBatch& batch) {
   if (!batch.prepared()) return MakeError(ErrorCode::kInvalidState, "batch was already finalized or aborted");
   const std::unique_ptr<AddBatch::State> taken = batch.TakeState();
   const auto& state = static_cast<const PreparedBatch&>(*taken);
-  std::shared_lock modification(modification_mutex_);
+  const StripedGatePass modification(modification_gate_);
   for (const PreparedBatch::Part& part : state.parts)
     if (!trees_[part.tree].Link(generations_, part.entry, part.bounds)) pool_.Unreserve(1);
   body_count_.fetch_add(state.bodies.size(), kRelaxed);
@@ -244,7 +244,7 @@ Status QuadTreeBroadPhase::RemoveBody(BodyID id) {
 }
 
 Status QuadTreeBroadPhase::RemoveBodies(std::span<const BodyID> ids) {
-  std::shared_lock modification(modification_mutex_);
+  const StripedGatePass modification(modification_gate_);
   for (const BodyID id : ids)
     if (Status present = CheckPresent(id); !present) return present;
   // Claim each for removal (1 -> 2) so two threads removing the same body cannot both succeed.
@@ -266,14 +266,18 @@ Status QuadTreeBroadPhase::RemoveBodies(std::span<const BodyID> ids) {
 
 Status QuadTreeBroadPhase::UpdateBody(BodyID id, const AABB& bounds) {
   if (Status valid = CheckBounds(bounds); !valid) return valid;
-  std::shared_lock modification(modification_mutex_);
+  const StripedGatePass modification(modification_gate_);
   if (Status present = CheckPresent(id); !present) return present;
   trees_[locations_[id.index].tree.load(kRelaxed)].Widen(id.index, bounds);
   return Status::Ok();
 }
 
 void QuadTreeBroadPhase::Rebuild(bool full) {
-  std::unique_lock modification(modification_mutex_);
+  modification_gate_.Close();
+  struct Reopen {
+    StripedGate& gate;
+    ~Reopen() { gate.Open(); }
+  } reopen{modification_gate_};
   auto free_node = [&](std::uint32_t node) { pool_.Free(node); };
   generations_.Reclaim(free_node);
   if (!generations_.CanPublish()) {

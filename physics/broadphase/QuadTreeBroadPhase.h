@@ -1,15 +1,15 @@
 // QuadTreeBroadPhase: the default broad phase: one lock-free QuadTree per broad-phase layer, body
 // locations for O(1) move and remove, batch insertion in O(1), and pinned tree generations.
-// Queries never lock. Adds, removes and moves run concurrently with queries and each other; they share a
-// reader/writer lock that only Update/Optimize (the step's rebuild, a few ms) take exclusively.
+// Queries never lock. Adds, removes and moves run concurrently with queries and each other; they pass a
+// striped gate (no shared cache line) that only Update/Optimize (the step's rebuild, ~1 ms) close.
 #pragma once
 
 #include <memory>
-#include <shared_mutex>
 
 #include "physics/broadphase/BroadPhase.h"
 #include "physics/broadphase/QuadTree.h"
 #include "physics/broadphase/TreeGenerations.h"
+#include "physics/core/StripedGate.h"
 
 namespace strata {
 
@@ -75,7 +75,7 @@ class QuadTreeBroadPhase final : public BroadPhase {
   TreeGenerations generations_;
   std::vector<std::uint64_t> tree_layer_mask_;        // per tree: object layers it holds (bit 63 = 63 and up)
   std::vector<std::uint64_t> collides_with_layers_;   // per object layer: layers it collides with
-  mutable std::shared_mutex modification_mutex_;
+  StripedGate modification_gate_;
   std::atomic<std::size_t> body_count_{0};
   std::atomic<std::size_t> rebuilds_skipped_{0};
 };

@@ -10,5 +10,7 @@ namespace strata::cli {
 std::function<int()> AddSimulateCommand(CLI::App& app);
 /// Adds `bench` to `app`.
 std::function<int()> AddBenchCommand(CLI::App& app);
+/// Adds `bench-broadphase` to `app`.
+std::function<int()> AddBroadPhaseBenchCommand(CLI::App& app);
 
 }  // namespace strata::cli

@@ -8,6 +8,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   const auto simulate = strata::cli::AddSimulateCommand(app);
   const auto bench = strata::cli::AddBenchCommand(app);
+  const auto bench_broadphase = strata::cli::AddBroadPhaseBenchCommand(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& error) {
@@ -15,5 +16,6 @@ int main(int argc, char** argv) {
   }
   if (app.got_subcommand("simulate")) return simulate();
   if (app.got_subcommand("bench")) return bench();
+  if (app.got_subcommand("bench-broadphase")) return bench_broadphase();
   return 2;
 }

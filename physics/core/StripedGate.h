@@ -1,0 +1,71 @@
+// StripedGate: many threads pass at once, each touching only its own cache line, until one thread
+// closes the gate; Close waits for those inside to leave and keeps new ones out until Open. For paths that
+// run all the time (moving bodies) next to a rare exclusive one (rebuilding a tree). Thread-safe.
+#pragma once
+
+#include <array>
+#include <atomic>
+#include <cstdint>
+#include <mutex>
+#include <thread>
+
+namespace strata {
+
+/// A reader/writer gate with per-thread-stripe reader counts (a "big reader" lock).
+class StripedGate {
+ public:
+  /// Passes the gate (waits only while it is closed). Pair with Leave on the same thread.
+  void Enter() {
+    Stripe& stripe = stripes_[ThreadStripe()];
+    for (;;) {
+      stripe.inside.fetch_add(1, std::memory_order_seq_cst);
+      if (!closed_.load(std::memory_order_seq_cst)) return;
+      stripe.inside.fetch_sub(1, std::memory_order_release);
+      closed_.wait(true, std::memory_order_acquire);
+    }
+  }
+  void Leave() { stripes_[ThreadStripe()].inside.fetch_sub(1, std::memory_order_release); }
+
+  /// Keeps new entrants out and waits for those inside to leave. One closer at a time.
+  void Close() {
+    close_mutex_.lock();
+    closed_.store(true, std::memory_order_seq_cst);
+    for (Stripe& stripe : stripes_)
+      while (stripe.inside.load(std::memory_order_acquire) != 0) std::this_thread::yield();
+  }
+  void Open() {
+    closed_.store(false, std::memory_order_release);
+    closed_.notify_all();
+    close_mutex_.unlock();
+  }
+
+ private:
+  static constexpr std::size_t kStripes = 64;
+  struct alignas(64) Stripe {
+    std::atomic<std::int32_t> inside{0};
+  };
+
+  static std::size_t ThreadStripe() {
+    static std::atomic<std::size_t> next{0};
+    thread_local const std::size_t stripe = next.fetch_add(1, std::memory_order_relaxed) % kStripes;
+    return stripe;
+  }
+
+  std::array<Stripe, kStripes> stripes_;
+  std::atomic<bool> closed_{false};
+  std::mutex close_mutex_;
+};
+
+/// Holds a StripedGate open for the current scope.
+class StripedGatePass {
+ public:
+  explicit StripedGatePass(StripedGate& gate) : gate_(gate) { gate_.Enter(); }
+  ~StripedGatePass() { gate_.Leave(); }
+  StripedGatePass(const StripedGatePass&) = delete;
+  StripedGatePass& operator=(const StripedGatePass&) = delete;
+
+ private:
+  StripedGate& gate_;
+};
+
+}  // namespace strata
