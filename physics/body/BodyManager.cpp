@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <string>
+#include <thread>
 
 namespace strata {
 
@@ -90,6 +91,9 @@ void BodyManager::UnlockAll() {
 }
 
 void BodyManager::BeginStep() {
+  // Writers that waited through the previous step go first, so a thread stepping back to back cannot
+  // starve them; writers arriving now are not counted and cannot hold the step up for long.
+  while (waiting_writers_.load(std::memory_order_acquire) > 0) std::this_thread::yield();
   stepping_.store(true, std::memory_order_seq_cst);
 }
 
@@ -111,11 +115,15 @@ BodyLockWrite::BodyLockWrite(BodyManager& manager, BodyID id)
   // A writer that got the lock while a step runs backs off until the step ends: the step reads bodies
   // unlocked between its own LockAll windows. Taking the lock first orders this check after the step's
   // LockAll/UnlockAll, so no writer slips in once BeginStep has been called.
+  bool waited = false;
   while (manager.stepping()) {
+    if (!waited) manager.waiting_writers_.fetch_add(1, std::memory_order_acq_rel);
+    waited = true;
     lock_.unlock();
     manager.stepping_.wait(true, std::memory_order_acquire);
     LockTimingWait(lock_);
   }
+  if (waited) manager.waiting_writers_.fetch_sub(1, std::memory_order_acq_rel);
   status_ = manager.CheckId(id);
   if (status_.ok()) body_ = &manager.BodyAt(id.index);
 }

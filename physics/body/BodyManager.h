@@ -63,6 +63,7 @@ class BodyManager {
   mutable std::mutex allocation_mutex_;  // guards free_slots_ and generations_
   mutable std::vector<SpinningSharedMutex> mutexes_;
   std::atomic<bool> stepping_{false};
+  std::atomic<std::uint32_t> waiting_writers_{0};  // writers blocked by the step that is ending
   std::atomic<std::uint32_t> slot_limit_{0};
 };
 

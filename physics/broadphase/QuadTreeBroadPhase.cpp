@@ -96,8 +96,8 @@ struct QuadTreeBroadPhase::PreparedBatch final : AddBatch::State {
     std::uint32_t entry;  // subtree root node, or a single body
     AABB bounds;
   };
-  std::vector<Part> parts;
-  std::vector<std::uint32_t> bodies;
+  std::vector<Part> parts;  // one per tree the batch touches: finalize does O(trees) work, not O(bodies)
+  std::size_t body_count = 0;
   std::uint32_t reserved_spares = 0;  // one node per part for a new root, if the root is full
 };
 
@@ -210,8 +210,7 @@ Result<AddBatch> QuadTreeBroadPhase::AddBodiesPrepare(std::span<const BodyID> id
     ++state->reserved_spares;
   }
   pool_.Unreserve(needed - used - state->reserved_spares);
-  state->bodies.reserve(ids.size());
-  for (const BodyID id : ids) state->bodies.push_back(id.index);
+  state->body_count = ids.size();
   return AddBatch(this, std::move(state), ids.size());
 }
 
@@ -223,7 +222,7 @@ Status QuadTreeBroadPhase::AddBodiesFinalize(AddBatch& batch) {
   const StripedGatePass modification(modification_gate_);
   for (const PreparedBatch::Part& part : state.parts)
     if (!trees_[part.tree].Link(generations_, part.entry, part.bounds)) pool_.Unreserve(1);
-  body_count_.fetch_add(state.bodies.size(), kRelaxed);
+  body_count_.fetch_add(state.body_count, kRelaxed);
   return Status::Ok();
 }
 
@@ -231,9 +230,13 @@ void QuadTreeBroadPhase::AddBodiesAbort(AddBatch& batch) {
   if (batch.owner() != this || !batch.prepared()) return;
   const std::unique_ptr<AddBatch::State> taken = batch.TakeState();
   const auto& state = static_cast<const PreparedBatch&>(*taken);
-  for (const PreparedBatch::Part& part : state.parts) trees_[part.tree].FreeSubtree(part.entry);
+  std::vector<std::uint32_t> bodies;
+  for (const PreparedBatch::Part& part : state.parts) {
+    trees_[part.tree].CollectBodies(part.entry, bodies);
+    trees_[part.tree].FreeSubtree(part.entry);
+  }
   pool_.Unreserve(state.reserved_spares);
-  for (const std::uint32_t body : state.bodies) {
+  for (const std::uint32_t body : bodies) {
     locations_[body].node.store(QuadTree::kInvalid, kRelaxed);
     locations_[body].claimed.store(0, std::memory_order_release);
   }
