@@ -76,7 +76,8 @@ Result<BodyAddBatch> BodyInterface::AddBodiesPrepare(std::span<const BodyID> ids
     BodyLockRead lock(system_.body_manager_, id);
     if (!lock.Succeeded()) return lock.status().error();
     if (lock.body().in_world())
-      return MakeError(ErrorCode::kInvalidState, "body " + std::to_string(id.index) + " is already in the world");
+      return MakeError(ErrorCode::kInvalidState,
+                       "body " + std::to_string(id.index) + " is already in the world");
     batch.bounds.push_back(system_.BroadPhaseBounds(lock.body(), 0.0f));
     layers.push_back(lock.body().object_layer());
   }
@@ -114,7 +115,8 @@ Status BodyInterface::MarkAdded(const BodyAddBatch& batch, std::size_t i) {
   if (!lock.Succeeded()) return lock.status();
   Body& body = lock.body();
   if (body.in_world())
-    return MakeError(ErrorCode::kInvalidState, "body " + std::to_string(id.index) + " was added to the world meanwhile");
+    return MakeError(ErrorCode::kInvalidState,
+                     "body " + std::to_string(id.index) + " was added to the world meanwhile");
   body.in_world_ = true;
   body.sleeping_ = batch.activation == Activation::kDontActivate && !body.IsStatic();
   body.sleep_timer_ = 0.0f;
@@ -190,7 +192,8 @@ Result<MotionType> BodyInterface::GetMotionType(BodyID id) const {
   return Read(id, [](const Body& b) { return b.motion_type(); });
 }
 
-Status BodyInterface::Teleport(BodyID id, const std::optional<Vec3>& position, const std::optional<Quat>& rotation) {
+Status BodyInterface::Teleport(BodyID id, const std::optional<Vec3>& position,
+                               const std::optional<Quat>& rotation) {
   AABB vacated;
   bool in_world = false;
   const Status moved = Write(id, [&](Body& body) {
@@ -298,10 +301,11 @@ Status BodyInterface::AddImpulse(BodyID id, const Vec3& impulse, const Vec3& poi
 }
 
 Status BodyInterface::ActivateBodiesInBox(const AABB& box) {
-  if (!box.IsValid()) return MakeError(ErrorCode::kInvalidArgument, "activation box must be finite with min <= max");
+  if (!box.IsValid())
+    return MakeError(ErrorCode::kInvalidArgument, "activation box must be finite with min <= max");
   std::vector<BodyID> candidates;
-  system_.broad_phase_->CollideAABB(box.Expanded(system_.speculative_distance_.load(std::memory_order_relaxed)), {},
-                                    candidates);
+  system_.broad_phase_->CollideAABB(
+      box.Expanded(system_.speculative_distance_.load(std::memory_order_relaxed)), {}, candidates);
   for (const BodyID candidate : candidates) {
     // Most candidates are awake: peek at the flag without a lock, so only sleepers are locked (and checked
     // again under the lock). Game threads teleporting many objects then rarely meet on a body mutex.

@@ -42,7 +42,8 @@ class BodyInterface {
   Status AddBodies(std::span<const BodyID> ids, Activation activation = Activation::kActivate);
   /// First half of AddBodies, for a loading thread: checks the bodies and builds their broad-phase
   /// sub-tree without touching anything shared. Fails (nothing claimed) like AddBodies.
-  Result<BodyAddBatch> AddBodiesPrepare(std::span<const BodyID> ids, Activation activation = Activation::kActivate);
+  Result<BodyAddBatch> AddBodiesPrepare(std::span<const BodyID> ids,
+                                        Activation activation = Activation::kActivate);
   /// Second half: links the sub-tree in O(1) and marks the bodies in the world. Fails, adding none, if the
   /// batch was finalized before or a body was destroyed or added meanwhile.
   Status AddBodiesFinalize(BodyAddBatch& batch);

@@ -80,7 +80,8 @@ void BroadPhase::CastAABB(const AABB& box, const Vec3& displacement, const Query
 }
 
 Status CheckBounds(const AABB& bounds) {
-  if (!bounds.IsValid()) return MakeError(ErrorCode::kInvalidArgument, "bounds must be finite with min <= max");
+  if (!bounds.IsValid())
+    return MakeError(ErrorCode::kInvalidArgument, "bounds must be finite with min <= max");
   // Beyond this the inside-out markers of empty slots would no longer be outside every real box.
   constexpr float kWorldLimit = 1e18f;
   if ((bounds.min.array() < -kWorldLimit).any() || (bounds.max.array() > kWorldLimit).any())
@@ -96,11 +97,12 @@ Status CheckAddBatch(std::span<const BodyID> ids, std::span<const AABB> bounds,
   for (std::size_t i = 0; i < ids.size(); ++i) {
     if (ids[i].IsInvalid()) return MakeError(ErrorCode::kStaleBodyId, "batch holds an invalid body id");
     if (Status valid = CheckBounds(bounds[i]); !valid)
-      return MakeError(ErrorCode::kInvalidArgument, "body " + std::to_string(ids[i].index) + ": " + valid.message());
-    if (layers[i] >= layer_count)
       return MakeError(ErrorCode::kInvalidArgument,
-                       "body " + std::to_string(ids[i].index) + ": object layer " + std::to_string(layers[i]) +
-                           " is not in the layer setup");
+                       "body " + std::to_string(ids[i].index) + ": " + valid.message());
+    if (layers[i] >= layer_count)
+      return MakeError(ErrorCode::kInvalidArgument, "body " + std::to_string(ids[i].index) +
+                                                        ": object layer " + std::to_string(layers[i]) +
+                                                        " is not in the layer setup");
   }
   std::vector<std::uint32_t> indices(ids.size());
   std::transform(ids.begin(), ids.end(), indices.begin(), [](BodyID id) { return id.index; });

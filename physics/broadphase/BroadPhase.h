@@ -107,13 +107,13 @@ class AddBatch {
 /// Memory and maintenance figures for tools and tests.
 struct BroadPhaseStats {
   std::size_t nodes_in_use = 0;
-  std::size_t node_bytes = 0;           ///< node blocks allocated so far
-  std::size_t retired_nodes = 0;        ///< dropped by a rebuild, kept for pinned older generations
+  std::size_t node_bytes = 0;     ///< node blocks allocated so far
+  std::size_t retired_nodes = 0;  ///< dropped by a rebuild, kept for pinned older generations
   std::size_t retired_bytes = 0;
   std::size_t pinned_old_generations = 0;
   std::uint64_t generation = 0;
-  std::size_t rebuilds_skipped = 0;     ///< rebuilds put off because no generation record or node was free
-  std::size_t max_depth = 0;            ///< deepest body below a root, over all trees (walks the trees)
+  std::size_t rebuilds_skipped = 0;  ///< rebuilds put off because no generation record or node was free
+  std::size_t max_depth = 0;         ///< deepest body below a root, over all trees (walks the trees)
 };
 
 /// Spatial index over the bounds of the bodies in the world.
@@ -171,7 +171,8 @@ class BroadPhase {
 
   /// Convenience forms: pin for the duration of the call and append to a vector.
   void CollideAABB(const AABB& box, const QueryFilter& filter, std::vector<BodyID>& out) const;
-  void CollideSphere(const Vec3& center, float radius, const QueryFilter& filter, std::vector<BodyID>& out) const;
+  void CollideSphere(const Vec3& center, float radius, const QueryFilter& filter,
+                     std::vector<BodyID>& out) const;
   void CastRay(const Vec3& origin, const Vec3& direction, const QueryFilter& filter,
                std::vector<BroadPhaseRayHit>& out) const;
   void CastAABB(const AABB& box, const Vec3& displacement, const QueryFilter& filter,

@@ -36,16 +36,19 @@ Status BruteForceBroadPhase::AddBody(BodyID id, const AABB& bounds, ObjectLayer 
   return AddBodiesFinalize(*batch);
 }
 
-Result<AddBatch> BruteForceBroadPhase::AddBodiesPrepare(std::span<const BodyID> ids, std::span<const AABB> bounds,
+Result<AddBatch> BruteForceBroadPhase::AddBodiesPrepare(std::span<const BodyID> ids,
+                                                        std::span<const AABB> bounds,
                                                         std::span<const ObjectLayer> layers) {
-  if (Status valid = CheckAddBatch(ids, bounds, layers, layers_->ObjectLayerCount()); !valid) return valid.error();
+  if (Status valid = CheckAddBatch(ids, bounds, layers, layers_->ObjectLayerCount()); !valid)
+    return valid.error();
   std::unique_lock lock(mutex_);
   for (const BodyID id : ids) {
     if (id.index >= dense_of_index_.size())
-      return MakeError(ErrorCode::kStaleBodyId, "body " + std::to_string(id.index) + " is outside the broad phase");
+      return MakeError(ErrorCode::kStaleBodyId,
+                       "body " + std::to_string(id.index) + " is outside the broad phase");
     if (dense_of_index_[id.index] != kAbsent || prepared_[id.index])
-      return MakeError(ErrorCode::kInvalidState,
-                       "body " + std::to_string(id.index) + " is already in the broad phase or a prepared batch");
+      return MakeError(ErrorCode::kInvalidState, "body " + std::to_string(id.index) +
+                                                     " is already in the broad phase or a prepared batch");
   }
   for (const BodyID id : ids) prepared_[id.index] = 1;
   auto state = std::make_unique<PreparedBatch>();
@@ -56,7 +59,8 @@ Result<AddBatch> BruteForceBroadPhase::AddBodiesPrepare(std::span<const BodyID> 
 }
 
 Status BruteForceBroadPhase::AddBodiesFinalize(AddBatch& batch) {
-  if (batch.owner() != this) return MakeError(ErrorCode::kInvalidArgument, "batch belongs to another broad phase");
+  if (batch.owner() != this)
+    return MakeError(ErrorCode::kInvalidArgument, "batch belongs to another broad phase");
   if (!batch.prepared()) return MakeError(ErrorCode::kInvalidState, "batch was already finalized or aborted");
   const std::unique_ptr<AddBatch::State> taken = batch.TakeState();
   const auto& state = static_cast<const PreparedBatch&>(*taken);
@@ -83,10 +87,12 @@ Status BruteForceBroadPhase::RemoveBodies(std::span<const BodyID> ids) {
   std::unique_lock lock(mutex_);
   for (std::size_t i = 0; i < ids.size(); ++i) {
     if (DenseSlot(ids[i]) == kAbsent)
-      return MakeError(ErrorCode::kInvalidState, "body " + std::to_string(ids[i].index) + " is not in the broad phase");
+      return MakeError(ErrorCode::kInvalidState,
+                       "body " + std::to_string(ids[i].index) + " is not in the broad phase");
     for (std::size_t j = 0; j < i; ++j)
       if (ids[j] == ids[i])
-        return MakeError(ErrorCode::kInvalidState, "body " + std::to_string(ids[i].index) + " is listed twice");
+        return MakeError(ErrorCode::kInvalidState,
+                         "body " + std::to_string(ids[i].index) + " is listed twice");
   }
   for (const BodyID id : ids) {
     const std::uint32_t slot = dense_of_index_[id.index];
@@ -110,7 +116,8 @@ Status BruteForceBroadPhase::UpdateBody(BodyID id, const AABB& bounds) {
   std::unique_lock lock(mutex_);
   const std::uint32_t slot = DenseSlot(id);
   if (slot == kAbsent)
-    return MakeError(ErrorCode::kInvalidState, "body " + std::to_string(id.index) + " is not in the broad phase");
+    return MakeError(ErrorCode::kInvalidState,
+                     "body " + std::to_string(id.index) + " is not in the broad phase");
   min_x_[slot] = bounds.min.x(), min_y_[slot] = bounds.min.y(), min_z_[slot] = bounds.min.z();
   max_x_[slot] = bounds.max.x(), max_y_[slot] = bounds.max.y(), max_z_[slot] = bounds.max.z();
   return Status::Ok();
@@ -203,7 +210,8 @@ void BruteForceBroadPhase::CastAABB(const BroadPhasePin&, const AABB& box, const
   const Vec3 center = box.Center();
   const Vec3 half = box.HalfExtents();
   ForEachAccepted(filter, [&](std::size_t j) {
-    const float entry = BoundsAt(j).Expanded(half).RayEntry(center, inverse, std::min(1.0f, collector.early_out_fraction()));
+    const float entry =
+        BoundsAt(j).Expanded(half).RayEntry(center, inverse, std::min(1.0f, collector.early_out_fraction()));
     if (entry >= 0.0f) collector.AddHit(ids_[j], entry);
     return !collector.ShouldStop();
   });

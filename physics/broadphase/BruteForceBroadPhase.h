@@ -42,8 +42,8 @@ class BruteForceBroadPhase final : public BroadPhase {
                      BroadPhaseCollector& collector) const override;
   void CastRay(const BroadPhasePin& pin, const Vec3& origin, const Vec3& direction, const QueryFilter& filter,
                BroadPhaseCollector& collector) const override;
-  void CastAABB(const BroadPhasePin& pin, const AABB& box, const Vec3& displacement, const QueryFilter& filter,
-                BroadPhaseCollector& collector) const override;
+  void CastAABB(const BroadPhasePin& pin, const AABB& box, const Vec3& displacement,
+                const QueryFilter& filter, BroadPhaseCollector& collector) const override;
 
  protected:
   void ReleasePin(std::uint32_t) const override {}

@@ -22,8 +22,9 @@ void AtomicMax(std::atomic<float>& value, float candidate) {
 }
 
 AABB SlotBounds(const QuadTreeNode& node, int slot) {
-  return {{node.min_x[slot].load(kRelaxed), node.min_y[slot].load(kRelaxed), node.min_z[slot].load(kRelaxed)},
-          {node.max_x[slot].load(kRelaxed), node.max_y[slot].load(kRelaxed), node.max_z[slot].load(kRelaxed)}};
+  return {
+      {node.min_x[slot].load(kRelaxed), node.min_y[slot].load(kRelaxed), node.min_z[slot].load(kRelaxed)},
+      {node.max_x[slot].load(kRelaxed), node.max_y[slot].load(kRelaxed), node.max_z[slot].load(kRelaxed)}};
 }
 
 AABB Union(std::span<const QuadTree::Item> items) {
@@ -106,7 +107,8 @@ void QuadTree::SetParent(std::uint32_t entry, std::uint32_t parent, std::uint32_
   }
 }
 
-void QuadTree::WriteSlot(std::uint32_t node_index, std::uint32_t slot, std::uint32_t entry, const AABB& bounds) {
+void QuadTree::WriteSlot(std::uint32_t node_index, std::uint32_t slot, std::uint32_t entry,
+                         const AABB& bounds) {
   QuadTreeNode& target = node(node_index);
   target.children[slot].store(entry, std::memory_order_release);
   // Max before min: the slot stays inside out (invisible) until the last min lands.

@@ -178,7 +178,8 @@ void QuadTree::Walk(std::uint32_t root, ChildTest&& test, BodyVisitor&& visit) c
     }
     // Push the farthest first so the nearest is entered first (a ray's early out then prunes the rest).
     for (int i = 1; i < count; ++i)
-      for (int j = i; j > 0 && distance[order[j]] > distance[order[j - 1]]; --j) std::swap(order[j], order[j - 1]);
+      for (int j = i; j > 0 && distance[order[j]] > distance[order[j - 1]]; --j)
+        std::swap(order[j], order[j - 1]);
     for (int i = 0; i < count; ++i) push({children[order[i]], distance[order[i]]});
   }
 }

@@ -121,7 +121,8 @@ QuadTreeBroadPhase::QuadTreeBroadPhase(std::uint32_t max_bodies, std::shared_ptr
       locations_(max_bodies),
       trees_([&] {
         std::vector<QuadTree> trees;
-        for (BroadPhaseLayer t = 0; t < layers_->BroadPhaseLayerCount(); ++t) trees.emplace_back(pool_, locations_, t);
+        for (BroadPhaseLayer t = 0; t < layers_->BroadPhaseLayerCount(); ++t)
+          trees.emplace_back(pool_, locations_, t);
         return trees;
       }()),
       generations_(MakeEmptyRoots()),
@@ -150,7 +151,8 @@ Status QuadTreeBroadPhase::CheckPresent(BodyID id) const {
   if (id.IsInvalid() || id.index >= max_bodies_)
     return MakeError(ErrorCode::kStaleBodyId, Describe(id) + " is outside the broad phase");
   const BodyLocation& location = locations_[id.index];
-  if (location.claimed.load(std::memory_order_acquire) != 1 || location.generation.load(kRelaxed) != id.generation ||
+  if (location.claimed.load(std::memory_order_acquire) != 1 ||
+      location.generation.load(kRelaxed) != id.generation ||
       !trees_[location.tree.load(kRelaxed)].IsLinked(id.index))
     return MakeError(ErrorCode::kInvalidState, Describe(id) + " is not in the broad phase");
   return Status::Ok();
@@ -166,17 +168,22 @@ Status QuadTreeBroadPhase::AddBody(BodyID id, const AABB& bounds, ObjectLayer la
   return AddBodiesFinalize(*batch);
 }
 
-Result<AddBatch> QuadTreeBroadPhase::AddBodiesPrepare(std::span<const BodyID> ids, std::span<const AABB> bounds,
+Result<AddBatch> QuadTreeBroadPhase::AddBodiesPrepare(std::span<const BodyID> ids,
+                                                      std::span<const AABB> bounds,
                                                       std::span<const ObjectLayer> layers) {
-  if (Status valid = CheckAddBatch(ids, bounds, layers, layers_->ObjectLayerCount()); !valid) return valid.error();
+  if (Status valid = CheckAddBatch(ids, bounds, layers, layers_->ObjectLayerCount()); !valid)
+    return valid.error();
   for (const BodyID id : ids)
-    if (id.index >= max_bodies_) return MakeError(ErrorCode::kStaleBodyId, Describe(id) + " is outside the broad phase");
+    if (id.index >= max_bodies_)
+      return MakeError(ErrorCode::kStaleBodyId, Describe(id) + " is outside the broad phase");
   // Claim every body so no other batch or single add takes it meanwhile; undo on the first refusal.
   for (std::size_t i = 0; i < ids.size(); ++i) {
     std::uint8_t expected = 0;
-    if (locations_[ids[i].index].claimed.compare_exchange_strong(expected, 1, std::memory_order_acq_rel)) continue;
+    if (locations_[ids[i].index].claimed.compare_exchange_strong(expected, 1, std::memory_order_acq_rel))
+      continue;
     for (std::size_t j = 0; j < i; ++j) locations_[ids[j].index].claimed.store(0, std::memory_order_release);
-    return MakeError(ErrorCode::kInvalidState, Describe(ids[i]) + " is already in the broad phase or a prepared batch");
+    return MakeError(ErrorCode::kInvalidState,
+                     Describe(ids[i]) + " is already in the broad phase or a prepared batch");
   }
   std::vector<std::vector<QuadTree::Item>> items(trees_.size());
   for (std::size_t i = 0; i < ids.size(); ++i) {
@@ -191,11 +198,12 @@ Result<AddBatch> QuadTreeBroadPhase::AddBodiesPrepare(std::span<const BodyID> id
   }
   std::uint32_t needed = 0;
   for (const auto& tree_items : items)
-    if (!tree_items.empty()) needed += (tree_items.size() > 1 ? QuadTree::NodesToBuild(tree_items.size()) : 0) + 1;
+    if (!tree_items.empty())
+      needed += (tree_items.size() > 1 ? QuadTree::NodesToBuild(tree_items.size()) : 0) + 1;
   if (!pool_.Reserve(needed)) {
     for (const BodyID id : ids) locations_[id.index].claimed.store(0, std::memory_order_release);
-    return MakeError(ErrorCode::kCapacityExceeded, "broad phase node pool is full (" +
-                                                       std::to_string(pool_.capacity()) + " nodes)");
+    return MakeError(ErrorCode::kCapacityExceeded,
+                     "broad phase node pool is full (" + std::to_string(pool_.capacity()) + " nodes)");
   }
   auto state = std::make_unique<PreparedBatch>();
   std::uint32_t used = 0;
@@ -215,7 +223,8 @@ Result<AddBatch> QuadTreeBroadPhase::AddBodiesPrepare(std::span<const BodyID> id
 }
 
 Status QuadTreeBroadPhase::AddBodiesFinalize(AddBatch& batch) {
-  if (batch.owner() != this) return MakeError(ErrorCode::kInvalidArgument, "batch belongs to another broad phase");
+  if (batch.owner() != this)
+    return MakeError(ErrorCode::kInvalidArgument, "batch belongs to another broad phase");
   if (!batch.prepared()) return MakeError(ErrorCode::kInvalidState, "batch was already finalized or aborted");
   const std::unique_ptr<AddBatch::State> taken = batch.TakeState();
   const auto& state = static_cast<const PreparedBatch&>(*taken);
@@ -253,10 +262,12 @@ Status QuadTreeBroadPhase::RemoveBodies(std::span<const BodyID> ids) {
   // Claim each for removal (1 -> 2) so two threads removing the same body cannot both succeed.
   for (std::size_t i = 0; i < ids.size(); ++i) {
     std::uint8_t expected = 1;
-    if (locations_[ids[i].index].claimed.compare_exchange_strong(expected, 2, std::memory_order_acq_rel)) continue;
+    if (locations_[ids[i].index].claimed.compare_exchange_strong(expected, 2, std::memory_order_acq_rel))
+      continue;
     for (std::size_t j = 0; j < i; ++j) locations_[ids[j].index].claimed.store(1, std::memory_order_release);
     return MakeError(ErrorCode::kInvalidState,
-                     Describe(ids[i]) + (expected == 2 ? " is listed twice or being removed" : " is not in the broad phase"));
+                     Describe(ids[i]) + (expected == 2 ? " is listed twice or being removed"
+                                                       : " is not in the broad phase"));
   }
   for (const BodyID id : ids) {
     BodyLocation& location = locations_[id.index];
@@ -322,7 +333,8 @@ BroadPhaseStats QuadTreeBroadPhase::stats() const {
   stats.rebuilds_skipped = rebuilds_skipped_.load(kRelaxed);
   const BroadPhasePin pin = Pin();
   for (std::size_t t = 0; t < trees_.size(); ++t)
-    stats.max_depth = std::max<std::size_t>(stats.max_depth, trees_[t].Depth(generations_.Root(pin.record(), static_cast<std::uint32_t>(t))));
+    stats.max_depth = std::max<std::size_t>(
+        stats.max_depth, trees_[t].Depth(generations_.Root(pin.record(), static_cast<std::uint32_t>(t))));
   return stats;
 }
 
@@ -340,7 +352,8 @@ void QuadTreeBroadPhase::WalkTrees(const BroadPhasePin& pin, const QueryFilter& 
     trees_[t].Walk(generations_.Root(pin.record(), static_cast<std::uint32_t>(t)), test,
                    [&](std::uint32_t body, float distance) {
                      const BodyLocation& location = locations_[body];
-                     if (location.claimed.load(std::memory_order_acquire) == 0 || body == filter.ignore_body_index ||
+                     if (location.claimed.load(std::memory_order_acquire) == 0 ||
+                         body == filter.ignore_body_index ||
                          !filter.AcceptsLayer(location.layer.load(kRelaxed)))
                        return true;
                      stopped = !visit(BodyID{body, location.generation.load(kRelaxed)}, location, distance);
@@ -419,7 +432,8 @@ void QuadTreeBroadPhase::FindPairs(std::span<const BodyID> active, std::span<con
         },
         [&](BodyID b, const BodyLocation& other, float) {
           if (active_flags[b.index] && b.index < a.index) return true;  // reported from b's side
-          if (!other.Bounds().Overlaps(box) || !layers.ShouldCollide(layer_a, other.layer.load(kRelaxed))) return true;
+          if (!other.Bounds().Overlaps(box) || !layers.ShouldCollide(layer_a, other.layer.load(kRelaxed)))
+            return true;
           out.push_back({a, b});
           return true;
         });

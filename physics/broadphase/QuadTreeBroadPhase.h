@@ -20,7 +20,8 @@ class QuadTreeBroadPhase final : public BroadPhase {
 
   /// Room for body indices below `max_bodies`. `max_nodes` 0 picks enough for that many bodies plus
   /// old generations pinned by readers. The layer setup must have at most kMaxBroadPhaseLayers layers.
-  QuadTreeBroadPhase(std::uint32_t max_bodies, std::shared_ptr<const LayerSetup> layers, std::uint32_t max_nodes = 0);
+  QuadTreeBroadPhase(std::uint32_t max_bodies, std::shared_ptr<const LayerSetup> layers,
+                     std::uint32_t max_nodes = 0);
   ~QuadTreeBroadPhase() override;
 
   Status AddBody(BodyID id, const AABB& bounds, ObjectLayer layer) override;
@@ -51,8 +52,8 @@ class QuadTreeBroadPhase final : public BroadPhase {
                      BroadPhaseCollector& collector) const override;
   void CastRay(const BroadPhasePin& pin, const Vec3& origin, const Vec3& direction, const QueryFilter& filter,
                BroadPhaseCollector& collector) const override;
-  void CastAABB(const BroadPhasePin& pin, const AABB& box, const Vec3& displacement, const QueryFilter& filter,
-                BroadPhaseCollector& collector) const override;
+  void CastAABB(const BroadPhasePin& pin, const AABB& box, const Vec3& displacement,
+                const QueryFilter& filter, BroadPhaseCollector& collector) const override;
 
  protected:
   void ReleasePin(std::uint32_t record) const override;
@@ -64,7 +65,8 @@ class QuadTreeBroadPhase final : public BroadPhase {
   Status CheckPresent(BodyID id) const;
   /// Walks every tree the filter can accept bodies from, in the pinned generation.
   template <class ChildTest, class BodyVisitor>
-  void WalkTrees(const BroadPhasePin& pin, const QueryFilter& filter, ChildTest&& test, BodyVisitor&& visit) const;
+  void WalkTrees(const BroadPhasePin& pin, const QueryFilter& filter, ChildTest&& test,
+                 BodyVisitor&& visit) const;
   std::array<std::uint32_t, TreeGenerations::kMaxTrees> MakeEmptyRoots();
 
   const std::uint32_t max_bodies_;
@@ -73,8 +75,8 @@ class QuadTreeBroadPhase final : public BroadPhase {
   std::vector<BodyLocation> locations_;
   std::vector<QuadTree> trees_;
   TreeGenerations generations_;
-  std::vector<std::uint64_t> tree_layer_mask_;        // per tree: object layers it holds (bit 63 = 63 and up)
-  std::vector<std::uint64_t> collides_with_layers_;   // per object layer: layers it collides with
+  std::vector<std::uint64_t> tree_layer_mask_;       // per tree: object layers it holds (bit 63 = 63 and up)
+  std::vector<std::uint64_t> collides_with_layers_;  // per object layer: layers it collides with
   StripedGate modification_gate_;
   std::atomic<std::size_t> body_count_{0};
   std::atomic<std::size_t> rebuilds_skipped_{0};

@@ -56,7 +56,8 @@ void TreeGenerations::Publish(const std::array<std::uint32_t, kMaxTrees>& roots,
   Record& next = records_[fresh];
   next.generation = next_generation_++;
   next.balance.store(0, std::memory_order_relaxed);
-  for (std::uint32_t tree = 0; tree < kMaxTrees; ++tree) next.roots[tree].store(roots[tree], std::memory_order_relaxed);
+  for (std::uint32_t tree = 0; tree < kMaxTrees; ++tree)
+    next.roots[tree].store(roots[tree], std::memory_order_relaxed);
   next.state.store(kCurrent, std::memory_order_relaxed);
 
   const auto old_record = static_cast<std::uint32_t>(current_.load(std::memory_order_relaxed) >> kCountBits);

@@ -47,7 +47,8 @@ class FixedSizeFreeList {
   std::uint32_t in_use() const { return in_use_.load(std::memory_order_relaxed); }
   /// Bytes of the blocks allocated so far (the pool never shrinks).
   std::size_t reserved_bytes() const {
-    return static_cast<std::size_t>(blocks_allocated_.load(std::memory_order_relaxed)) * kBlockSize * sizeof(T);
+    return static_cast<std::size_t>(blocks_allocated_.load(std::memory_order_relaxed)) * kBlockSize *
+           sizeof(T);
   }
 
   /// Promises `count` later Allocate calls will succeed; false (nothing reserved) when the pool is short.

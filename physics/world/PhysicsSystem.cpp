@@ -69,9 +69,9 @@ Status PhysicsSystemConfig::Validate() const {
     return MakeError(ErrorCode::kInvalidArgument, "body_mutex_count must be in [1, 4096]");
   if (thread_count < 0) return MakeError(ErrorCode::kInvalidArgument, "thread_count must be >= 0");
   if (!broad_phase && layers && layers->BroadPhaseLayerCount() > QuadTreeBroadPhase::kMaxBroadPhaseLayers)
-    return MakeError(ErrorCode::kInvalidArgument, "the quad-tree broad phase supports at most " +
-                                                      std::to_string(QuadTreeBroadPhase::kMaxBroadPhaseLayers) +
-                                                      " broad-phase layers");
+    return MakeError(ErrorCode::kInvalidArgument,
+                     "the quad-tree broad phase supports at most " +
+                         std::to_string(QuadTreeBroadPhase::kMaxBroadPhaseLayers) + " broad-phase layers");
   if (layers && layers->BroadPhaseLayerCount() == 0)
     return MakeError(ErrorCode::kInvalidArgument, "the layer setup needs at least one broad-phase layer");
   return Status::Ok();

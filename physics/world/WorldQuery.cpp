@@ -60,7 +60,8 @@ Result<std::optional<RayCastHit>> WorldQuery::CastRay(const Vec3& origin, const 
       const std::optional<BodySnapshot> body = Snapshot(bodies_, id);
       if (!body) return;
       const auto hit = CastAgainst(*body, id, origin_, direction_, early_out_fraction());
-      if (!hit || (best && (hit->fraction > best->fraction || (hit->fraction == best->fraction && hit->body > best->body))))
+      if (!hit || (best && (hit->fraction > best->fraction ||
+                            (hit->fraction == best->fraction && hit->body > best->body))))
         return;
       best = hit;
       SetEarlyOutFraction(hit->fraction);

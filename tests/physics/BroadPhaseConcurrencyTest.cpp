@@ -106,11 +106,13 @@ void BroadPhaseUnderConcurrentChange(int workers, int iterations) {
         if (!broad_phase.UpdateBody(body.id, body.bounds).ok()) violations.Report("move failed");
         std::vector<BodyID> found;
         broad_phase.CollideAABB(body.bounds, {}, found);
-        if (!Contains(found, body.id)) violations.Report("a moved body was missed by a box query of its bounds");
+        if (!Contains(found, body.id))
+          violations.Report("a moved body was missed by a box query of its bounds");
         const Vec3 center = body.bounds.Center();
         std::vector<BroadPhaseRayHit> hits;
         broad_phase.CastRay(center + Vec3(0, 50, 0), Vec3(0, -100, 0), {}, hits);
-        if (std::none_of(hits.begin(), hits.end(), [&](const BroadPhaseRayHit& h) { return h.id == body.id; }))
+        if (std::none_of(hits.begin(), hits.end(),
+                         [&](const BroadPhaseRayHit& h) { return h.id == body.id; }))
           violations.Report("a moved body was missed by a ray through it");
         found.clear();
         broad_phase.CollideSphere(center, 0.1f, {}, found);
@@ -186,7 +188,8 @@ void WorldUnderConcurrentChange(int workers, int iterations) {
   auto world = std::move(*PhysicsSystem::Create(config));
   Add(*world, Static(Box(300, 1, 300), Vec3(0, -1, 0)));
   std::vector<BodyID> rolling;
-  for (int i = 0; i < 20; ++i) rolling.push_back(Add(*world, Dynamic(Sphere(0.5f), Vec3(float(i) * 3 - 30, 2, 0))));
+  for (int i = 0; i < 20; ++i)
+    rolling.push_back(Add(*world, Dynamic(Sphere(0.5f), Vec3(float(i) * 3 - 30, 2, 0))));
   Violations violations;
   std::atomic<bool> stop{false};
   std::atomic<int> in_world{21};
@@ -210,7 +213,8 @@ void WorldUnderConcurrentChange(int workers, int iterations) {
           batch_ids.push_back(*id);
         }
         Result<BodyAddBatch> batch = bodies.AddBodiesPrepare(batch_ids);
-        if (!batch.ok() || !bodies.AddBodiesFinalize(*batch).ok()) return violations.Report("batch add failed");
+        if (!batch.ok() || !bodies.AddBodiesFinalize(*batch).ok())
+          return violations.Report("batch add failed");
         present.insert(present.end(), batch_ids.begin(), batch_ids.end());
         in_world.fetch_add(static_cast<int>(batch_ids.size()));
       } else if (kind == 1 && !present.empty()) {
@@ -221,18 +225,22 @@ void WorldUnderConcurrentChange(int workers, int iterations) {
         present.erase(present.begin() + static_cast<std::ptrdiff_t>(pick));
         in_world.fetch_sub(1);
         const auto found = world->query().CollideAABB(bounds);
-        if (!found.ok() || Contains(*found, id)) violations.Report("a removed body was returned after removal");
+        if (!found.ok() || Contains(*found, id))
+          violations.Report("a removed body was returned after removal");
       } else if (kind <= 3 && !present.empty()) {
         const BodyID id = present[random() % present.size()];
         const Vec3 target(coordinate(random), 4.0f, coordinate(random));
         if (!bodies.SetPosition(id, target).ok()) violations.Report("teleport failed");
         const auto found = world->query().CollideAABB(*bodies.GetWorldBounds(id));
-        if (!found.ok() || !Contains(*found, id)) violations.Report("a teleported body was missed at its new bounds");
+        if (!found.ok() || !Contains(*found, id))
+          violations.Report("a teleported body was missed at its new bounds");
         const auto hits = world->query().CastRayAll(target + Vec3(0, 20, 0), Vec3(0, -40, 0));
-        if (!hits.ok() || std::none_of(hits->begin(), hits->end(), [&](const RayCastHit& h) { return h.body == id; }))
+        if (!hits.ok() ||
+            std::none_of(hits->begin(), hits->end(), [&](const RayCastHit& h) { return h.body == id; }))
           violations.Report("a ray through a teleported body missed it");
       } else {
-        const auto hits = world->query().CastRayAll(Vec3(coordinate(random), 30, coordinate(random)), Vec3(0, -60, 0));
+        const auto hits =
+            world->query().CastRayAll(Vec3(coordinate(random), 30, coordinate(random)), Vec3(0, -60, 0));
         if (!hits.ok() || hits->empty()) violations.Report("a ray down onto the floor hit nothing");
       }
     }

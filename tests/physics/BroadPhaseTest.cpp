@@ -88,7 +88,8 @@ void ExpectQueriesMatch(const BroadPhase& broad_phase, const Model& model, std::
     std::map<std::uint32_t, float> found, expected;
     for (const BroadPhaseRayHit& hit : ray_hits) found[hit.id.index] = hit.fraction;
     for (const auto& [index, entry] : model)
-      if (const float t = entry.bounds.RayEntry(origin, SafeInverse(direction), 1.0f); t >= 0.0f) expected[index] = t;
+      if (const float t = entry.bounds.RayEntry(origin, SafeInverse(direction), 1.0f); t >= 0.0f)
+        expected[index] = t;
     EXPECT_EQ(found, expected);
   }
   const AABB swept = AABB::FromCenterHalfExtents(origin, Vec3(1.0f, 2.0f, 0.5f));
@@ -146,7 +147,8 @@ TEST_P(BroadPhaseOracle, RandomOperationsMatchDirectComputation) {
         continue;
       }
       ASSERT_TRUE(broad_phase->AddBodiesFinalize(*batch).ok());
-      for (std::size_t i = 0; i < ids.size(); ++i) model[ids[i].index] = {ids[i].generation, bounds[i], layers[i]};
+      for (std::size_t i = 0; i < ids.size(); ++i)
+        model[ids[i].index] = {ids[i].generation, bounds[i], layers[i]};
     } else if (kind == 2) {  // single add
       const std::vector<std::uint32_t> picked = absent_indices(1);
       if (picked.empty()) continue;
@@ -158,7 +160,8 @@ TEST_P(BroadPhaseOracle, RandomOperationsMatchDirectComputation) {
       std::vector<BodyID> ids;
       for (std::size_t n = 1 + random() % 3; n > 0 && !model.empty(); --n) {
         auto it = std::next(model.begin(), static_cast<std::ptrdiff_t>(random() % model.size()));
-        if (std::find(ids.begin(), ids.end(), BodyID{it->first, it->second.generation}) != ids.end()) continue;
+        if (std::find(ids.begin(), ids.end(), BodyID{it->first, it->second.generation}) != ids.end())
+          continue;
         ids.push_back({it->first, it->second.generation});
       }
       ASSERT_TRUE(broad_phase->RemoveBodies(ids).ok());
@@ -181,8 +184,8 @@ TEST_P(BroadPhaseOracle, RandomOperationsMatchDirectComputation) {
 INSTANTIATE_TEST_SUITE_P(BothBroadPhases, BroadPhaseOracle,
                          ::testing::Combine(::testing::Bool(), ::testing::Values(11u, 12u, 13u)),
                          [](const auto& test_info) {
-                           return std::string(std::get<0>(test_info.param) ? "QuadTree" : "BruteForce") + "_seed" +
-                                  std::to_string(std::get<1>(test_info.param));
+                           return std::string(std::get<0>(test_info.param) ? "QuadTree" : "BruteForce") +
+                                  "_seed" + std::to_string(std::get<1>(test_info.param));
                          });
 
 // A snapshot of everything a query can see, to check that rejected calls change nothing.
@@ -210,17 +213,19 @@ TEST_P(BroadPhaseBadInput, RejectedCallsLeaveTheTreeUnchanged) {
   EXPECT_EQ(broad_phase->AddBody(c, inverted, layers::kMoving).error().code, ErrorCode::kInvalidArgument);
   EXPECT_EQ(broad_phase->AddBody(c, not_a_number, layers::kMoving).error().code, ErrorCode::kInvalidArgument);
   EXPECT_EQ(broad_phase->AddBody(c, unit, 7).error().code, ErrorCode::kInvalidArgument);  // no such layer
-  EXPECT_EQ(broad_phase->AddBody(a, unit, layers::kMoving).error().code, ErrorCode::kInvalidState);  // present
+  EXPECT_EQ(broad_phase->AddBody(a, unit, layers::kMoving).error().code,
+            ErrorCode::kInvalidState);  // present
   EXPECT_EQ(broad_phase->UpdateBody(a, not_a_number).error().code, ErrorCode::kInvalidArgument);
   EXPECT_EQ(broad_phase->UpdateBody(a, inverted).error().code, ErrorCode::kInvalidArgument);
   EXPECT_EQ(broad_phase->UpdateBody(c, unit).error().code, ErrorCode::kInvalidState);  // never added
-  EXPECT_FALSE(broad_phase->UpdateBody({1, 2}, unit).ok());                             // stale generation
+  EXPECT_FALSE(broad_phase->UpdateBody({1, 2}, unit).ok());                            // stale generation
   EXPECT_FALSE(broad_phase->RemoveBody(BodyID{}).ok());
   // A batch naming a body twice, or a present body, claims nothing.
   const std::vector<BodyID> twice{c, c};
   const std::vector<AABB> two_bounds{unit, unit};
   const std::vector<ObjectLayer> two_layers{layers::kMoving, layers::kMoving};
-  EXPECT_EQ(broad_phase->AddBodiesPrepare(twice, two_bounds, two_layers).error().code, ErrorCode::kInvalidArgument);
+  EXPECT_EQ(broad_phase->AddBodiesPrepare(twice, two_bounds, two_layers).error().code,
+            ErrorCode::kInvalidArgument);
   const std::vector<BodyID> with_present{c, a};
   EXPECT_EQ(broad_phase->AddBodiesPrepare(with_present, two_bounds, two_layers).error().code,
             ErrorCode::kInvalidState);
@@ -288,8 +293,9 @@ TEST_P(BroadPhaseBadInput, BatchFinalizesOnceAndAbortReleasesItsBodies) {
   EXPECT_TRUE(foreign->prepared());
 }
 
-INSTANTIATE_TEST_SUITE_P(BothBroadPhases, BroadPhaseBadInput, ::testing::Bool(),
-                         [](const auto& test_info) { return std::string(test_info.param ? "QuadTree" : "BruteForce"); });
+INSTANTIATE_TEST_SUITE_P(BothBroadPhases, BroadPhaseBadInput, ::testing::Bool(), [](const auto& test_info) {
+  return std::string(test_info.param ? "QuadTree" : "BruteForce");
+});
 
 TEST(QuadTreeBroadPhase, ManySingleAddsDegradeThenRebuildAndStayCorrect) {
   QuadTreeBroadPhase broad_phase(kCapacity, std::make_shared<DefaultLayerSetup>());
@@ -298,7 +304,8 @@ TEST(QuadTreeBroadPhase, ManySingleAddsDegradeThenRebuildAndStayCorrect) {
   std::uniform_real_distribution<float> position(-50.0f, 50.0f);
   // 300 single adds stack new roots; queries must still see everything, before and after a rebuild.
   for (std::uint32_t i = 0; i < 300; ++i) {
-    const AABB box = AABB::FromCenterHalfExtents(Vec3(position(random), 0, position(random)), Vec3::Constant(0.5f));
+    const AABB box =
+        AABB::FromCenterHalfExtents(Vec3(position(random), 0, position(random)), Vec3::Constant(0.5f));
     ASSERT_TRUE(broad_phase.AddBody({i, 1}, box, layers::kMoving).ok());
     model[i] = {1, box, layers::kMoving};
   }
@@ -306,7 +313,7 @@ TEST(QuadTreeBroadPhase, ManySingleAddsDegradeThenRebuildAndStayCorrect) {
   EXPECT_GT(broad_phase.stats().max_depth, 50u);  // a chain of roots, three bodies each
   broad_phase.Update();
   ExpectQueriesMatch(broad_phase, model, random);
-  EXPECT_LE(broad_phase.stats().max_depth, 6u);  // log4(300) ~ 4.1, plus uneven splits
+  EXPECT_LE(broad_phase.stats().max_depth, 6u);      // log4(300) ~ 4.1, plus uneven splits
   EXPECT_EQ(broad_phase.stats().retired_nodes, 0u);  // nobody pinned the old generation
 }
 
@@ -322,7 +329,9 @@ TEST(QuadTreeBroadPhase, StaticTreeIsNotRebuiltWhenOnlyDynamicBodiesMove) {
   broad_phase.Update();
   EXPECT_EQ(broad_phase.stats().generation, generation) << "nothing changed, so no new generation";
   const BroadPhasePin pin = broad_phase.Pin();
-  ASSERT_TRUE(broad_phase.UpdateBody({95, 1}, AABB::FromCenterHalfExtents(Vec3(95, 1, 0), Vec3::Constant(0.5f))).ok());
+  ASSERT_TRUE(
+      broad_phase.UpdateBody({95, 1}, AABB::FromCenterHalfExtents(Vec3(95, 1, 0), Vec3::Constant(0.5f)))
+          .ok());
   broad_phase.Update();
   EXPECT_EQ(broad_phase.stats().generation, generation + 1);
   // Only the dynamic tree's changed path was dropped: a handful of nodes, not the static tree's 90 bodies.
@@ -339,7 +348,8 @@ TEST(QuadTreeBroadPhase, PinHeldForAHundredStepsKeepsNodesAliveThenGivesThemBack
   Add(*world, Static(Box(100, 1, 100), Vec3(0, -1, 0)));
   std::vector<BodyID> dynamic;
   for (int i = 0; i < 60; ++i)
-    dynamic.push_back(Add(*world, Dynamic(Box(0.4f, 0.4f, 0.4f), Vec3(float(i % 10) * 2 - 10, 1 + float(i / 10) * 2, 0))));
+    dynamic.push_back(
+        Add(*world, Dynamic(Box(0.4f, 0.4f, 0.4f), Vec3(float(i % 10) * 2 - 10, 1 + float(i / 10) * 2, 0))));
   ASSERT_TRUE(world->Step(1.0f / 60.0f).ok());
   const BroadPhase& broad_phase = world->broad_phase();
   const std::size_t nodes_unpinned = broad_phase.stats().nodes_in_use;
@@ -355,12 +365,14 @@ TEST(QuadTreeBroadPhase, PinHeldForAHundredStepsKeepsNodesAliveThenGivesThemBack
   std::size_t most_retired = 0;
   for (int step = 0; step < 100; ++step) {
     // Add, remove and move bodies, then step (which rebuilds and swaps generations).
-    if (step % 3 == 0) dynamic.push_back(Add(*world, Dynamic(Sphere(0.3f), Vec3(float(random() % 20) - 10, 5, 3))));
+    if (step % 3 == 0)
+      dynamic.push_back(Add(*world, Dynamic(Sphere(0.3f), Vec3(float(random() % 20) - 10, 5, 3))));
     if (step % 4 == 0 && dynamic.size() > 10) {
       ASSERT_TRUE(bodies.RemoveAndDestroyBody(dynamic.front()).ok());
       dynamic.erase(dynamic.begin());
     }
-    ASSERT_TRUE(bodies.SetPosition(dynamic[random() % dynamic.size()], Vec3(float(random() % 20) - 10, 8, -3)).ok());
+    ASSERT_TRUE(
+        bodies.SetPosition(dynamic[random() % dynamic.size()], Vec3(float(random() % 20) - 10, 8, -3)).ok());
     ASSERT_TRUE(world->Step(1.0f / 60.0f).ok());
     CountingCollector collector;
     broad_phase.CollideAABB(pin, AABB(Vec3::Constant(-200), Vec3::Constant(200)), {}, collector);

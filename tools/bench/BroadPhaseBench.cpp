@@ -25,7 +25,8 @@ double MicrosecondsSince(Clock::time_point start) {
 
 double Median(std::vector<double> values) {
   if (values.empty()) return 0.0;
-  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2), values.end());
+  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2),
+                   values.end());
   return values[values.size() / 2];
 }
 
@@ -64,14 +65,17 @@ QueryTimes TimeQueries(const BroadPhase& broad_phase, const QuerySet& queries) {
   CountingCollector short_rays;
   start = Clock::now();
   for (std::size_t i = 0; i < queries.ray_origins.size(); ++i)
-    broad_phase.CastRay(broad_phase.Pin(), queries.ray_origins[i], queries.ray_directions_10m[i], {}, short_rays);
+    broad_phase.CastRay(broad_phase.Pin(), queries.ray_origins[i], queries.ray_directions_10m[i], {},
+                        short_rays);
   times.ray_10m_us = MicrosecondsSince(start) / static_cast<double>(queries.ray_origins.size());
   CountingCollector long_rays;
   start = Clock::now();
   for (std::size_t i = 0; i < queries.ray_origins.size(); ++i)
-    broad_phase.CastRay(broad_phase.Pin(), queries.ray_origins[i], queries.ray_directions_100m[i], {}, long_rays);
+    broad_phase.CastRay(broad_phase.Pin(), queries.ray_origins[i], queries.ray_directions_100m[i], {},
+                        long_rays);
   times.ray_100m_us = MicrosecondsSince(start) / static_cast<double>(queries.ray_origins.size());
-  times.hits_per_100m_ray = static_cast<double>(long_rays.hits) / static_cast<double>(queries.ray_origins.size());
+  times.hits_per_100m_ray =
+      static_cast<double>(long_rays.hits) / static_cast<double>(queries.ray_origins.size());
   return times;
 }
 
@@ -126,7 +130,8 @@ BroadPhaseFigures MeasureStrata(const OpenWorld& world, const QuerySet& queries)
     std::vector<BodyID> ids;
     std::vector<AABB> bounds;
     std::vector<ObjectLayer> layers;
-    for (const std::uint32_t i : tile) ids.push_back(id_of(i)), bounds.push_back(world.bounds[i]), layers.push_back(world.layers[i]);
+    for (const std::uint32_t i : tile)
+      ids.push_back(id_of(i)), bounds.push_back(world.bounds[i]), layers.push_back(world.layers[i]);
     const auto start = Clock::now();
     Result<AddBatch> batch = broad_phase.AddBodiesPrepare(ids, bounds, layers);
     prepare_us += MicrosecondsSince(start);
@@ -171,7 +176,8 @@ BroadPhaseFigures MeasureStrata(const OpenWorld& world, const QuerySet& queries)
   {
     std::vector<AABB> bounds;
     std::vector<ObjectLayer> layers;
-    for (const BodyID id : victims) bounds.push_back(world.bounds[id.index]), layers.push_back(world.layers[id.index]);
+    for (const BodyID id : victims)
+      bounds.push_back(world.bounds[id.index]), layers.push_back(world.layers[id.index]);
     Result<AddBatch> batch = broad_phase.AddBodiesPrepare(victims, bounds, layers);
     (void)broad_phase.AddBodiesFinalize(*batch);
     broad_phase.Optimize();
@@ -199,7 +205,8 @@ BroadPhaseFigures MeasureStrata(const OpenWorld& world, const QuerySet& queries)
   broad_phase.Optimize();
 
   const QueryTimes idle = TimeQueries(broad_phase, queries);
-  figures.aabb_query_us = idle.aabb_us, figures.ray_10m_us = idle.ray_10m_us, figures.ray_100m_us = idle.ray_100m_us;
+  figures.aabb_query_us = idle.aabb_us, figures.ray_10m_us = idle.ray_10m_us,
+  figures.ray_100m_us = idle.ray_100m_us;
   figures.hits_per_block = idle.hits_per_block, figures.hits_per_100m_ray = idle.hits_per_100m_ray;
 
   // The same queries while two threads remove, re-add (as batches) and move their own dynamic bodies.
@@ -246,8 +253,8 @@ BroadPhaseFigures MeasureStrata(const OpenWorld& world, const QuerySet& queries)
   return figures;
 }
 
-GameObjectFigures MeasureGameObjectUpdate(const OpenWorld& world, int threads, std::uint32_t mutexes, int frames,
-                                          double work_us) {
+GameObjectFigures MeasureGameObjectUpdate(const OpenWorld& world, int threads, std::uint32_t mutexes,
+                                          int frames, double work_us) {
   GameObjectFigures figures;
   figures.threads = threads;
   figures.mutexes = mutexes;
@@ -285,7 +292,8 @@ GameObjectFigures MeasureGameObjectUpdate(const OpenWorld& world, int threads, s
   Clock::time_point frame_start;
   std::barrier sync(threads, [&]() noexcept {
     const auto now = Clock::now();
-    if (frame_start != Clock::time_point{}) frame_ms.push_back(std::chrono::duration<double, std::milli>(now - frame_start).count());
+    if (frame_start != Clock::time_point{})
+      frame_ms.push_back(std::chrono::duration<double, std::milli>(now - frame_start).count());
     frame_start = now;
   });
   auto update = [&](int t) {
@@ -305,7 +313,8 @@ GameObjectFigures MeasureGameObjectUpdate(const OpenWorld& world, int threads, s
         (void)bodies.SetPosition(mine[k], position + Vec3(sway, 0, 0));
         if (k % 4 == 0) (void)system->query().CastRay(position + Vec3(0, 2, 0), Vec3(0, -10, 0));
       }
-      waits[static_cast<std::size_t>(t)].push_back(static_cast<double>(ThreadBodyLockWaitNanoseconds() - before) / 1000.0);
+      waits[static_cast<std::size_t>(t)].push_back(
+          static_cast<double>(ThreadBodyLockWaitNanoseconds() - before) / 1000.0);
       sync.arrive_and_wait();
     }
   };
@@ -315,7 +324,8 @@ GameObjectFigures MeasureGameObjectUpdate(const OpenWorld& world, int threads, s
   double total = 0.0;
   std::size_t count = 0;
   for (const auto& per_thread : waits)
-    for (const double wait : per_thread) total += wait, ++count, figures.max_lock_wait_us = std::max(figures.max_lock_wait_us, wait);
+    for (const double wait : per_thread)
+      total += wait, ++count, figures.max_lock_wait_us = std::max(figures.max_lock_wait_us, wait);
   figures.lock_wait_us_per_thread_frame = count ? total / static_cast<double>(count) : 0.0;
   figures.frame_ms = Median(frame_ms);
   return figures;

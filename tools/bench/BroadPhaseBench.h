@@ -16,7 +16,7 @@ namespace strata::bench {
 struct OpenWorld {
   std::vector<AABB> bounds;
   std::vector<ObjectLayer> layers;
-  std::vector<std::uint32_t> tile_of;            ///< tile index per body
+  std::vector<std::uint32_t> tile_of;             ///< tile index per body
   std::vector<std::vector<std::uint32_t>> tiles;  ///< body indices per tile
   AABB extent;
 };
@@ -48,7 +48,7 @@ struct BroadPhaseFigures {
   double aabb_query_busy_us = -1;  ///< while two other threads add, remove and move
   double ray_10m_busy_us = -1;
   double ray_100m_busy_us = -1;
-  double hits_per_block = 0;       ///< average bodies per 12.8 m block (a check that both engines agree)
+  double hits_per_block = 0;  ///< average bodies per 12.8 m block (a check that both engines agree)
   double hits_per_100m_ray = 0;
 };
 
@@ -66,12 +66,12 @@ struct GameObjectFigures {
   int threads = 0;
   std::uint32_t mutexes = 0;
   double work_us = 0;
-  double frame_ms = 0;                    ///< median wall time of a frame
+  double frame_ms = 0;                       ///< median wall time of a frame
   double lock_wait_us_per_thread_frame = 0;  ///< mean over threads and frames
-  double max_lock_wait_us = 0;            ///< worst thread-frame
+  double max_lock_wait_us = 0;               ///< worst thread-frame
 };
 /// `work_us` of busy work per object stands in for its game logic (outside any lock).
-GameObjectFigures MeasureGameObjectUpdate(const OpenWorld& world, int threads, std::uint32_t mutexes, int frames,
-                                          double work_us);
+GameObjectFigures MeasureGameObjectUpdate(const OpenWorld& world, int threads, std::uint32_t mutexes,
+                                          int frames, double work_us);
 
 }  // namespace strata::bench

@@ -38,7 +38,8 @@ class CountingRayCallback final : public btBroadphaseRayCallback {
     btVector3 direction = to - from;
     direction.normalize();
     for (int axis = 0; axis < 3; ++axis) {
-      m_rayDirectionInverse[axis] = direction[axis] == btScalar(0.0) ? btScalar(BT_LARGE_FLOAT) : btScalar(1.0) / direction[axis];
+      m_rayDirectionInverse[axis] =
+          direction[axis] == btScalar(0.0) ? btScalar(BT_LARGE_FLOAT) : btScalar(1.0) / direction[axis];
       m_signs[axis] = m_rayDirectionInverse[axis] < 0.0 ? 1 : 0;
     }
     m_lambda_max = direction.dot(to - from);
@@ -61,11 +62,12 @@ BroadPhaseFigures MeasureBullet(const OpenWorld& world, const QuerySet& queries)
   std::vector<btBroadphaseProxy*> proxies(body_count + 10000, nullptr);
   auto create = [&](std::size_t i, const AABB& bounds, ObjectLayer layer) {
     const bool is_static = layer == layers::kNonMoving;
-    proxies[i] = broad_phase.createProxy(ToBullet(bounds.min), ToBullet(bounds.max), BOX_SHAPE_PROXYTYPE, nullptr,
-                                         is_static ? int(btBroadphaseProxy::StaticFilter) : int(btBroadphaseProxy::DefaultFilter),
-                                         is_static ? int(btBroadphaseProxy::AllFilter ^ btBroadphaseProxy::StaticFilter)
-                                                   : int(btBroadphaseProxy::AllFilter),
-                                         &dispatcher);
+    proxies[i] = broad_phase.createProxy(
+        ToBullet(bounds.min), ToBullet(bounds.max), BOX_SHAPE_PROXYTYPE, nullptr,
+        is_static ? int(btBroadphaseProxy::StaticFilter) : int(btBroadphaseProxy::DefaultFilter),
+        is_static ? int(btBroadphaseProxy::AllFilter ^ btBroadphaseProxy::StaticFilter)
+                  : int(btBroadphaseProxy::AllFilter),
+        &dispatcher);
   };
   // Bullet has no batch insertion: the streamed tiles go in one createProxy at a time.
   auto start = Clock::now();
@@ -87,14 +89,17 @@ BroadPhaseFigures MeasureBullet(const OpenWorld& world, const QuerySet& queries)
       for (int i = 0; i < size; ++i)
         bounds.push_back(AABB::FromCenterHalfExtents(Vec3(x(random), 2.0f, z(random)), Vec3::Constant(0.5f)));
       start = Clock::now();
-      for (int i = 0; i < size; ++i) create(body_count + static_cast<std::size_t>(i), bounds[static_cast<std::size_t>(i)], layers::kMoving);
+      for (int i = 0; i < size; ++i)
+        create(body_count + static_cast<std::size_t>(i), bounds[static_cast<std::size_t>(i)],
+               layers::kMoving);
       samples.push_back(MicrosecondsSince(start));
       for (int i = 0; i < size; ++i) {
         broad_phase.destroyProxy(proxies[body_count + static_cast<std::size_t>(i)], &dispatcher);
         proxies[body_count + static_cast<std::size_t>(i)] = nullptr;
       }
     }
-    std::nth_element(samples.begin(), samples.begin() + static_cast<std::ptrdiff_t>(samples.size() / 2), samples.end());
+    std::nth_element(samples.begin(), samples.begin() + static_cast<std::ptrdiff_t>(samples.size() / 2),
+                     samples.end());
     figures.finalize_us.push_back(samples[samples.size() / 2]);
   }
 
@@ -115,7 +120,8 @@ BroadPhaseFigures MeasureBullet(const OpenWorld& world, const QuerySet& queries)
     for (std::size_t k = 0; k < 600; ++k) {
       const std::size_t i = dynamic[(static_cast<std::size_t>(round) * 600 + k * 7) % dynamic.size()];
       const Vec3 nudge(0.05f * static_cast<float>(round % 3), -0.1f, 0.05f);
-      broad_phase.setAabb(proxies[i], ToBullet(world.bounds[i].min + nudge), ToBullet(world.bounds[i].max + nudge), &dispatcher);
+      broad_phase.setAabb(proxies[i], ToBullet(world.bounds[i].min + nudge),
+                          ToBullet(world.bounds[i].max + nudge), &dispatcher);
     }
     move_samples.push_back(MicrosecondsSince(start) / 600.0);
   }
@@ -125,21 +131,24 @@ BroadPhaseFigures MeasureBullet(const OpenWorld& world, const QuerySet& queries)
 
   CountingAabbCallback blocks;
   start = Clock::now();
-  for (const AABB& block : queries.blocks) broad_phase.aabbTest(ToBullet(block.min), ToBullet(block.max), blocks);
+  for (const AABB& block : queries.blocks)
+    broad_phase.aabbTest(ToBullet(block.min), ToBullet(block.max), blocks);
   figures.aabb_query_us = MicrosecondsSince(start) / static_cast<double>(queries.blocks.size());
   figures.hits_per_block = static_cast<double>(blocks.hits) / static_cast<double>(queries.blocks.size());
   for (const bool long_ray : {false, true}) {
     std::size_t hits = 0;
     start = Clock::now();
     for (std::size_t i = 0; i < queries.ray_origins.size(); ++i) {
-      const Vec3 to = queries.ray_origins[i] + (long_ray ? queries.ray_directions_100m[i] : queries.ray_directions_10m[i]);
+      const Vec3 to = queries.ray_origins[i] +
+                      (long_ray ? queries.ray_directions_100m[i] : queries.ray_directions_10m[i]);
       CountingRayCallback callback(ToBullet(queries.ray_origins[i]), ToBullet(to));
       broad_phase.rayTest(ToBullet(queries.ray_origins[i]), ToBullet(to), callback);
       hits += callback.hits;
     }
     const double per_ray = MicrosecondsSince(start) / static_cast<double>(queries.ray_origins.size());
     (long_ray ? figures.ray_100m_us : figures.ray_10m_us) = per_ray;
-    if (long_ray) figures.hits_per_100m_ray = static_cast<double>(hits) / static_cast<double>(queries.ray_origins.size());
+    if (long_ray)
+      figures.hits_per_100m_ray = static_cast<double>(hits) / static_cast<double>(queries.ray_origins.size());
   }
   for (btBroadphaseProxy* proxy : proxies)
     if (proxy != nullptr) broad_phase.destroyProxy(proxy, &dispatcher);

@@ -1,5 +1,6 @@
-// `strata bench-broadphase`: the streamed open-world broad-phase benchmark (see tools/bench/BroadPhaseBench.h),
-// Bullet's DBVT side by side when built with it, then the game-object update with 1 vs 32 body mutexes.
+// `strata bench-broadphase`: the streamed open-world broad-phase benchmark (see
+// tools/bench/BroadPhaseBench.h), Bullet's DBVT side by side when built with it, then the game-object update
+// with 1 vs 32 body mutexes.
 #include <cstdio>
 #include <thread>
 
@@ -25,15 +26,16 @@ void Row(const char* what, double strata, double bullet, const char* unit) {
     std::printf("  %-44s %10.3f %-3s\n", what, strata, unit);
     return;
   }
-  std::printf("  %-44s %10.3f %-3s  bullet %10.3f %-3s  strata/bullet %.2fx\n", what, strata, unit, bullet, unit,
-              strata / bullet);
+  std::printf("  %-44s %10.3f %-3s  bullet %10.3f %-3s  strata/bullet %.2fx\n", what, strata, unit, bullet,
+              unit, strata / bullet);
 }
 
 int Run(const BroadPhaseBenchOptions& options) {
   const bench::OpenWorld world = bench::MakeOpenWorld(options.bodies, options.tiles, 42);
   const bench::QuerySet queries = bench::MakeQuerySet(world, options.queries, 7);
-  std::printf("broad phase: %d bodies in %d tiles of 256 m (%.0f x %.0f m), %d queries of each kind\n", options.bodies,
-              options.tiles, world.extent.Size().x(), world.extent.Size().z(), options.queries);
+  std::printf("broad phase: %d bodies in %d tiles of 256 m (%.0f x %.0f m), %d queries of each kind\n",
+              options.bodies, options.tiles, world.extent.Size().x(), world.extent.Size().z(),
+              options.queries);
   const bench::BroadPhaseFigures strata = bench::MeasureStrata(world, queries);
   bench::BroadPhaseFigures bullet;
 #ifdef STRATA_HAVE_BULLET
@@ -43,10 +45,12 @@ int Run(const BroadPhaseBenchOptions& options) {
 #endif
   const bool with_bullet = bullet.aabb_query_us >= 0.0;
   auto peer = [&](double value) { return with_bullet ? value : -1.0; };
-  Row("add: prepare per body (bullet: createProxy)", strata.prepare_per_body_us, peer(bullet.prepare_per_body_us), "us");
+  Row("add: prepare per body (bullet: createProxy)", strata.prepare_per_body_us,
+      peer(bullet.prepare_per_body_us), "us");
   for (std::size_t i = 0; i < strata.finalize_us.size(); ++i) {
     char label[64];
-    std::snprintf(label, sizeof(label), "add: finalize batch of %d (bullet: n x create)", bench::kBatchSizes[i]);
+    std::snprintf(label, sizeof(label), "add: finalize batch of %d (bullet: n x create)",
+                  bench::kBatchSizes[i]);
     Row(label, strata.finalize_us[i], with_bullet ? bullet.finalize_us[i] : -1.0, "us");
   }
   Row("remove one body", strata.remove_us, peer(bullet.remove_us), "us");
@@ -59,28 +63,34 @@ int Run(const BroadPhaseBenchOptions& options) {
   Row("AABB query, 2 threads add/remove/move (a)", strata.aabb_query_busy_us, -1.0, "us");
   Row("ray cast 10 m, 2 threads changing (a)", strata.ray_10m_busy_us, -1.0, "us");
   Row("ray cast 100 m, 2 threads changing (a)", strata.ray_100m_busy_us, -1.0, "us");
-  std::printf("  (a) per 16 ms frame each thread removes 100 bodies, streams them back in 10 batches and moves\n"
-              "      1000; one of them also rebuilds the tree each frame, as the physics step does\n");
-  std::printf("  bodies per block: strata %.2f%s; bodies per 100 m ray: strata %.2f%s\n", strata.hits_per_block,
-              with_bullet ? (" bullet " + std::to_string(bullet.hits_per_block)).c_str() : "", strata.hits_per_100m_ray,
+  std::printf(
+      "  (a) per 16 ms frame each thread removes 100 bodies, streams them back in 10 batches and moves\n"
+      "      1000; one of them also rebuilds the tree each frame, as the physics step does\n");
+  std::printf("  bodies per block: strata %.2f%s; bodies per 100 m ray: strata %.2f%s\n",
+              strata.hits_per_block,
+              with_bullet ? (" bullet " + std::to_string(bullet.hits_per_block)).c_str() : "",
+              strata.hits_per_100m_ray,
               with_bullet ? (" bullet " + std::to_string(bullet.hits_per_100m_ray)).c_str() : "");
 
   const int hardware = static_cast<int>(std::thread::hardware_concurrency());
   const int max_threads = options.max_threads > 0 ? options.max_threads : hardware;
-  std::printf("game-object update: each thread takes a range of the %zu kinematic bodies, reads and sets each\n"
-              "one's position and ray casts for every 4th, %d frames; lock wait = time blocked on body mutexes\n"
-              "(%d hardware threads); 'logic' = busy work per object outside locks\n",
-              static_cast<std::size_t>(std::count(world.layers.begin(), world.layers.end(), layers::kMoving)),
-              options.frames, hardware);
+  std::printf(
+      "game-object update: each thread takes a range of the %zu kinematic bodies, reads and sets each\n"
+      "one's position and ray casts for every 4th, %d frames; lock wait = time blocked on body mutexes\n"
+      "(%d hardware threads); 'logic' = busy work per object outside locks\n",
+      static_cast<std::size_t>(std::count(world.layers.begin(), world.layers.end(), layers::kMoving)),
+      options.frames, hardware);
   for (const double work_us : {0.0, options.object_work_us}) {
     for (int threads = 1; threads <= max_threads; threads *= 2) {
       for (const std::uint32_t mutexes : {1u, 32u}) {
         const bench::GameObjectFigures figures =
             bench::MeasureGameObjectUpdate(world, threads, mutexes, options.frames, work_us);
-        std::printf("  logic %3.1f us, %2d threads, %2u mutexes: frame %8.3f ms, lock wait per thread per frame %10.2f us"
-                    " (worst %10.2f us)\n",
-                    work_us, threads, mutexes, figures.frame_ms, figures.lock_wait_us_per_thread_frame,
-                    figures.max_lock_wait_us);
+        std::printf(
+            "  logic %3.1f us, %2d threads, %2u mutexes: frame %8.3f ms, lock wait per thread per frame "
+            "%10.2f us"
+            " (worst %10.2f us)\n",
+            work_us, threads, mutexes, figures.frame_ms, figures.lock_wait_us_per_thread_frame,
+            figures.max_lock_wait_us);
       }
     }
     if (options.object_work_us <= 0.0) break;
@@ -93,12 +103,16 @@ int Run(const BroadPhaseBenchOptions& options) {
 std::function<int()> AddBroadPhaseBenchCommand(CLI::App& app) {
   auto options = std::make_shared<BroadPhaseBenchOptions>();
   CLI::App* command = app.add_subcommand(
-      "bench-broadphase", "Broad-phase figures on a streamed open world (Bullet DBVT side by side), and body lock waits");
+      "bench-broadphase",
+      "Broad-phase figures on a streamed open world (Bullet DBVT side by side), and body lock waits");
   command->add_option("--bodies", options->bodies, "Bodies in the world")->check(CLI::Range(100, 1000000));
-  command->add_option("--tiles", options->tiles, "256 m tiles they are spread over")->check(CLI::Range(1, 1000));
+  command->add_option("--tiles", options->tiles, "256 m tiles they are spread over")
+      ->check(CLI::Range(1, 1000));
   command->add_option("--queries", options->queries, "Queries of each kind")->check(CLI::Range(1, 10000000));
-  command->add_option("--frames", options->frames, "Frames of the game-object update")->check(CLI::Range(1, 100000));
-  command->add_option("--max-threads", options->max_threads, "Most game-object threads (0 = hardware threads)")
+  command->add_option("--frames", options->frames, "Frames of the game-object update")
+      ->check(CLI::Range(1, 100000));
+  command
+      ->add_option("--max-threads", options->max_threads, "Most game-object threads (0 = hardware threads)")
       ->check(CLI::NonNegativeNumber);
   command->add_option("--object-work-us", options->object_work_us, "Game logic per object in the second run")
       ->check(CLI::Range(0.0, 1000.0));
