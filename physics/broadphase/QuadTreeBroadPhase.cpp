@@ -115,9 +115,10 @@ QuadTreeBroadPhase::QuadTreeBroadPhase(std::uint32_t max_bodies, std::shared_ptr
                                        std::uint32_t max_nodes)
     : max_bodies_(max_bodies),
       layers_(std::move(layers)),
-      // A tree over n bodies needs fewer than n/2 nodes; the rest is room for batches in flight, roots
-      // added by single inserts, and nodes that pinned old generations still hold.
-      pool_(max_nodes != 0 ? max_nodes : max_bodies + 4096),
+      // A tree over n bodies needs about n/3 nodes, but a full rebuild reserves up to n while the old tree
+      // still holds its own; the rest is room for batches in flight, roots added by single inserts, and
+      // nodes pinned old generations hold. Blocks are allocated on first use, so unused room costs little.
+      pool_(max_nodes != 0 ? max_nodes : 2 * max_bodies + 4096),
       locations_(max_bodies),
       trees_([&] {
         std::vector<QuadTree> trees;
@@ -287,11 +288,7 @@ Status QuadTreeBroadPhase::UpdateBody(BodyID id, const AABB& bounds) {
 }
 
 void QuadTreeBroadPhase::Rebuild(bool full) {
-  modification_gate_.Close();
-  struct Reopen {
-    StripedGate& gate;
-    ~Reopen() { gate.Open(); }
-  } reopen{modification_gate_};
+  const StripedGateClosure no_modifications(modification_gate_);
   auto free_node = [&](std::uint32_t node) { pool_.Free(node); };
   generations_.Reclaim(free_node);
   if (!generations_.CanPublish()) {

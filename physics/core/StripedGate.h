@@ -68,4 +68,16 @@ class StripedGatePass {
   StripedGate& gate_;
 };
 
+/// Keeps a StripedGate closed for the current scope.
+class StripedGateClosure {
+ public:
+  explicit StripedGateClosure(StripedGate& gate) : gate_(gate) { gate_.Close(); }
+  ~StripedGateClosure() { gate_.Open(); }
+  StripedGateClosure(const StripedGateClosure&) = delete;
+  StripedGateClosure& operator=(const StripedGateClosure&) = delete;
+
+ private:
+  StripedGate& gate_;
+};
+
 }  // namespace strata
