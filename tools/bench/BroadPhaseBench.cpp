@@ -321,12 +321,15 @@ GameObjectFigures MeasureGameObjectUpdate(const OpenWorld& world, int threads, s
   std::vector<std::thread> pool;
   for (int t = 0; t < threads; ++t) pool.emplace_back(update, t);
   for (std::thread& thread : pool) thread.join();
-  double total = 0.0;
-  std::size_t count = 0;
+  std::vector<double> all_waits;
   for (const auto& per_thread : waits)
-    for (const double wait : per_thread)
-      total += wait, ++count, figures.max_lock_wait_us = std::max(figures.max_lock_wait_us, wait);
-  figures.lock_wait_us_per_thread_frame = count ? total / static_cast<double>(count) : 0.0;
+    all_waits.insert(all_waits.end(), per_thread.begin(), per_thread.end());
+  double total = 0.0;
+  for (const double wait : all_waits)
+    total += wait, figures.max_lock_wait_us = std::max(figures.max_lock_wait_us, wait);
+  figures.lock_wait_us_per_thread_frame =
+      all_waits.empty() ? 0.0 : total / static_cast<double>(all_waits.size());
+  figures.median_lock_wait_us = Median(all_waits);
   figures.frame_ms = Median(frame_ms);
   return figures;
 }

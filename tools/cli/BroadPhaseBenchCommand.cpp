@@ -86,11 +86,11 @@ int Run(const BroadPhaseBenchOptions& options) {
         const bench::GameObjectFigures figures =
             bench::MeasureGameObjectUpdate(world, threads, mutexes, options.frames, work_us);
         std::printf(
-            "  logic %3.1f us, %2d threads, %2u mutexes: frame %8.3f ms, lock wait per thread per frame "
-            "%10.2f us"
-            " (worst %10.2f us)\n",
+            "  logic %3.1f us, %2d threads, %2u mutexes: frame %7.3f ms, lock wait per thread per frame: "
+            "mean "
+            "%9.2f us, median %9.2f us, worst %9.2f us\n",
             work_us, threads, mutexes, figures.frame_ms, figures.lock_wait_us_per_thread_frame,
-            figures.max_lock_wait_us);
+            figures.median_lock_wait_us, figures.max_lock_wait_us);
       }
     }
     if (options.object_work_us <= 0.0) break;
