@@ -56,6 +56,12 @@ AddBatch::~AddBatch() {
   if (prepared()) owner_->AddBodiesAbort(*this);
 }
 
+Status BroadPhase::AddBody(BodyID id, const AABB& bounds, ObjectLayer layer) {
+  Result<AddBatch> batch = AddBodiesPrepare({&id, 1}, {&bounds, 1}, {&layer, 1});
+  if (!batch) return batch.error();
+  return AddBodiesFinalize(*batch);
+}
+
 void BroadPhase::CollideAABB(const AABB& box, const QueryFilter& filter, std::vector<BodyID>& out) const {
   IdCollector collector(out);
   CollideAABB(Pin(), box, filter, collector);

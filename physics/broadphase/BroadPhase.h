@@ -121,8 +121,8 @@ class BroadPhase {
  public:
   virtual ~BroadPhase() = default;
 
-  /// Inserts one body (not yet present). Cheap to call, but a tree degrades until the next Update.
-  virtual Status AddBody(BodyID id, const AABB& bounds, ObjectLayer layer) = 0;
+  /// Inserts one body (not yet present): a batch of one. Cheap, but a tree degrades until the next Update.
+  Status AddBody(BodyID id, const AABB& bounds, ObjectLayer layer);
   /// Builds the structure for a batch on the caller's thread without touching anything shared (the bodies
   /// are claimed so nobody else adds them meanwhile). Fails, claiming nothing, on bad bounds or layers,
   /// a repeated id or a body already present or prepared.
@@ -134,7 +134,7 @@ class BroadPhase {
   /// Drops a prepared batch and releases its bodies' claims; a no-op for a batch that is not prepared.
   virtual void AddBodiesAbort(AddBatch& batch) = 0;
   /// Removes a present body.
-  virtual Status RemoveBody(BodyID id) = 0;
+  Status RemoveBody(BodyID id) { return RemoveBodies({&id, 1}); }
   /// Removes several present bodies; all are checked first, so either all go or none.
   virtual Status RemoveBodies(std::span<const BodyID> ids) = 0;
   /// New bounds for a present body. Concurrent calls for the same body are the caller's to avoid.

@@ -30,12 +30,6 @@ void BruteForceBroadPhase::Insert(BodyID id, const AABB& bounds, ObjectLayer lay
   max_x_.push_back(bounds.max.x()), max_y_.push_back(bounds.max.y()), max_z_.push_back(bounds.max.z());
 }
 
-Status BruteForceBroadPhase::AddBody(BodyID id, const AABB& bounds, ObjectLayer layer) {
-  Result<AddBatch> batch = AddBodiesPrepare({&id, 1}, {&bounds, 1}, {&layer, 1});
-  if (!batch) return batch.error();
-  return AddBodiesFinalize(*batch);
-}
-
 Result<AddBatch> BruteForceBroadPhase::AddBodiesPrepare(std::span<const BodyID> ids,
                                                         std::span<const AABB> bounds,
                                                         std::span<const ObjectLayer> layers) {
@@ -77,10 +71,6 @@ void BruteForceBroadPhase::AddBodiesAbort(AddBatch& batch) {
   const std::unique_ptr<AddBatch::State> taken = batch.TakeState();
   std::unique_lock lock(mutex_);
   for (const BodyID id : static_cast<const PreparedBatch&>(*taken).ids) prepared_[id.index] = 0;
-}
-
-Status BruteForceBroadPhase::RemoveBody(BodyID id) {
-  return RemoveBodies({&id, 1});
 }
 
 Status BruteForceBroadPhase::RemoveBodies(std::span<const BodyID> ids) {

@@ -15,12 +15,10 @@ class BruteForceBroadPhase final : public BroadPhase {
  public:
   BruteForceBroadPhase(std::uint32_t capacity, std::shared_ptr<const LayerSetup> layers);
 
-  Status AddBody(BodyID id, const AABB& bounds, ObjectLayer layer) override;
   Result<AddBatch> AddBodiesPrepare(std::span<const BodyID> ids, std::span<const AABB> bounds,
                                     std::span<const ObjectLayer> layers) override;
   Status AddBodiesFinalize(AddBatch& batch) override;
   void AddBodiesAbort(AddBatch& batch) override;
-  Status RemoveBody(BodyID id) override;
   Status RemoveBodies(std::span<const BodyID> ids) override;
   Status UpdateBody(BodyID id, const AABB& bounds) override;
   bool Contains(BodyID id) const override;

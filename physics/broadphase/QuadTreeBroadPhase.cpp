@@ -163,12 +163,6 @@ bool QuadTreeBroadPhase::Contains(BodyID id) const {
   return CheckPresent(id).ok();
 }
 
-Status QuadTreeBroadPhase::AddBody(BodyID id, const AABB& bounds, ObjectLayer layer) {
-  Result<AddBatch> batch = AddBodiesPrepare({&id, 1}, {&bounds, 1}, {&layer, 1});
-  if (!batch) return batch.error();
-  return AddBodiesFinalize(*batch);
-}
-
 Result<AddBatch> QuadTreeBroadPhase::AddBodiesPrepare(std::span<const BodyID> ids,
                                                       std::span<const AABB> bounds,
                                                       std::span<const ObjectLayer> layers) {
@@ -250,10 +244,6 @@ void QuadTreeBroadPhase::AddBodiesAbort(AddBatch& batch) {
     locations_[body].node.store(QuadTree::kInvalid, kRelaxed);
     locations_[body].claimed.store(0, std::memory_order_release);
   }
-}
-
-Status QuadTreeBroadPhase::RemoveBody(BodyID id) {
-  return RemoveBodies({&id, 1});
 }
 
 Status QuadTreeBroadPhase::RemoveBodies(std::span<const BodyID> ids) {
