@@ -1,0 +1,302 @@
+#include "navmesh/NavMesh.h"
+
+#include <DetourAlloc.h>
+
+#include <bit>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <map>
+#include <mutex>
+#include <string>
+
+namespace strata::navmesh {
+
+namespace {
+
+// RecastDemo's tiled navmesh set file: a set header, then per tile a tile header and the tile's bytes.
+constexpr std::int32_t kSetMagic = 'M' << 24 | 'S' << 16 | 'E' << 8 | 'T';
+constexpr std::int32_t kSetVersion = 1;
+
+struct SetHeader {
+  std::int32_t magic;
+  std::int32_t version;
+  std::int32_t tile_count;
+  dtNavMeshParams params;
+};
+struct SetTileHeader {
+  dtTileRef ref;
+  std::int32_t size;
+};
+static_assert(sizeof(SetHeader) == 40 && sizeof(SetTileHeader) == 8, "must match RecastDemo's layout");
+
+Error FileError(const std::filesystem::path& path, const std::string& why) {
+  return MakeError(ErrorCode::kParseError, path.string() + ": " + why);
+}
+
+/// Calls `function(const dtMeshTile&)` for every tile that holds data.
+template <class Function>
+void ForEachTile(const dtNavMesh& mesh, Function&& function) {
+  for (int i = 0; i < mesh.getMaxTiles(); ++i) {
+    const dtMeshTile* tile = mesh.getTile(i);
+    if (tile && tile->header && tile->dataSize > 0) function(*tile);
+  }
+}
+
+constexpr int Align4(int bytes) {
+  return (bytes + 3) & ~3;
+}
+
+/// The size dtCreateNavMeshData gives a tile with these counts.
+long ExpectedTileSize(const dtMeshHeader& header) {
+  const auto bytes = [](std::size_t element, int count) {
+    return static_cast<long>(Align4(static_cast<int>(element) * count));
+  };
+  return bytes(sizeof(dtMeshHeader), 1) + bytes(sizeof(float) * 3, header.vertCount) +
+         bytes(sizeof(dtPoly), header.polyCount) + bytes(sizeof(dtLink), header.maxLinkCount) +
+         bytes(sizeof(dtPolyDetail), header.detailMeshCount) +
+         bytes(sizeof(float) * 3, header.detailVertCount) + bytes(4, header.detailTriCount) +
+         bytes(sizeof(dtBVNode), header.bvNodeCount) +
+         bytes(sizeof(dtOffMeshConnection), header.offMeshConCount);
+}
+
+/// Checks that a tile's counts, indices and sizes agree, so Detour never reads outside the tile.
+bool TileIsConsistent(std::span<const unsigned char> bytes) {
+  if (bytes.size() < sizeof(dtMeshHeader)) return false;
+  dtMeshHeader header;
+  std::memcpy(&header, bytes.data(), sizeof(header));
+  if (header.magic != DT_NAVMESH_MAGIC || header.version != DT_NAVMESH_VERSION) return false;
+  const int counts[] = {header.vertCount,       header.polyCount,       header.maxLinkCount,
+                        header.detailMeshCount, header.detailVertCount, header.detailTriCount,
+                        header.bvNodeCount,     header.offMeshConCount};
+  for (const int count : counts)
+    if (count < 0 || count > (1 << 24)) return false;
+  if (ExpectedTileSize(header) != static_cast<long>(bytes.size())) return false;
+  if (header.detailMeshCount != header.polyCount) return false;
+
+  const unsigned char* cursor = bytes.data() + Align4(sizeof(dtMeshHeader));
+  cursor += Align4(static_cast<int>(sizeof(float)) * 3 * header.vertCount);
+  std::vector<dtPoly> polys(static_cast<std::size_t>(header.polyCount));
+  std::memcpy(polys.data(), cursor, polys.size() * sizeof(dtPoly));
+  cursor += Align4(static_cast<int>(sizeof(dtPoly)) * header.polyCount);
+  cursor += Align4(static_cast<int>(sizeof(dtLink)) * header.maxLinkCount);
+  std::vector<dtPolyDetail> details(static_cast<std::size_t>(header.detailMeshCount));
+  std::memcpy(details.data(), cursor, details.size() * sizeof(dtPolyDetail));
+  cursor += Align4(static_cast<int>(sizeof(dtPolyDetail)) * header.detailMeshCount);
+  cursor += Align4(static_cast<int>(sizeof(float)) * 3 * header.detailVertCount);
+  const unsigned char* detail_tris = cursor;
+  cursor += Align4(4 * header.detailTriCount);
+  std::vector<dtBVNode> nodes(static_cast<std::size_t>(header.bvNodeCount));
+  std::memcpy(nodes.data(), cursor, nodes.size() * sizeof(dtBVNode));
+
+  for (std::size_t p = 0; p < polys.size(); ++p) {
+    const dtPoly& poly = polys[p];
+    if (poly.vertCount < 3 || poly.vertCount > DT_VERTS_PER_POLYGON) return false;
+    for (int v = 0; v < poly.vertCount; ++v) {
+      if (poly.verts[v] >= header.vertCount) return false;
+      const unsigned short neighbour = poly.neis[v];
+      if (neighbour != 0 && !(neighbour & DT_EXT_LINK) && neighbour > header.polyCount) return false;
+    }
+    const dtPolyDetail& detail = details[p];
+    if (static_cast<long>(detail.vertBase) + detail.vertCount > header.detailVertCount) return false;
+    if (static_cast<long>(detail.triBase) + detail.triCount > header.detailTriCount) return false;
+    for (int t = 0; t < detail.triCount; ++t)
+      for (int k = 0; k < 3; ++k)
+        if (detail_tris[(detail.triBase + t) * 4 + k] >= poly.vertCount + detail.vertCount) return false;
+  }
+  for (const dtBVNode& node : nodes)
+    if (node.i >= header.polyCount || node.i < -header.bvNodeCount) return false;
+  return header.offMeshConCount == 0;  // we never write off-mesh links; a file with them is not ours
+}
+
+double PolygonArea(const dtMeshTile& tile, const dtPoly& poly) {
+  double twice_area = 0.0;
+  for (int i = 0; i < poly.vertCount; ++i) {
+    const float* a = &tile.verts[poly.verts[i] * 3];
+    const float* b = &tile.verts[poly.verts[(i + 1) % poly.vertCount] * 3];
+    twice_area += static_cast<double>(a[0]) * b[2] - static_cast<double>(b[0]) * a[2];
+  }
+  return std::abs(twice_area) * 0.5;
+}
+
+}  // namespace
+
+Result<std::unique_ptr<NavMesh>> NavMesh::Create(float tile_size, int max_tiles) {
+  if (!std::isfinite(tile_size) || tile_size <= 0.0f)
+    return MakeError(ErrorCode::kInvalidArgument, "navmesh: tile size must be a positive number");
+  if (max_tiles < 1 || max_tiles > (1 << 16))
+    return MakeError(ErrorCode::kInvalidArgument, "navmesh: max_tiles must be in [1, 65536]");
+  const int tile_bits = std::bit_width(std::bit_ceil(static_cast<unsigned>(max_tiles))) - 1;
+  dtNavMeshParams params{};
+  params.tileWidth = tile_size;
+  params.tileHeight = tile_size;
+  params.maxTiles = 1 << tile_bits;
+  params.maxPolys = 1 << (22 - tile_bits);
+  dtNavMesh* mesh = dtAllocNavMesh();
+  if (!mesh || dtStatusFailed(mesh->init(&params))) {
+    dtFreeNavMesh(mesh);
+    return MakeError(ErrorCode::kCapacityExceeded, "navmesh: Detour could not allocate the tile table");
+  }
+  return std::unique_ptr<NavMesh>(new NavMesh(mesh, tile_size));
+}
+
+NavMesh::~NavMesh() {
+  dtFreeNavMesh(mesh_);
+}
+
+Status NavMesh::ReplaceTile(TileCoord tile, TileData data) {
+  const std::unique_lock lock(mutex_);
+  if (const dtTileRef old = mesh_->getTileRefAt(tile.x, tile.z, 0)) mesh_->removeTile(old, nullptr, nullptr);
+  if (data.empty()) return Status::Ok();
+  const int size = data.size();
+  unsigned char* bytes = data.Release();
+  const dtStatus status = mesh_->addTile(bytes, size, DT_TILE_FREE_DATA, 0, nullptr);
+  if (dtStatusFailed(status)) {
+    dtFree(bytes);
+    return MakeError(ErrorCode::kCapacityExceeded, "navmesh: Detour refused tile (" + std::to_string(tile.x) +
+                                                       ", " + std::to_string(tile.z) +
+                                                       ") (tile table full or polygon limit exceeded)");
+  }
+  return Status::Ok();
+}
+
+void NavMesh::RemoveTile(TileCoord tile) {
+  (void)ReplaceTile(tile, TileData());
+}
+
+int NavMesh::tile_count() const {
+  return Read([](const dtNavMesh& mesh) {
+    int count = 0;
+    ForEachTile(mesh, [&](const dtMeshTile&) { ++count; });
+    return count;
+  });
+}
+
+std::vector<TileCoord> NavMesh::Tiles() const {
+  return Read([](const dtNavMesh& mesh) {
+    std::vector<TileCoord> tiles;
+    ForEachTile(mesh, [&](const dtMeshTile& tile) { tiles.push_back({tile.header->x, tile.header->y}); });
+    std::sort(tiles.begin(), tiles.end());
+    return tiles;
+  });
+}
+
+int NavMesh::polygon_count() const {
+  return Read([](const dtNavMesh& mesh) {
+    int count = 0;
+    ForEachTile(mesh, [&](const dtMeshTile& tile) { count += tile.header->polyCount; });
+    return count;
+  });
+}
+
+double NavMesh::WalkableArea() const {
+  return Read([](const dtNavMesh& mesh) {
+    // Summed per tile in tile order, so the total does not depend on the order tiles were published in.
+    std::map<TileCoord, double> per_tile;
+    ForEachTile(mesh, [&](const dtMeshTile& tile) {
+      double& area = per_tile[{tile.header->x, tile.header->y}];
+      for (int i = 0; i < tile.header->polyCount; ++i) {
+        const dtPoly& poly = tile.polys[i];
+        if (poly.getType() == DT_POLYTYPE_GROUND) area += PolygonArea(tile, poly);
+      }
+    });
+    double total = 0.0;
+    for (const auto& [coord, area] : per_tile) total += area;
+    return total;
+  });
+}
+
+Status NavMesh::Save(const std::filesystem::path& path) const {
+  std::ofstream file(path, std::ios::binary);
+  if (!file) return FileError(path, "cannot open for writing");
+  Read([&](const dtNavMesh& mesh) {
+    SetHeader header{kSetMagic, kSetVersion, 0, *mesh.getParams()};
+    ForEachTile(mesh, [&](const dtMeshTile&) { ++header.tile_count; });
+    file.write(reinterpret_cast<const char*>(&header), sizeof(header));
+    ForEachTile(mesh, [&](const dtMeshTile& tile) {
+      const SetTileHeader tile_header{mesh.getTileRef(&tile), tile.dataSize};
+      file.write(reinterpret_cast<const char*>(&tile_header), sizeof(tile_header));
+      file.write(reinterpret_cast<const char*>(tile.data), tile.dataSize);
+    });
+  });
+  if (!file.flush()) return FileError(path, "write failed");
+  return Status::Ok();
+}
+
+Result<std::unique_ptr<NavMesh>> NavMesh::Load(const std::filesystem::path& path) {
+  std::ifstream file(path, std::ios::binary);
+  if (!file) return FileError(path, "cannot open (missing or unreadable)");
+  const std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(file)),
+                                         std::istreambuf_iterator<char>());
+  if (bytes.size() < sizeof(SetHeader)) return FileError(path, "too short for a navmesh set header");
+  SetHeader header;
+  std::memcpy(&header, bytes.data(), sizeof(header));
+  if (header.magic != kSetMagic) return FileError(path, "not a navmesh set (bad magic)");
+  if (header.version != kSetVersion)
+    return FileError(path, "unsupported navmesh set version " + std::to_string(header.version));
+  const dtNavMeshParams& params = header.params;
+  if (header.tile_count < 0 || header.tile_count > params.maxTiles || params.maxTiles < 1 ||
+      params.maxTiles > (1 << 16) || params.maxPolys < 1 || !std::isfinite(params.tileWidth) ||
+      params.tileWidth <= 0.0f || params.tileWidth != params.tileHeight)
+    return FileError(path, "corrupt navmesh set header");
+  dtNavMesh* mesh = dtAllocNavMesh();
+  std::unique_ptr<NavMesh> navmesh(new NavMesh(mesh, params.tileWidth));
+  if (!mesh || dtStatusFailed(mesh->init(&params)))
+    return FileError(path, "Detour rejected the navmesh parameters");
+
+  std::size_t offset = sizeof(SetHeader);
+  for (int i = 0; i < header.tile_count; ++i) {
+    SetTileHeader tile_header;
+    if (bytes.size() - offset < sizeof(tile_header)) return FileError(path, "truncated (tile header)");
+    std::memcpy(&tile_header, bytes.data() + offset, sizeof(tile_header));
+    offset += sizeof(tile_header);
+    if (tile_header.ref == 0 || tile_header.size <= 0 ||
+        static_cast<std::size_t>(tile_header.size) > bytes.size() - offset)
+      return FileError(path, "truncated or corrupt tile " + std::to_string(i));
+    const std::span<const unsigned char> tile_bytes(bytes.data() + offset,
+                                                    static_cast<std::size_t>(tile_header.size));
+    offset += static_cast<std::size_t>(tile_header.size);
+    if (!TileIsConsistent(tile_bytes)) return FileError(path, "corrupt tile " + std::to_string(i));
+    TileData data = TileData::CopyOf(tile_bytes);
+    unsigned char* raw = data.Release();
+    if (dtStatusFailed(mesh->addTile(raw, tile_header.size, DT_TILE_FREE_DATA, tile_header.ref, nullptr))) {
+      dtFree(raw);
+      return FileError(path,
+                       "tile " + std::to_string(i) + " was refused by Detour (duplicate or bad reference)");
+    }
+  }
+  if (offset != bytes.size()) return FileError(path, "unexpected bytes after the last tile");
+  return navmesh;
+}
+
+Status NavMesh::WriteObj(const std::filesystem::path& path) const {
+  std::ofstream file(path);
+  if (!file) return FileError(path, "cannot open for writing");
+  file << "# Strata navmesh: detail triangles of every walkable polygon\n";
+  Read([&](const dtNavMesh& mesh) {
+    int written = 0;
+    ForEachTile(mesh, [&](const dtMeshTile& tile) {
+      for (int p = 0; p < tile.header->polyCount; ++p) {
+        const dtPoly& poly = tile.polys[p];
+        if (poly.getType() != DT_POLYTYPE_GROUND) continue;
+        const dtPolyDetail& detail = tile.detailMeshes[p];
+        for (int t = 0; t < detail.triCount; ++t) {
+          const unsigned char* corners = &tile.detailTris[(detail.triBase + t) * 4];
+          for (int k = 0; k < 3; ++k) {
+            const float* v = corners[k] < poly.vertCount
+                                 ? &tile.verts[poly.verts[corners[k]] * 3]
+                                 : &tile.detailVerts[(detail.vertBase + corners[k] - poly.vertCount) * 3];
+            file << "v " << v[0] << ' ' << v[1] << ' ' << v[2] << '\n';
+          }
+          file << "f " << written + 1 << ' ' << written + 2 << ' ' << written + 3 << '\n';
+          written += 3;
+        }
+      }
+    });
+  });
+  if (!file.flush()) return FileError(path, "write failed");
+  return Status::Ok();
+}
+
+}  // namespace strata::navmesh

@@ -1,0 +1,67 @@
+// NavMesh: the Detour navigation mesh that readers query while tiles are published into it. Owns one
+// dtNavMesh behind a reader/writer lock: queries share it, publishing a tile takes it exclusively for the
+// short time Detour needs to link the tile. Thread-safe. Saves and loads RecastDemo's tiled "MSET" format.
+#pragma once
+
+#include <DetourNavMesh.h>
+
+#include <filesystem>
+#include <memory>
+#include <shared_mutex>
+#include <vector>
+
+#include "navmesh/TileData.h"
+#include "navmesh/TileGrid.h"
+#include "physics/core/Result.h"
+
+namespace strata::navmesh {
+
+/// A Detour tiled navmesh shared between the threads that publish tiles and the threads that query it.
+class NavMesh {
+ public:
+  /// A navmesh of square tiles `tile_size` metres wide, at most `max_tiles` of them (rounded up to a power of
+  /// two; the rest of Detour's 22 reference bits go to polygons per tile).
+  static Result<std::unique_ptr<NavMesh>> Create(float tile_size, int max_tiles = 1024);
+  /// Reads a file in RecastDemo's tiled navmesh set format ("MSET", version 1). Fails, naming the file and
+  /// the reason, for a missing, truncated or corrupt file.
+  static Result<std::unique_ptr<NavMesh>> Load(const std::filesystem::path& path);
+  ~NavMesh();
+  NavMesh(const NavMesh&) = delete;
+  NavMesh& operator=(const NavMesh&) = delete;
+
+  /// Publishes `data` as tile `tile`, replacing what was there; empty data just removes the old tile.
+  Status ReplaceTile(TileCoord tile, TileData data);
+  void RemoveTile(TileCoord tile);
+
+  /// Runs `function(const dtNavMesh&)` with publishing held off; keep it short.
+  template <class Function>
+  decltype(auto) Read(Function&& function) const {
+    const std::shared_lock lock(mutex_);
+    return function(static_cast<const dtNavMesh&>(*mesh_));
+  }
+  /// The raw Detour mesh for DetourCrowd and other Detour users. Reading it while tiles are being published
+  /// is the caller's to avoid (hold Read, or publish nothing meanwhile).
+  dtNavMesh& detour() { return *mesh_; }
+
+  float tile_size() const { return tile_size_; }
+  int tile_count() const;
+  std::vector<TileCoord> Tiles() const;
+  /// Polygons over all tiles.
+  int polygon_count() const;
+  /// Sum of the walkable polygons' areas projected on the x-z plane (m^2).
+  double WalkableArea() const;
+
+  /// Writes RecastDemo's tiled navmesh set format.
+  Status Save(const std::filesystem::path& path) const;
+  /// Writes the polygons as a Wavefront OBJ (one face per polygon).
+  Status WriteObj(const std::filesystem::path& path) const;
+
+ private:
+  NavMesh(dtNavMesh* mesh, float tile_size) : mesh_(mesh), tile_size_(tile_size) {}
+
+  mutable std::shared_mutex mutex_;
+  dtNavMesh* mesh_;
+  float tile_size_;
+};
+
+}  // namespace strata::navmesh

@@ -1,0 +1,279 @@
+#include "navmesh/NavMeshService.h"
+
+#include <string>
+
+#include "navmesh/TileBuilder.h"
+#include "physics/world/PhysicsSystem.h"
+
+namespace strata::navmesh {
+
+namespace {
+
+double MillisecondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+float SquaredPlanarDistance(const Vec3& a, const Vec3& b) {
+  const float dx = a.x() - b.x();
+  const float dz = a.z() - b.z();
+  return dx * dx + dz * dz;
+}
+
+bool MovedBeyond(const AABB& before, const AABB& now, float threshold) {
+  return (before.min - now.min).cwiseAbs().maxCoeff() > threshold ||
+         (before.max - now.max).cwiseAbs().maxCoeff() > threshold;
+}
+
+}  // namespace
+
+const char* ToString(TileState state) {
+  switch (state) {
+    case TileState::kMissing:
+      return "missing";
+    case TileState::kQueued:
+      return "queued";
+    case TileState::kBuilding:
+      return "building";
+    case TileState::kReady:
+      return "ready";
+    case TileState::kStale:
+      return "stale";
+  }
+  return "?";
+}
+
+Status NavMeshServiceConfig::Validate() const {
+  if (Status status = settings.Validate(); !status.ok()) return status;
+  if (worker_threads < 1 || worker_threads > 64)
+    return MakeError(ErrorCode::kInvalidArgument, "navmesh service: worker_threads must be in [1, 64]");
+  if (!std::isfinite(move_threshold) || move_threshold < 0.0f)
+    return MakeError(ErrorCode::kInvalidArgument, "navmesh service: move_threshold must be >= 0");
+  if (std::isnan(filter.min_dynamic_size) || filter.min_dynamic_size < 0.0f)
+    return MakeError(ErrorCode::kInvalidArgument, "navmesh service: filter.min_dynamic_size must be >= 0");
+  if (rebuild_delay.count() < 0 || scan_interval.count() < 1)
+    return MakeError(ErrorCode::kInvalidArgument,
+                     "navmesh service: rebuild_delay must be >= 0 and scan_interval >= 1 ms");
+  return Status::Ok();
+}
+
+Result<std::unique_ptr<NavMeshService>> NavMeshService::Create(const PhysicsSystem& world,
+                                                               const NavMeshServiceConfig& config) {
+  if (Status status = config.Validate(); !status.ok()) return status.error();
+  Result<std::unique_ptr<NavMesh>> navmesh = NavMesh::Create(config.settings.tile_size(), config.max_tiles);
+  if (!navmesh) return navmesh.error();
+  return std::unique_ptr<NavMeshService>(new NavMeshService(world, config, std::move(*navmesh)));
+}
+
+NavMeshService::NavMeshService(const PhysicsSystem& world, const NavMeshServiceConfig& config,
+                               std::unique_ptr<NavMesh> navmesh)
+    : world_(world), config_(config), grid_(config.settings.tile_size()), navmesh_(std::move(navmesh)) {
+  for (int i = 0; i < config_.worker_threads; ++i) workers_.emplace_back([this] { WorkerLoop(); });
+  scanner_ = std::thread([this] { ScannerLoop(); });
+}
+
+NavMeshService::~NavMeshService() {
+  {
+    const std::lock_guard lock(mutex_);
+    stopping_ = true;
+  }
+  work_ready_.notify_all();
+  state_changed_.notify_all();
+  for (std::thread& worker : workers_) worker.join();
+  scanner_.join();
+}
+
+Status NavMeshService::RequestAround(const Vec3& position, float radius) {
+  if (!IsFinite(position))
+    return MakeError(ErrorCode::kInvalidArgument, "navmesh request: position is not finite");
+  if (!std::isfinite(radius) || radius < 0.0f)
+    return MakeError(ErrorCode::kInvalidArgument, "navmesh request: radius must be a finite number >= 0");
+  const float reach = radius + grid_.tile_size();
+  if (reach * reach * 4.0f > static_cast<float>(config_.max_tiles) * grid_.tile_size() * grid_.tile_size())
+    return MakeError(ErrorCode::kInvalidArgument, "navmesh request: radius covers more tiles than max_tiles");
+  const std::vector<TileCoord> tiles = grid_.TilesInCircle(position, radius);
+  const Clock::time_point now = Clock::now();
+  {
+    const std::lock_guard lock(mutex_);
+    for (const TileCoord tile : tiles)
+      Enqueue(tile, SquaredPlanarDistance(grid_.Center(tile), position), now);
+  }
+  work_ready_.notify_all();
+  return Status::Ok();
+}
+
+Status NavMeshService::RequestBox(const AABB& box) {
+  if (!box.IsValid()) return MakeError(ErrorCode::kInvalidArgument, "navmesh request: box is not valid");
+  const Vec3 size = box.Size() / grid_.tile_size();
+  if ((size.x() + 1.0f) * (size.z() + 1.0f) > static_cast<float>(config_.max_tiles))
+    return MakeError(ErrorCode::kInvalidArgument, "navmesh request: box covers more tiles than max_tiles");
+  const std::vector<TileCoord> tiles = grid_.TilesInBox(box);
+  const Clock::time_point now = Clock::now();
+  {
+    const std::lock_guard lock(mutex_);
+    for (const TileCoord tile : tiles)
+      Enqueue(tile, SquaredPlanarDistance(grid_.Center(tile), box.Center()), now);
+  }
+  work_ready_.notify_all();
+  return Status::Ok();
+}
+
+void NavMeshService::Enqueue(TileCoord tile, float priority, Clock::time_point now) {
+  TileRecord& record = tiles_[tile];
+  switch (record.state) {
+    case TileState::kMissing:
+      record.state = TileState::kQueued;
+      record.priority = priority;
+      record.requested = now;
+      queue_.insert({priority, tile});
+      return;
+    case TileState::kQueued:
+      if (priority >= record.priority) return;
+      queue_.erase({record.priority, tile});
+      record.priority = priority;
+      queue_.insert({priority, tile});
+      return;
+    case TileState::kStale:  // waits out its debounce in the scanner
+    case TileState::kBuilding:
+    case TileState::kReady:
+      record.priority = std::min(record.priority, priority);
+      return;
+  }
+}
+
+TileState NavMeshService::GetTileState(TileCoord tile) const {
+  const std::lock_guard lock(mutex_);
+  const auto found = tiles_.find(tile);
+  return found == tiles_.end() ? TileState::kMissing : found->second.state;
+}
+
+bool NavMeshService::Idle() const {
+  if (!queue_.empty()) return false;
+  for (const auto& [coord, record] : tiles_)
+    if (record.state == TileState::kBuilding || record.state == TileState::kStale) return false;
+  return true;
+}
+
+bool NavMeshService::WaitUntilIdle(std::chrono::milliseconds timeout) const {
+  std::unique_lock lock(mutex_);
+  return state_changed_.wait_for(lock, timeout, [this] { return Idle(); });
+}
+
+NavMeshServiceStats NavMeshService::stats() const {
+  const std::lock_guard lock(mutex_);
+  NavMeshServiceStats stats = counters_;
+  for (const auto& [coord, record] : tiles_) {
+    stats.queued += record.state == TileState::kQueued;
+    stats.building += record.state == TileState::kBuilding;
+    stats.ready += record.state == TileState::kReady;
+    stats.stale += record.state == TileState::kStale;
+  }
+  return stats;
+}
+
+std::vector<TileBuildRecord> NavMeshService::build_log() const {
+  const std::lock_guard lock(mutex_);
+  return log_;
+}
+
+std::string NavMeshService::last_error() const {
+  const std::lock_guard lock(mutex_);
+  return last_error_;
+}
+
+void NavMeshService::WorkerLoop() {
+  std::unique_lock lock(mutex_);
+  while (true) {
+    work_ready_.wait(lock, [this] { return stopping_ || !queue_.empty(); });
+    if (stopping_) return;
+    const TileCoord tile = queue_.begin()->second;
+    queue_.erase(queue_.begin());
+    tiles_[tile].state = TileState::kBuilding;
+    lock.unlock();
+    BuildOne(tile);
+    lock.lock();
+  }
+}
+
+void NavMeshService::BuildOne(TileCoord tile) {
+  const Clock::time_point gather_start = Clock::now();
+  TileGeometry geometry = GatherTileGeometry(world_, TileGatherBox(config_.settings, tile), config_.filter);
+  const double gather_ms = MillisecondsSince(gather_start);
+  Result<BuiltTile> built = BuildTile(config_.settings, tile, geometry);
+
+  TileBuildRecord record{tile, 0,  geometry.bodies.size(), geometry.triangle_count(), 0, gather_ms, 0.0,
+                         0.0,  0.0};
+  Status published = built.status();
+  if (built) {
+    record.polygons = built->polygons;
+    record.recast_ms = built->recast_ms;
+    const Clock::time_point publish_start = Clock::now();
+    published = navmesh_->ReplaceTile(tile, std::move(built->data));
+    record.publish_ms = MillisecondsSince(publish_start);
+  }
+
+  {
+    const std::lock_guard lock(mutex_);
+    TileRecord& state = tiles_[tile];
+    if (!published.ok()) {
+      // Back to missing, so the next request tries again; the old tile (if any) was kept or removed above.
+      state.state = TileState::kMissing;
+      ++counters_.failures;
+      last_error_ = published.message();
+    } else {
+      state.state = TileState::kReady;
+      state.bodies = std::make_shared<const std::vector<GatheredBody>>(std::move(geometry.bodies));
+      record.build = ++state.builds;
+      record.request_to_ready_ms = MillisecondsSince(state.requested);
+      ++counters_.builds;
+      counters_.rebuilds += record.build > 1;
+      log_.push_back(record);
+    }
+  }
+  state_changed_.notify_all();
+}
+
+bool NavMeshService::TileChanged(TileCoord tile, const std::vector<GatheredBody>& bodies) const {
+  const std::vector<GatheredBody> now =
+      FindCountedBodies(world_, TileGatherBox(config_.settings, tile), config_.filter);
+  if (now.size() != bodies.size()) return true;
+  for (std::size_t i = 0; i < now.size(); ++i) {
+    if (now[i].id != bodies[i].id) return true;
+    if (MovedBeyond(bodies[i].bounds, now[i].bounds, config_.move_threshold)) return true;
+  }
+  return false;
+}
+
+void NavMeshService::ScannerLoop() {
+  std::unique_lock lock(mutex_);
+  while (!stopping_) {
+    state_changed_.wait_for(lock, config_.scan_interval, [this] { return stopping_; });
+    if (stopping_) return;
+    const Clock::time_point now = Clock::now();
+    std::vector<std::pair<TileCoord, std::shared_ptr<const std::vector<GatheredBody>>>> ready;
+    bool queued = false;
+    for (auto& [coord, record] : tiles_) {
+      if (record.state == TileState::kReady) ready.emplace_back(coord, record.bodies);
+      if (record.state == TileState::kStale && now - record.stale_since >= config_.rebuild_delay) {
+        record.state = TileState::kQueued;
+        record.requested = record.stale_since;
+        queue_.insert({record.priority, coord});
+        queued = true;
+      }
+    }
+    if (queued) work_ready_.notify_all();
+    lock.unlock();
+    std::vector<std::size_t> changed;
+    for (std::size_t i = 0; i < ready.size(); ++i)
+      if (TileChanged(ready[i].first, *ready[i].second)) changed.push_back(i);
+    lock.lock();
+    for (const std::size_t i : changed) {
+      TileRecord& record = tiles_[ready[i].first];
+      // Only if the tile still holds the build we compared against (no rebuild finished meanwhile).
+      if (record.state != TileState::kReady || record.bodies != ready[i].second) continue;
+      record.state = TileState::kStale;
+      record.stale_since = Clock::now();
+    }
+  }
+}
+
+}  // namespace strata::navmesh

@@ -1,0 +1,139 @@
+// NavMeshService: builds navmesh tiles in the background from a physics world that keeps changing.
+// Agents call RequestAround; the service's own worker threads (never the physics step's) gather each tile
+// from a pinned broad-phase generation, build it with Recast and publish it into the NavMesh. A scanner
+// thread marks ready tiles stale when counted bodies in them are added, removed or moved, and queues
+// them again after a debounce delay. Every public method is thread-safe and returns quickly: the caller
+// never waits for a job.
+#pragma once
+
+#include <chrono>
+#include <condition_variable>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <set>
+#include <thread>
+#include <vector>
+
+#include "navmesh/NavMesh.h"
+#include "navmesh/NavMeshSettings.h"
+#include "navmesh/TileGather.h"
+#include "navmesh/TileGrid.h"
+
+namespace strata {
+class PhysicsSystem;
+}
+
+namespace strata::navmesh {
+
+/// Where a tile is in its life.
+enum class TileState { kMissing, kQueued, kBuilding, kReady, kStale };
+const char* ToString(TileState state);
+
+/// How the service builds and refreshes tiles.
+struct NavMeshServiceConfig {
+  NavMeshSettings settings;
+  NavMeshBodyFilter filter;
+  int worker_threads = 1;        ///< background build threads
+  int max_tiles = 1024;          ///< Detour's tile table size
+  float move_threshold = 0.25f;  ///< a counted body whose bounds move more than this (m) makes its tile stale
+  std::chrono::milliseconds rebuild_delay{250};  ///< a stale tile waits this long for more changes
+  std::chrono::milliseconds scan_interval{20};   ///< how often ready tiles are checked for changes
+  Status Validate() const;
+};
+
+/// One finished build of one tile.
+struct TileBuildRecord {
+  TileCoord coord;
+  int build = 0;  ///< 1 for the first build of the tile, 2 for its first rebuild, ...
+  std::size_t bodies = 0;
+  std::size_t triangles = 0;
+  int polygons = 0;
+  double gather_ms = 0.0;
+  double recast_ms = 0.0;
+  double publish_ms = 0.0;           ///< time the NavMesh was held exclusively
+  double request_to_ready_ms = 0.0;  ///< from the request (or going stale) to published
+};
+
+/// Counters over the service's life.
+struct NavMeshServiceStats {
+  std::size_t builds = 0;
+  std::size_t rebuilds = 0;  ///< builds of tiles that had gone stale
+  std::size_t failures = 0;
+  std::size_t queued = 0;
+  std::size_t building = 0;
+  std::size_t ready = 0;
+  std::size_t stale = 0;
+};
+
+/// The background navmesh builder for one physics world (which must outlive it).
+class NavMeshService {
+ public:
+  static Result<std::unique_ptr<NavMeshService>> Create(const PhysicsSystem& world,
+                                                        const NavMeshServiceConfig& config);
+  /// Stops the threads; a job in progress finishes its current tile first.
+  ~NavMeshService();
+  NavMeshService(const NavMeshService&) = delete;
+  NavMeshService& operator=(const NavMeshService&) = delete;
+
+  /// Queues the tiles the x-z circle touches that are missing or stale, nearest to a requester first.
+  /// Tiles already queued move up if this requester is nearer. Fails for a non-finite or negative input.
+  Status RequestAround(const Vec3& position, float radius);
+  /// Queues the tiles overlapping `box` (x-z), e.g. a whole level for a bake.
+  Status RequestBox(const AABB& box);
+
+  TileState GetTileState(TileCoord tile) const;
+  /// Blocks until no tile is queued, building or stale, or the timeout passes; true when idle. For tools
+  /// and tests; a game polls GetTileState instead.
+  bool WaitUntilIdle(std::chrono::milliseconds timeout) const;
+
+  const NavMesh& navmesh() const { return *navmesh_; }
+  NavMesh& navmesh() { return *navmesh_; }
+  const TileGrid& grid() const { return grid_; }
+  const NavMeshServiceConfig& config() const { return config_; }
+  NavMeshServiceStats stats() const;
+  /// Every finished build so far, in the order they finished.
+  std::vector<TileBuildRecord> build_log() const;
+  /// The most recent error from a build, empty when none failed.
+  std::string last_error() const;
+
+ private:
+  using Clock = std::chrono::steady_clock;
+  struct TileRecord {
+    TileState state = TileState::kMissing;
+    float priority = 0.0f;  ///< squared distance to the nearest requester
+    int builds = 0;
+    Clock::time_point requested;  ///< when it was requested or went stale
+    Clock::time_point stale_since;
+    std::shared_ptr<const std::vector<GatheredBody>> bodies;  ///< what the published tile was built from
+  };
+
+  NavMeshService(const PhysicsSystem& world, const NavMeshServiceConfig& config,
+                 std::unique_ptr<NavMesh> navmesh);
+  void Enqueue(TileCoord tile, float priority, Clock::time_point now);  // mutex_ held
+  void WorkerLoop();
+  void BuildOne(TileCoord tile);
+  void ScannerLoop();
+  bool TileChanged(TileCoord tile, const std::vector<GatheredBody>& bodies) const;
+  bool Idle() const;  // mutex_ held
+
+  const PhysicsSystem& world_;
+  const NavMeshServiceConfig config_;
+  const TileGrid grid_;
+  std::unique_ptr<NavMesh> navmesh_;
+
+  mutable std::mutex mutex_;
+  mutable std::condition_variable work_ready_;
+  mutable std::condition_variable state_changed_;
+  std::map<TileCoord, TileRecord> tiles_;
+  std::set<std::pair<float, TileCoord>> queue_;  // (priority, tile): nearest first, ties in tile order
+  std::vector<TileBuildRecord> log_;
+  NavMeshServiceStats counters_;
+  std::string last_error_;
+  bool stopping_ = false;
+
+  std::vector<std::thread> workers_;
+  std::thread scanner_;
+};
+
+}  // namespace strata::navmesh

@@ -1,0 +1,34 @@
+// NavMeshSettings: the Recast build parameters of a navmesh (cell sizes, agent, region and polygon
+// settings) in world units, validated in one place before any tile is built.
+// Value type; build it on any thread.
+#pragma once
+
+#include "physics/core/Result.h"
+
+namespace strata::navmesh {
+
+/// Build parameters in metres and degrees. A tile is `tile_cells` x `tile_cells` cells of `cell_size`.
+struct NavMeshSettings {
+  float cell_size = 0.2f;                ///< horizontal voxel size (m)
+  float cell_height = 0.2f;              ///< vertical voxel size (m)
+  int tile_cells = 64;                   ///< cells along a tile side (12.8 m at the default cell size)
+  float agent_height = 2.0f;             ///< clearance an agent needs above the floor (m)
+  float agent_radius = 0.6f;             ///< walkable area keeps this far from walls (m)
+  float agent_max_climb = 0.9f;          ///< highest step an agent walks up (m)
+  float agent_max_slope = 45.0f;         ///< steepest walkable slope (degrees)
+  int region_min_size = 8;               ///< islands smaller than this many cells squared are dropped
+  int region_merge_size = 20;            ///< regions smaller than this many cells squared are merged
+  float edge_max_length = 12.0f;         ///< longest contour edge (m); 0 = unlimited
+  float edge_max_error = 1.3f;           ///< how far a simplified contour may stray from the voxels (cells)
+  int verts_per_poly = 6;                ///< 3..6
+  float detail_sample_distance = 6.0f;   ///< detail mesh sampling (cells); < 0.9 turns it off
+  float detail_sample_max_error = 1.0f;  ///< detail mesh height error (cell heights)
+
+  float tile_size() const { return cell_size * static_cast<float>(tile_cells); }
+  /// Cells of border around a tile so that erosion at its edge sees its neighbours' geometry.
+  int border_cells() const;
+  /// Every field in range; the message names the first bad one.
+  Status Validate() const;
+};
+
+}  // namespace strata::navmesh

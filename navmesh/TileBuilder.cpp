@@ -1,0 +1,207 @@
+#include "navmesh/TileBuilder.h"
+
+#include <DetourNavMeshBuilder.h>
+#include <Recast.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <memory>
+#include <string>
+
+namespace strata::navmesh {
+
+namespace {
+
+/// Polygon flag for ground an agent walks on (the only one we set; filters may test it).
+constexpr unsigned short kWalkFlag = 1;
+
+template <class T, void (*Free)(T*)>
+struct RecastDeleter {
+  void operator()(T* object) const { Free(object); }
+};
+using Heightfield = std::unique_ptr<rcHeightfield, RecastDeleter<rcHeightfield, rcFreeHeightField>>;
+using CompactHeightfield =
+    std::unique_ptr<rcCompactHeightfield, RecastDeleter<rcCompactHeightfield, rcFreeCompactHeightfield>>;
+using ContourSet = std::unique_ptr<rcContourSet, RecastDeleter<rcContourSet, rcFreeContourSet>>;
+using PolyMesh = std::unique_ptr<rcPolyMesh, RecastDeleter<rcPolyMesh, rcFreePolyMesh>>;
+using PolyMeshDetail =
+    std::unique_ptr<rcPolyMeshDetail, RecastDeleter<rcPolyMeshDetail, rcFreePolyMeshDetail>>;
+
+Error BuildError(TileCoord tile, const char* stage) {
+  return MakeError(ErrorCode::kCapacityExceeded, "navmesh tile (" + std::to_string(tile.x) + ", " +
+                                                     std::to_string(tile.z) + "): " + stage + " failed");
+}
+
+/// Recast's configuration in cells, derived from the settings in metres.
+rcConfig MakeConfig(const NavMeshSettings& settings, const AABB& box) {
+  rcConfig config{};
+  config.cs = settings.cell_size;
+  config.ch = settings.cell_height;
+  config.walkableSlopeAngle = settings.agent_max_slope;
+  config.walkableHeight = static_cast<int>(std::ceil(settings.agent_height / settings.cell_height));
+  config.walkableClimb = static_cast<int>(std::floor(settings.agent_max_climb / settings.cell_height));
+  config.walkableRadius = static_cast<int>(std::ceil(settings.agent_radius / settings.cell_size));
+  config.maxEdgeLen = static_cast<int>(settings.edge_max_length / settings.cell_size);
+  config.maxSimplificationError = settings.edge_max_error;
+  config.minRegionArea = settings.region_min_size * settings.region_min_size;
+  config.mergeRegionArea = settings.region_merge_size * settings.region_merge_size;
+  config.maxVertsPerPoly = settings.verts_per_poly;
+  config.tileSize = settings.tile_cells;
+  config.borderSize = settings.border_cells();
+  config.width = config.tileSize + 2 * config.borderSize;
+  config.height = config.width;
+  config.detailSampleDist =
+      settings.detail_sample_distance < 0.9f ? 0.0f : settings.cell_size * settings.detail_sample_distance;
+  config.detailSampleMaxError = settings.cell_height * settings.detail_sample_max_error;
+  rcVcopy(config.bmin, box.min.data());
+  rcVcopy(config.bmax, box.max.data());
+  return config;
+}
+
+/// Recast's output for one tile.
+struct RecastMeshes {
+  PolyMesh poly;
+  PolyMeshDetail detail;
+};
+
+/// Recast rasterizes surfaces, so the floor under a closed crate looks like a room with a ceiling. Spans
+/// whose floor lies inside a convex body are solid; take them out before erosion so the agent radius is
+/// kept from the body's sides as from any wall.
+void RemoveSpansInsideSolids(const std::vector<SolidVolume>& solids, rcCompactHeightfield& compact) {
+  const float cell = compact.cs;
+  for (const SolidVolume& solid : solids) {
+    const int x0 = std::max(0, static_cast<int>(std::floor((solid.bounds.min.x() - compact.bmin[0]) / cell)));
+    const int z0 = std::max(0, static_cast<int>(std::floor((solid.bounds.min.z() - compact.bmin[2]) / cell)));
+    const int x1 = std::min(compact.width - 1,
+                            static_cast<int>(std::floor((solid.bounds.max.x() - compact.bmin[0]) / cell)));
+    const int z1 = std::min(compact.height - 1,
+                            static_cast<int>(std::floor((solid.bounds.max.z() - compact.bmin[2]) / cell)));
+    for (int z = z0; z <= z1; ++z) {
+      for (int x = x0; x <= x1; ++x) {
+        const rcCompactCell& column = compact.cells[x + z * compact.width];
+        for (unsigned i = column.index; i < column.index + static_cast<unsigned>(column.count); ++i) {
+          // Half a cell above the span's floor: inside the body only if the floor is buried in it.
+          const Vec3 point(compact.bmin[0] + (static_cast<float>(x) + 0.5f) * cell,
+                           compact.bmin[1] + (static_cast<float>(compact.spans[i].y) + 0.5f) * compact.ch,
+                           compact.bmin[2] + (static_cast<float>(z) + 0.5f) * cell);
+          if (solid.Contains(point, 0.0f)) compact.areas[i] = RC_NULL_AREA;
+        }
+      }
+    }
+  }
+}
+
+Result<RecastMeshes> RunRecast(const rcConfig& config, TileCoord tile, const TileGeometry& geometry) {
+  rcContext context(false);
+  const int vertex_count = static_cast<int>(geometry.vertices.size() / 3);
+  const int triangle_count = static_cast<int>(geometry.triangle_count());
+
+  Heightfield solid(rcAllocHeightfield());
+  if (!solid || !rcCreateHeightfield(&context, *solid, config.width, config.height, config.bmin, config.bmax,
+                                     config.cs, config.ch))
+    return BuildError(tile, "heightfield");
+  std::vector<unsigned char> areas(static_cast<std::size_t>(triangle_count), RC_NULL_AREA);
+  rcMarkWalkableTriangles(&context, config.walkableSlopeAngle, geometry.vertices.data(), vertex_count,
+                          geometry.triangles.data(), triangle_count, areas.data());
+  if (!rcRasterizeTriangles(&context, geometry.vertices.data(), vertex_count, geometry.triangles.data(),
+                            areas.data(), triangle_count, *solid, config.walkableClimb))
+    return BuildError(tile, "rasterization");
+  rcFilterLowHangingWalkableObstacles(&context, config.walkableClimb, *solid);
+  rcFilterLedgeSpans(&context, config.walkableHeight, config.walkableClimb, *solid);
+  rcFilterWalkableLowHeightSpans(&context, config.walkableHeight, *solid);
+
+  CompactHeightfield compact(rcAllocCompactHeightfield());
+  if (!compact ||
+      !rcBuildCompactHeightfield(&context, config.walkableHeight, config.walkableClimb, *solid, *compact))
+    return BuildError(tile, "compact heightfield");
+  solid.reset();
+  RemoveSpansInsideSolids(geometry.solids, *compact);
+  if (!rcErodeWalkableArea(&context, config.walkableRadius, *compact)) return BuildError(tile, "erosion");
+  if (!rcBuildDistanceField(&context, *compact)) return BuildError(tile, "distance field");
+  if (!rcBuildRegions(&context, *compact, config.borderSize, config.minRegionArea, config.mergeRegionArea))
+    return BuildError(tile, "regions");
+
+  ContourSet contours(rcAllocContourSet());
+  if (!contours ||
+      !rcBuildContours(&context, *compact, config.maxSimplificationError, config.maxEdgeLen, *contours))
+    return BuildError(tile, "contours");
+  RecastMeshes meshes{PolyMesh(rcAllocPolyMesh()), PolyMeshDetail(rcAllocPolyMeshDetail())};
+  if (!meshes.poly || !rcBuildPolyMesh(&context, *contours, config.maxVertsPerPoly, *meshes.poly))
+    return BuildError(tile, "polygon mesh");
+  if (!meshes.detail || !rcBuildPolyMeshDetail(&context, *meshes.poly, *compact, config.detailSampleDist,
+                                               config.detailSampleMaxError, *meshes.detail))
+    return BuildError(tile, "detail mesh");
+  return meshes;
+}
+
+Result<TileData> CreateDetourData(const NavMeshSettings& settings, const rcConfig& config, TileCoord tile,
+                                  RecastMeshes& meshes) {
+  rcPolyMesh& poly = *meshes.poly;
+  if (poly.nverts >= 0xffff) return BuildError(tile, "Detour data (too many vertices)");
+  for (int i = 0; i < poly.npolys; ++i) poly.flags[i] = poly.areas[i] == RC_WALKABLE_AREA ? kWalkFlag : 0;
+
+  dtNavMeshCreateParams params{};
+  params.verts = poly.verts;
+  params.vertCount = poly.nverts;
+  params.polys = poly.polys;
+  params.polyAreas = poly.areas;
+  params.polyFlags = poly.flags;
+  params.polyCount = poly.npolys;
+  params.nvp = poly.nvp;
+  params.detailMeshes = meshes.detail->meshes;
+  params.detailVerts = meshes.detail->verts;
+  params.detailVertsCount = meshes.detail->nverts;
+  params.detailTris = meshes.detail->tris;
+  params.detailTriCount = meshes.detail->ntris;
+  params.walkableHeight = settings.agent_height;
+  params.walkableRadius = settings.agent_radius;
+  params.walkableClimb = settings.agent_max_climb;
+  params.tileX = tile.x;
+  params.tileY = tile.z;
+  params.tileLayer = 0;
+  rcVcopy(params.bmin, poly.bmin);
+  rcVcopy(params.bmax, poly.bmax);
+  params.cs = config.cs;
+  params.ch = config.ch;
+  params.buildBvTree = true;
+  unsigned char* bytes = nullptr;
+  int size = 0;
+  if (!dtCreateNavMeshData(&params, &bytes, &size)) return BuildError(tile, "Detour data");
+  return TileData(bytes, size);
+}
+
+}  // namespace
+
+AABB TileGatherBox(const NavMeshSettings& settings, TileCoord tile) {
+  const float border = static_cast<float>(settings.border_cells()) * settings.cell_size;
+  return TileGrid(settings.tile_size()).Bounds(tile, border);
+}
+
+Result<BuiltTile> BuildTile(const NavMeshSettings& settings, TileCoord tile, const TileGeometry& geometry) {
+  const auto start = std::chrono::steady_clock::now();
+  BuiltTile built;
+  built.coord = tile;
+  const auto finish = [&]() -> Result<BuiltTile> {
+    built.recast_ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    return std::move(built);
+  };
+  if (geometry.triangle_count() == 0) return finish();
+
+  AABB box = TileGatherBox(settings, tile);
+  // Vertically the heightfield spans the geometry, plus room for an agent to stand on its top.
+  box.min.y() = geometry.bounds.min.y() - settings.cell_height;
+  box.max.y() = geometry.bounds.max.y() + settings.agent_height;
+  const rcConfig config = MakeConfig(settings, box);
+  Result<RecastMeshes> meshes = RunRecast(config, tile, geometry);
+  if (!meshes) return meshes.error();
+  if (meshes->poly->npolys == 0) return finish();
+  Result<TileData> data = CreateDetourData(settings, config, tile, *meshes);
+  if (!data) return data.error();
+  built.polygons = meshes->poly->npolys;
+  built.data = std::move(*data);
+  return finish();
+}
+
+}  // namespace strata::navmesh

@@ -1,0 +1,30 @@
+// TileBuilder: turns the triangles gathered for one tile into Detour tile data with Recast (rasterize,
+// filter, compact, erode, regions, contours, polygon mesh, detail mesh, dtCreateNavMeshData).
+// Pure function of its inputs; any number of threads may build different tiles at once.
+#pragma once
+
+#include <cstddef>
+
+#include "navmesh/NavMeshSettings.h"
+#include "navmesh/TileData.h"
+#include "navmesh/TileGather.h"
+#include "navmesh/TileGrid.h"
+
+namespace strata::navmesh {
+
+/// A built tile and what it took.
+struct BuiltTile {
+  TileCoord coord;
+  TileData data;  ///< empty when nothing in the tile is walkable
+  int polygons = 0;
+  double recast_ms = 0.0;
+};
+
+/// The box a tile's geometry is gathered from: the tile grown by its border, from `min_y` to `max_y`.
+AABB TileGatherBox(const NavMeshSettings& settings, TileCoord tile);
+
+/// Builds tile `tile` from `geometry` (world-space triangles around it). Fails only when Recast or Detour
+/// cannot allocate or the tile would exceed Detour's limits; a tile with nothing walkable is not an error.
+Result<BuiltTile> BuildTile(const NavMeshSettings& settings, TileCoord tile, const TileGeometry& geometry);
+
+}  // namespace strata::navmesh

@@ -1,0 +1,41 @@
+// TileGrid: the navmesh's square tiles on the x-z plane, keyed by integer (x, z), with their bounds and
+// the tiles a circle touches. Value type; safe from any thread.
+#pragma once
+
+#include <compare>
+#include <cstdint>
+#include <vector>
+
+#include "physics/math/AABB.h"
+
+namespace strata::navmesh {
+
+/// Integer tile coordinates: tile (x, z) covers [x, x + 1) * size on x and [z, z + 1) * size on z.
+struct TileCoord {
+  int x = 0;
+  int z = 0;
+  auto operator<=>(const TileCoord&) const = default;
+};
+
+/// Maps world positions to tiles of side `tile_size` metres, with the grid origin at the world origin.
+class TileGrid {
+ public:
+  explicit TileGrid(float tile_size) : tile_size_(tile_size) {}
+
+  float tile_size() const { return tile_size_; }
+  TileCoord TileAt(const Vec3& position) const;
+  /// The tile's column from `min_y` to `max_y`, grown by `border` metres on x and z.
+  AABB Bounds(TileCoord tile, float border = 0.0f, float min_y = -1.0e4f, float max_y = 1.0e4f) const;
+  Vec3 Center(TileCoord tile) const;
+  /// Squared x-z distance from `position` to the tile (0 inside).
+  float SquaredDistance(TileCoord tile, const Vec3& position) const;
+  /// Tiles whose x-z square the circle (x-z plane) touches, in row order.
+  std::vector<TileCoord> TilesInCircle(const Vec3& center, float radius) const;
+  /// Tiles whose x-z square overlaps `box`, in row order.
+  std::vector<TileCoord> TilesInBox(const AABB& box) const;
+
+ private:
+  float tile_size_;
+};
+
+}  // namespace strata::navmesh

@@ -1,0 +1,170 @@
+// Navmesh validation on small hand-made levels: coverage of a flat floor, clearance around an obstacle,
+// slopes and steps against the agent's limits, paths across tile borders, determinism of tile bytes.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "NavMeshTestWorld.h"
+#include "navmesh/Validation.h"
+
+namespace strata::test {
+namespace {
+
+using navmesh::NavMeshSettings;
+using navmesh::TileCoord;
+
+constexpr float kTile = 12.8f;
+
+TEST(NavMeshBuild, FlatFloorCoversFloorMinusAgentRadius) {
+  auto world = MakeWorld();
+  AddFloor(*world, 2);
+  const auto service = BuildArea(*world, TileArea(2));
+  EXPECT_EQ(service->navmesh().tile_count(), 4);
+  const NavMeshSettings settings;
+  const float side = 2.0f * kTile - 2.0f * settings.agent_radius;
+  const double expected = static_cast<double>(side) * side;
+  const double area = service->navmesh().WalkableArea();
+  EXPECT_NEAR(area, expected, 0.03 * expected) << "walkable " << area << " m^2, expected " << expected;
+  EXPECT_EQ(navmesh::CountIslands(service->navmesh()), 1);
+}
+
+TEST(NavMeshBuild, BoxObstacleKeepsAgentRadiusClearAndPathGoesAround) {
+  auto world = MakeWorld();
+  AddFloor(*world, 2);
+  // Straddles the corner of all four tiles.
+  const AABB obstacle(Vec3(kTile - 1.5f, 0.0f, kTile - 1.5f), Vec3(kTile + 1.5f, 2.5f, kTile + 1.5f));
+  AddSlab(*world, obstacle.min.x(), obstacle.max.x(), obstacle.min.z(), obstacle.max.z(), obstacle.max.y(),
+          2.5f);
+  const auto service = BuildArea(*world, TileArea(2));
+  const NavMeshSettings settings;
+  const float clearance = navmesh::ClearanceToBox(service->navmesh(), obstacle, settings.agent_max_climb);
+  // Polygon edges follow the voxel grid, so allow one cell of simplification error.
+  EXPECT_GE(clearance, settings.agent_radius - settings.cell_size) << "clearance " << clearance;
+
+  const auto query = MakeQuery(service->navmesh());
+  const Vec3 from(kTile - 6.0f, 0.0f, kTile), to(kTile + 6.0f, 0.0f, kTile);
+  const auto path = query->FindPath(from, to);
+  ASSERT_TRUE(path.ok());
+  EXPECT_TRUE(path->found);
+  EXPECT_TRUE(path->reached_end);
+  EXPECT_FALSE(navmesh::PathCrossesBox(*path, obstacle));
+  EXPECT_GT(path->length, (to - from).norm() + 0.5f);
+  EXPECT_GE(navmesh::TilesOnPath(service->navmesh(), *path).size(), 2u);
+}
+
+/// A plank 4 m wide rising at `degrees` from (x, 0, z_min) along +z, 8 m long.
+BodyID AddRamp(PhysicsSystem& world, float x, float degrees) {
+  const float radians = degrees * kPi / 180.0f;
+  const float half_length = 4.0f;
+  const Quat tilt(Eigen::AngleAxisf(-radians, Vec3::UnitX()));
+  const Vec3 center(x, half_length * std::sin(radians), 3.0f + half_length * std::cos(radians));
+  return Add(world, Static(Box(2.0f, 0.1f, half_length), center, tilt));
+}
+
+float RampSurfaceHeight(float degrees) {
+  return 4.0f * std::sin(degrees * kPi / 180.0f) + 0.1f / std::cos(degrees * kPi / 180.0f);
+}
+
+TEST(NavMeshBuild, ThirtyDegreeRampIsWalkableFiftyIsNot) {
+  auto world = MakeWorld();
+  AddFloor(*world, 2);
+  AddRamp(*world, 5.0f, 30.0f);
+  AddRamp(*world, 18.0f, 50.0f);
+  const auto service = BuildArea(*world, TileArea(2));
+  auto query = MakeQuery(service->navmesh());
+  query->set_search_extents(Vec3(0.3f, 0.4f, 0.3f));
+  const float mid_z30 = 3.0f + 4.0f * std::cos(30.0f * kPi / 180.0f);
+  const auto on30 = query->FindNearestPoly(Vec3(5.0f, RampSurfaceHeight(30.0f), mid_z30));
+  ASSERT_TRUE(on30.ok()) << "no navmesh on the 30 degree ramp";
+  EXPECT_NEAR(on30->point.y(), RampSurfaceHeight(30.0f), 0.4f);
+  const float mid_z50 = 3.0f + 4.0f * std::cos(50.0f * kPi / 180.0f);
+  EXPECT_FALSE(query->FindNearestPoly(Vec3(18.0f, RampSurfaceHeight(50.0f), mid_z50)).ok())
+      << "navmesh on the 50 degree ramp";
+}
+
+TEST(NavMeshBuild, StepsUpToMaxClimbConnectHigherOnesDoNot) {
+  auto world = MakeWorld();
+  AddFloor(*world, 2);
+  AddSlab(*world, 3.0f, 9.0f, 4.0f, 10.0f, 0.5f, 0.5f);    // low step: 0.5 m <= 0.9 m
+  AddSlab(*world, 16.0f, 22.0f, 4.0f, 10.0f, 1.2f, 1.2f);  // high step: 1.2 m > 0.9 m
+  const auto service = BuildArea(*world, TileArea(2));
+  const auto query = MakeQuery(service->navmesh());
+  const Vec3 start(12.0f, 0.0f, 20.0f);
+  const auto low = query->FindPath(start, Vec3(6.0f, 0.5f, 7.0f));
+  ASSERT_TRUE(low.ok());
+  EXPECT_TRUE(low->reached_end);
+  const auto high = query->FindPath(start, Vec3(19.0f, 1.2f, 7.0f));
+  ASSERT_TRUE(high.ok());
+  EXPECT_FALSE(high->reached_end);
+  // The top of the high step is navmesh, just an island of its own.
+  EXPECT_TRUE(query->FindNearestPoly(Vec3(19.0f, 1.2f, 7.0f)).ok());
+  EXPECT_EQ(navmesh::CountIslands(service->navmesh()), 2);
+}
+
+TEST(NavMeshBuild, PathsCrossStitchedTileBorders) {
+  auto world = MakeWorld();
+  AddFloor(*world, 3);
+  const auto service = BuildArea(*world, TileArea(3));
+  const auto query = MakeQuery(service->navmesh());
+  const auto path = query->FindPath(Vec3(2.0f, 0.0f, 2.0f), Vec3(36.0f, 0.0f, 30.0f));
+  ASSERT_TRUE(path.ok());
+  EXPECT_TRUE(path->reached_end);
+  EXPECT_GE(navmesh::TilesOnPath(service->navmesh(), *path).size(), 3u);
+  // On an open floor the string-pulled path is the straight line.
+  EXPECT_NEAR(path->length, (Vec3(36.0f, 0.0f, 30.0f) - Vec3(2.0f, 0.0f, 2.0f)).norm(), 0.2f);
+  const auto ray = query->Raycast(Vec3(2.0f, 0.0f, 2.0f), Vec3(36.0f, 0.0f, 2.0f));
+  ASSERT_TRUE(ray.ok());
+  EXPECT_FALSE(ray->hit_wall);
+  const auto off_edge = query->Raycast(Vec3(2.0f, 0.0f, 2.0f), Vec3(60.0f, 0.0f, 2.0f));
+  ASSERT_TRUE(off_edge.ok());
+  EXPECT_TRUE(off_edge->hit_wall);
+  EXPECT_NEAR(off_edge->fraction * 58.0f, 3.0f * kTile - 0.6f - 2.0f, 0.5f);
+}
+
+TEST(NavMeshBuild, SameWorldGivesByteIdenticalTiles) {
+  const NavMeshSettings settings;
+  std::vector<std::vector<unsigned char>> runs;
+  for (int run = 0; run < 2; ++run) {
+    auto world = MakeWorld();
+    AddFloor(*world, 2);
+    AddRamp(*world, 5.0f, 30.0f);
+    AddSlab(*world, 14.0f, 20.0f, 14.0f, 20.0f, 0.6f, 0.6f);
+    const auto geometry = navmesh::GatherTileGeometry(*world, navmesh::TileGatherBox(settings, {0, 0}), {});
+    auto built = navmesh::BuildTile(settings, {0, 0}, geometry);
+    ASSERT_TRUE(built.ok());
+    ASSERT_FALSE(built->data.empty());
+    runs.emplace_back(built->data.bytes().begin(), built->data.bytes().end());
+  }
+  EXPECT_EQ(runs[0], runs[1]);
+}
+
+TEST(NavMeshBuild, WorkerCountDoesNotChangeTheNavmesh) {
+  auto world = MakeWorld();
+  AddFloor(*world, 3);
+  AddRamp(*world, 5.0f, 30.0f);
+  AddSlab(*world, 14.0f, 20.0f, 14.0f, 20.0f, 0.6f, 0.6f);
+  const auto one = BuildArea(*world, TileArea(3), FastServiceConfig(1));
+  const auto three = BuildArea(*world, TileArea(3), FastServiceConfig(3));
+  EXPECT_EQ(one->navmesh().Tiles(), three->navmesh().Tiles());
+  EXPECT_EQ(one->navmesh().polygon_count(), three->navmesh().polygon_count());
+  EXPECT_EQ(one->navmesh().WalkableArea(), three->navmesh().WalkableArea());
+}
+
+TEST(NavMeshBuild, GatherSkipsDebrisAndFilteredLayers) {
+  auto world = MakeWorld();
+  AddFloor(*world, 1);
+  Add(*world, Dynamic(Box(0.2f, 0.2f, 0.2f), Vec3(3, 0.2f, 3)));  // debris
+  const BodyID crate = Add(*world, Dynamic(Box(1.0f, 1.0f, 1.0f), Vec3(8, 1, 8)));
+  const NavMeshSettings settings;
+  const AABB box = navmesh::TileGatherBox(settings, {0, 0});
+  const auto geometry = navmesh::GatherTileGeometry(*world, box, {});
+  ASSERT_EQ(geometry.bodies.size(), 2u);  // floor and the 2 m crate
+  EXPECT_EQ(geometry.bodies[1].id, crate);
+  EXPECT_EQ(geometry.triangle_count(), 24u);  // two boxes, 12 triangles each
+  navmesh::NavMeshBodyFilter static_only;
+  static_only.object_layers = 1ull << layers::kNonMoving;
+  EXPECT_EQ(navmesh::GatherTileGeometry(*world, box, static_only).bodies.size(), 1u);
+}
+
+}  // namespace
+}  // namespace strata::test

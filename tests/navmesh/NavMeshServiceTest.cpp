@@ -1,0 +1,201 @@
+// The background service: request order and dedupe, dirty tracking (an obstacle added in a ready tile makes
+// it stale, it rebuilds and the path changes; removing it brings the path back), bad input, and the
+// RecastDemo "MSET" file format with corrupt files.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <random>
+
+#include "NavMeshTestWorld.h"
+#include "navmesh/Validation.h"
+
+namespace strata::test {
+namespace {
+
+using navmesh::TileCoord;
+using navmesh::TileState;
+
+constexpr float kTile = 12.8f;
+
+TEST(NavMeshService, BuildsNearestTilesFirstAndOnlyOnce) {
+  auto world = MakeWorld();
+  AddFloor(*world, 5);
+  const auto service = MakeService(*world, FastServiceConfig(1));
+  const Vec3 agent(2.5f * kTile, 0.0f, 2.5f * kTile);
+  ASSERT_TRUE(service->RequestAround(agent, 2.0f * kTile).ok());
+  ASSERT_TRUE(service->RequestAround(agent, 2.0f * kTile).ok());  // duplicate: no extra work
+  ASSERT_TRUE(service->WaitUntilIdle(std::chrono::seconds(60)));
+  const auto log = service->build_log();
+  ASSERT_EQ(log.size(), 21u);  // the 5 x 5 block minus its 4 corners
+  float previous = 0.0f;
+  for (const auto& record : log) {
+    const Vec3 center = service->grid().Center(record.coord);
+    const float distance = std::hypot(center.x() - agent.x(), center.z() - agent.z());
+    EXPECT_GE(distance, previous - 1e-3f) << "tile (" << record.coord.x << ", " << record.coord.z << ")";
+    previous = distance;
+    EXPECT_EQ(service->GetTileState(record.coord), TileState::kReady);
+  }
+  EXPECT_EQ(service->GetTileState({0, 0}), TileState::kMissing);
+  EXPECT_EQ(service->stats().ready, 21u);
+}
+
+TEST(NavMeshService, ObstacleMakesTileStaleRebuildsAndPathComesBackWhenRemoved) {
+  auto world = MakeWorld();
+  AddFloor(*world, 2);
+  const auto service = BuildArea(*world, TileArea(2));
+  const auto query = MakeQuery(service->navmesh());
+  const Vec3 from(3.0f, 0.0f, kTile), to(2.0f * kTile - 3.0f, 0.0f, kTile);
+  const auto before = query->FindPath(from, to);
+  ASSERT_TRUE(before.ok() && before->reached_end);
+
+  // A wall across the middle, with room to walk around it at both ends.
+  const AABB wall(Vec3(kTile - 0.5f, 0.0f, 5.0f), Vec3(kTile + 0.5f, 2.0f, 2.0f * kTile - 5.0f));
+  const auto wall_id =
+      world->bodies().CreateAndAddBody(Static(Box(0.5f, 1.0f, 0.5f * wall.Size().z()), wall.Center()));
+  ASSERT_TRUE(wall_id.ok());
+  const std::size_t rebuilds = service->stats().rebuilds;
+  ASSERT_TRUE(WaitForRebuilds(*service, rebuilds + 1));
+  EXPECT_EQ(service->stats().rebuilds, rebuilds + 4);  // the wall's box touches all four tiles' borders
+  const auto around = query->FindPath(from, to);
+  ASSERT_TRUE(around.ok() && around->reached_end);
+  EXPECT_FALSE(navmesh::PathCrossesBox(*around, wall));
+  EXPECT_GT(around->length, before->length + 2.0f);
+
+  ASSERT_TRUE(world->bodies().RemoveAndDestroyBody(*wall_id).ok());
+  ASSERT_TRUE(WaitForRebuilds(*service, rebuilds + 5));
+  const auto after = query->FindPath(from, to);
+  ASSERT_TRUE(after.ok() && after->reached_end);
+  EXPECT_FLOAT_EQ(after->length, before->length);
+  EXPECT_EQ(after->points.size(), before->points.size());
+}
+
+TEST(NavMeshService, SmallMovesAndDebrisLeaveTilesReady) {
+  auto world = MakeWorld();
+  AddFloor(*world, 1);
+  const BodyID crate = Add(*world, Static(Box(1.0f, 1.0f, 1.0f), Vec3(6, 1, 6)));
+  const auto service = BuildArea(*world, TileArea(1));
+  ASSERT_TRUE(world->bodies().SetPosition(crate, Vec3(6.1f, 1.0f, 6.0f)).ok());  // below the 0.25 m threshold
+  Add(*world, Dynamic(Box(0.2f, 0.2f, 0.2f), Vec3(3, 0.2f, 3)));                 // debris does not count
+  std::this_thread::sleep_for(10 * service->config().scan_interval);
+  EXPECT_EQ(service->GetTileState({0, 0}), TileState::kReady);
+  ASSERT_TRUE(world->bodies().SetPosition(crate, Vec3(8.0f, 1.0f, 6.0f)).ok());
+  ASSERT_TRUE(WaitForRebuilds(*service, 1));
+  EXPECT_EQ(service->GetTileState({0, 0}), TileState::kReady);
+}
+
+TEST(NavMeshService, RejectsBadConfigAndRequests) {
+  auto world = MakeWorld();
+  navmesh::NavMeshServiceConfig config;
+  config.settings.agent_max_slope = 95.0f;
+  EXPECT_FALSE(navmesh::NavMeshService::Create(*world, config).ok());
+  config = {};
+  config.settings.cell_size = std::nanf("");
+  EXPECT_FALSE(navmesh::NavMeshService::Create(*world, config).ok());
+  config = {};
+  config.settings.verts_per_poly = 7;
+  EXPECT_FALSE(navmesh::NavMeshService::Create(*world, config).ok());
+  config = {};
+  config.worker_threads = 0;
+  EXPECT_FALSE(navmesh::NavMeshService::Create(*world, config).ok());
+
+  const auto service = MakeService(*world, FastServiceConfig());
+  EXPECT_FALSE(service->RequestAround(Vec3(std::nanf(""), 0, 0), 10.0f).ok());
+  EXPECT_FALSE(service->RequestAround(Vec3::Zero(), -1.0f).ok());
+  EXPECT_FALSE(service->RequestAround(Vec3::Zero(), 1.0e6f).ok());
+  EXPECT_FALSE(service->RequestBox(AABB()).ok());
+  EXPECT_EQ(service->stats().queued, 0u);
+  const auto query = MakeQuery(service->navmesh());
+  EXPECT_FALSE(query->FindPath(Vec3(0, std::nanf(""), 0), Vec3::Zero()).ok());
+  EXPECT_FALSE(query->FindNearestPoly(Vec3(1, 0, 1)).ok());  // nothing built yet
+}
+
+class NavMeshFile : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    world_ = MakeWorld();
+    AddFloor(*world_, 2);
+    AddSlab(*world_, 10.0f, 16.0f, 10.0f, 16.0f, 2.0f, 2.0f);
+    service_ = BuildArea(*world_, TileArea(2));
+    path_ = std::filesystem::path(::testing::TempDir()) /
+            (std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) + ".bin");
+    ASSERT_TRUE(service_->navmesh().Save(path_).ok());
+    std::ifstream file(path_, std::ios::binary);
+    bytes_.assign(std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>());
+  }
+  void Write(const std::vector<char>& bytes) const {
+    std::ofstream file(path_, std::ios::binary | std::ios::trunc);
+    file.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  }
+
+  std::unique_ptr<PhysicsSystem> world_;
+  std::unique_ptr<navmesh::NavMeshService> service_;
+  std::filesystem::path path_;
+  std::vector<char> bytes_;
+};
+
+TEST_F(NavMeshFile, SaveAndLoadGiveTheSamePaths) {
+  ASSERT_GE(bytes_.size(), 40u);
+  EXPECT_EQ(std::string(bytes_.begin(), bytes_.begin() + 4), "TESM");  // 'MSET' as a little-endian int
+  const auto loaded = navmesh::NavMesh::Load(path_);
+  ASSERT_TRUE(loaded.ok()) << loaded.error().message;
+  EXPECT_EQ((*loaded)->Tiles(), service_->navmesh().Tiles());
+  EXPECT_EQ((*loaded)->polygon_count(), service_->navmesh().polygon_count());
+  const Vec3 from(2, 0, 2), to(23, 0, 23);
+  const auto original = MakeQuery(service_->navmesh())->FindPath(from, to);
+  const auto reloaded = MakeQuery(**loaded)->FindPath(from, to);
+  ASSERT_TRUE(original.ok() && reloaded.ok());
+  EXPECT_TRUE(reloaded->reached_end);
+  EXPECT_EQ(reloaded->points, original->points);
+}
+
+TEST_F(NavMeshFile, BadFilesGiveClearErrors) {
+  const auto expect_error = [&](const char* why, const std::string& fragment) {
+    const auto loaded = navmesh::NavMesh::Load(path_);
+    ASSERT_FALSE(loaded.ok()) << why;
+    EXPECT_NE(loaded.error().message.find(path_.filename().string()), std::string::npos) << why;
+    EXPECT_NE(loaded.error().message.find(fragment), std::string::npos) << loaded.error().message;
+  };
+  std::filesystem::remove(path_);
+  expect_error("missing", "cannot open");
+  Write({'M', 'S'});
+  expect_error("tiny", "too short");
+  std::vector<char> bytes = bytes_;
+  bytes[0] = 'X';
+  Write(bytes);
+  expect_error("magic", "bad magic");
+  bytes = bytes_;
+  bytes.resize(bytes.size() - 10);
+  Write(bytes);
+  expect_error("truncated", "truncated");
+  bytes = bytes_;
+  bytes.push_back(0);
+  Write(bytes);
+  expect_error("trailing", "unexpected bytes");
+}
+
+TEST_F(NavMeshFile, RandomCorruptionNeverCrashesLoadOrQueries) {
+  std::mt19937 random(7);
+  std::uniform_int_distribution<std::size_t> position(0, bytes_.size() - 1);
+  std::uniform_int_distribution<int> value(0, 255);
+  int rejected = 0;
+  for (int trial = 0; trial < 200; ++trial) {
+    std::vector<char> bytes = bytes_;
+    for (int flips = 0; flips < 4; ++flips) bytes[position(random)] = static_cast<char>(value(random));
+    Write(bytes);
+    const auto loaded = navmesh::NavMesh::Load(path_);
+    if (!loaded.ok()) {
+      ++rejected;
+      continue;
+    }
+    // Whatever was accepted must be safe to query (ASan would catch reads outside a tile).
+    const auto query = MakeQuery(**loaded);
+    (void)query->FindPath(Vec3(2, 0, 2), Vec3(23, 0, 23));
+    (void)query->Raycast(Vec3(2, 0, 2), Vec3(23, 0, 2));
+    (void)navmesh::CountIslands(**loaded);
+  }
+  EXPECT_GT(rejected, 0);
+}
+
+}  // namespace
+}  // namespace strata::test
