@@ -117,6 +117,18 @@ Status NavMeshService::RequestBox(const AABB& box) {
   return Status::Ok();
 }
 
+Status NavMeshService::Invalidate(const AABB& box) {
+  if (!box.IsValid()) return MakeError(ErrorCode::kInvalidArgument, "navmesh invalidate: box is not valid");
+  const Clock::time_point now = Clock::now();
+  const std::lock_guard lock(mutex_);
+  for (auto& [coord, record] : tiles_) {
+    if (record.state != TileState::kReady || !grid_.Bounds(coord).Overlaps(box)) continue;
+    record.state = TileState::kStale;
+    record.stale_since = now;
+  }
+  return Status::Ok();
+}
+
 void NavMeshService::Enqueue(TileCoord tile, float priority, Clock::time_point now) {
   TileRecord& record = tiles_[tile];
   switch (record.state) {

@@ -82,6 +82,10 @@ class NavMeshService {
   /// Queues the tiles overlapping `box` (x-z), e.g. a whole level for a bake.
   Status RequestBox(const AABB& box);
 
+  /// Marks the ready tiles overlapping `box` (x-z) stale, for changes the service cannot see (geometry
+  /// outside the physics world, a new filter); they rebuild after the debounce delay.
+  Status Invalidate(const AABB& box);
+
   TileState GetTileState(TileCoord tile) const;
   /// Blocks until no tile is queued, building or stale, or the timeout passes; true when idle. For tools
   /// and tests; a game polls GetTileState instead.

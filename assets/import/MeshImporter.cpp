@@ -3,7 +3,9 @@
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
+#include <array>
 #include <assimp/Importer.hpp>
+#include <map>
 #include <string>
 
 namespace strata {
@@ -36,6 +38,42 @@ void AppendNode(const aiScene& scene, const aiNode& node, const aiMatrix4x4& par
     AppendNode(scene, *node.mChildren[c], transform, options, out);
 }
 
+/// Merges vertices at exactly the same position (assimp welds within one mesh only) and drops triangles
+/// that collapse to zero area, keeping the others in file order.
+void WeldAndDropDegenerates(ImportedMesh& mesh) {
+  constexpr std::uint32_t kUnused = 0xffffffffu;
+  std::map<std::array<float, 3>, std::uint32_t> unique;
+  std::vector<std::uint32_t> remap(mesh.vertices.size());
+  std::vector<Vec3> welded;
+  for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
+    const Vec3& v = mesh.vertices[i];
+    const auto [it, inserted] =
+        unique.try_emplace({v.x(), v.y(), v.z()}, static_cast<std::uint32_t>(welded.size()));
+    if (inserted) welded.push_back(v);
+    remap[i] = it->second;
+  }
+  // Drop zero-area triangles, then the vertices only they used.
+  std::vector<TriangleMeshShape::Indices> kept;
+  std::vector<std::uint32_t> compact(welded.size(), kUnused);
+  std::vector<Vec3> used;
+  for (const auto& triangle : mesh.triangles) {
+    const TriangleMeshShape::Indices t{remap[triangle[0]], remap[triangle[1]], remap[triangle[2]]};
+    const Vec3 normal = (welded[t[1]] - welded[t[0]]).cross(welded[t[2]] - welded[t[0]]);
+    if (normal.squaredNorm() <= 1e-12f) continue;
+    TriangleMeshShape::Indices renumbered;
+    for (int k = 0; k < 3; ++k) {
+      if (compact[t[k]] == kUnused) {
+        compact[t[k]] = static_cast<std::uint32_t>(used.size());
+        used.push_back(welded[t[k]]);
+      }
+      renumbered[k] = compact[t[k]];
+    }
+    kept.push_back(renumbered);
+  }
+  mesh.vertices = std::move(used);
+  mesh.triangles = std::move(kept);
+}
+
 }  // namespace
 
 Result<ImportedMesh> ImportMesh(const std::filesystem::path& path, const MeshImportOptions& options) {
@@ -50,13 +88,15 @@ Result<ImportedMesh> ImportMesh(const std::filesystem::path& path, const MeshImp
                                                           aiComponent_COLORS | aiComponent_TEXCOORDS);
   const aiScene* scene = importer.ReadFile(
       path.string(), aiProcess_Triangulate | aiProcess_RemoveComponent | aiProcess_JoinIdenticalVertices |
-                         aiProcess_FindDegenerates | aiProcess_SortByPType | aiProcess_FindInvalidData);
+                         aiProcess_FindDegenerates | aiProcess_SortByPType);
+  // No aiProcess_FindInvalidData: it silently drops meshes with NaN vertices, and we want to say so.
   if (!scene || !scene->mRootNode)
     return ImportError(path, std::string("cannot import: ") + importer.GetErrorString());
   ImportedMesh mesh;
   AppendNode(*scene, *scene->mRootNode, aiMatrix4x4(), options, mesh);
   for (const Vec3& v : mesh.vertices)
     if (!IsFinite(v)) return ImportError(path, "has non-finite vertex coordinates");
+  WeldAndDropDegenerates(mesh);
   if (mesh.triangles.empty()) return ImportError(path, "contains no triangles");
   return mesh;
 }

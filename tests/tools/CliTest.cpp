@@ -3,6 +3,7 @@
 
 #include <sys/wait.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -13,6 +14,18 @@ namespace strata::test {
 namespace {
 
 const std::filesystem::path kScenes = STRATA_SCENES_DIR;
+const std::filesystem::path kLevels = STRATA_LEVELS_DIR;
+
+/// Runs the CLI with stdout captured into `output`.
+int RunCliCapture(const std::string& arguments, std::string& output) {
+  const std::filesystem::path captured =
+      std::filesystem::temp_directory_path() / ("strata_cli_capture_" + std::to_string(::getpid()));
+  const int status =
+      std::system((std::string(STRATA_CLI) + " " + arguments + " > " + captured.string()).c_str());
+  std::ifstream file(captured);
+  output.assign(std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
 
 int RunCli(const std::string& arguments) {
   const int status = std::system((std::string(STRATA_CLI) + " " + arguments + " > /dev/null 2>&1").c_str());
@@ -58,6 +71,79 @@ TEST(Cli, BadSceneExitsWithTwoAndWritesNothing) {
   EXPECT_EQ(RunCli("simulate " + TempFile("missing.json").string() + " --steps 10"), 2);
   EXPECT_EQ(RunCli("simulate"), 2);  // scene argument missing
   std::filesystem::remove(scene);
+}
+
+TEST(Cli, NavmeshBakeWritesSetObjAndReportThenPathQueriesIt) {
+  const auto nav = TempFile("arena.bin"), obj = TempFile("arena.obj"), report = TempFile("arena.json");
+  ASSERT_EQ(RunCli("navmesh bake " + (kLevels / "arena.glb").string() + " --out " + nav.string() + " --obj " +
+                   obj.string() + " --report " + report.string()),
+            0);
+  std::ifstream report_file(report);
+  const auto json = nlohmann::json::parse(report_file);
+  EXPECT_EQ(json["tiles"].get<int>(), 4);
+  EXPECT_GT(json["polygons"].get<int>(), 4);
+  // 25.6 m square minus the agent radius at the edges and the pillars' footprints.
+  EXPECT_GT(json["walkable_area_m2"].get<double>(), 500.0);
+  EXPECT_LT(json["walkable_area_m2"].get<double>(), 25.6 * 25.6);
+  EXPECT_GT(json["build_ms"]["recast"]["median"].get<double>(), 0.0);
+  EXPECT_GE(json["build_ms"]["gather"]["max"].get<double>(),
+            json["build_ms"]["gather"]["median"].get<double>());
+  EXPECT_GT(std::filesystem::file_size(obj), 100u);
+
+  std::string output;
+  ASSERT_EQ(RunCliCapture("navmesh path " + nav.string() + " --from 2,0,2 --to 23,0,23 --json", output), 0);
+  const auto path = nlohmann::json::parse(output);
+  EXPECT_TRUE(path["found"].get<bool>());
+  EXPECT_TRUE(path["reached_end"].get<bool>());
+  EXPECT_GE(path["length"].get<float>(), std::hypot(21.0f, 21.0f) - 0.1f);
+  const auto last = path["points"].back();
+  EXPECT_NEAR(last[0].get<float>(), 23.0f, 0.5f);
+  EXPECT_NEAR(last[2].get<float>(), 23.0f, 0.5f);
+  // Off the navmesh at the far end: found, not reached.
+  ASSERT_EQ(RunCliCapture("navmesh path " + nav.string() + " --from 2,0,2 --to 60,0,60 --json", output), 0);
+  EXPECT_FALSE(nlohmann::json::parse(output)["reached_end"].get<bool>());
+}
+
+TEST(Cli, NavmeshBadInputExitsWithTwo) {
+  const auto nav = TempFile("bad.bin");
+  EXPECT_EQ(RunCli("navmesh bake " + TempFile("missing.obj").string() + " --out " + nav.string()), 2);
+  EXPECT_EQ(RunCli("navmesh bake " + (kLevels / "arena.glb").string() + " --out " + nav.string() +
+                   " --max-slope 120"),
+            2);
+  EXPECT_FALSE(std::filesystem::exists(nav));
+  std::ofstream(nav) << "not a navmesh";
+  EXPECT_EQ(RunCli("navmesh path " + nav.string() + " --from 0,0,0 --to 1,0,1"), 2);
+  ASSERT_EQ(RunCli("navmesh bake " + (kLevels / "arena.glb").string() + " --out " + nav.string()), 0);
+  EXPECT_EQ(RunCli("navmesh path " + nav.string() + " --from 0,0 --to 1,0,1"), 2);
+  EXPECT_EQ(RunCli("navmesh path " + nav.string() + " --from 0,nan,0 --to 1,0,1"), 2);
+}
+
+TEST(Cli, DemoBuildsTilesWhileSteppingAndWritesPictures) {
+  const auto out = TempFile("demo");
+  std::string output;
+  ASSERT_EQ(
+      RunCliCapture("demo --steps 120 --crates 40 --boulders 2 --agents 3 --out-dir " + out.string(), output),
+      0)
+      << output;
+  EXPECT_NE(output.find("longest frame"), std::string::npos);
+  EXPECT_NE(output.find("0 failures"), std::string::npos) << output;
+  std::ifstream png(out / "navmesh.png", std::ios::binary);
+  char signature[8] = {};
+  png.read(signature, 8);
+  EXPECT_EQ(std::string(signature + 1, 3), "PNG");
+  EXPECT_GT(std::filesystem::file_size(out / "navmesh.obj"), 1000u);
+}
+
+TEST(Cli, BundledLevelsAreWhatTheGeneratorWrites) {
+  const auto out = TempFile("levels");
+  ASSERT_EQ(RunCli("level generate --out " + out.string()), 0);
+  for (const char* name : {"courtyard.obj", "courtyard_zup.obj", "arena.glb"}) {
+    std::ifstream generated(out / name, std::ios::binary), bundled(kLevels / name, std::ios::binary);
+    const std::string a((std::istreambuf_iterator<char>(generated)), std::istreambuf_iterator<char>());
+    const std::string b((std::istreambuf_iterator<char>(bundled)), std::istreambuf_iterator<char>());
+    EXPECT_FALSE(a.empty());
+    EXPECT_EQ(a, b) << name << " is out of date: run `strata level generate`";
+  }
 }
 
 }  // namespace

@@ -12,5 +12,13 @@ std::function<int()> AddSimulateCommand(CLI::App& app);
 std::function<int()> AddBenchCommand(CLI::App& app);
 /// Adds `bench-broadphase` to `app`.
 std::function<int()> AddBroadPhaseBenchCommand(CLI::App& app);
+/// Adds `bench-navmesh` to `app`.
+std::function<int()> AddNavMeshBenchCommand(CLI::App& app);
+/// Adds `demo` (the main job) to `app`.
+std::function<int()> AddDemoCommand(CLI::App& app);
+/// Adds `navmesh bake` and `navmesh path` to `app`.
+std::function<int()> AddNavMeshCommand(CLI::App& app);
+/// Adds `level generate` to `app`.
+std::function<int()> AddLevelCommand(CLI::App& app);
 
 }  // namespace strata::cli

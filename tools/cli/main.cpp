@@ -1,4 +1,4 @@
-// strata: run scenes, benchmarks and (later) navmesh jobs from the command line.
+// strata: the main job (demo), scenes, navmesh bakes and path queries, level generation and benchmarks.
 #include <iostream>
 
 #include "tools/cli/Commands.h"
@@ -9,6 +9,10 @@ int main(int argc, char** argv) {
   const auto simulate = strata::cli::AddSimulateCommand(app);
   const auto bench = strata::cli::AddBenchCommand(app);
   const auto bench_broadphase = strata::cli::AddBroadPhaseBenchCommand(app);
+  const auto bench_navmesh = strata::cli::AddNavMeshBenchCommand(app);
+  const auto demo = strata::cli::AddDemoCommand(app);
+  const auto navmesh = strata::cli::AddNavMeshCommand(app);
+  const auto level = strata::cli::AddLevelCommand(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& error) {
@@ -17,5 +21,9 @@ int main(int argc, char** argv) {
   if (app.got_subcommand("simulate")) return simulate();
   if (app.got_subcommand("bench")) return bench();
   if (app.got_subcommand("bench-broadphase")) return bench_broadphase();
+  if (app.got_subcommand("bench-navmesh")) return bench_navmesh();
+  if (app.got_subcommand("demo")) return demo();
+  if (app.got_subcommand("navmesh")) return navmesh();
+  if (app.got_subcommand("level")) return level();
   return 2;
 }

@@ -1,0 +1,105 @@
+// The service under load (label tsan; the long version is under stress): background jobs gather and build
+// tiles while other threads add, remove and move thousands of bodies, the world steps and agents request
+// tiles and query paths. No race, no failure, every requested tile ends ready.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <random>
+#include <thread>
+
+#include "NavMeshTestWorld.h"
+
+namespace strata::test {
+namespace {
+
+constexpr float kTile = 12.8f;
+constexpr int kTiles = 3;
+
+void RunServiceUnderLoad(int operations_per_thread, int min_steps) {
+  auto world = MakeWorld({}, 8192);
+  AddFloor(*world, kTiles);
+  navmesh::NavMeshServiceConfig config = FastServiceConfig(2);
+  config.move_threshold = 0.0f;  // any move makes a tile stale, so the end state must match a fresh build
+  const auto service = MakeService(*world, config);
+
+  std::atomic<bool> stop{false};
+  std::atomic<int> steps{0};
+  const float extent = kTiles * kTile;
+
+  // Two threads stream bodies in and out and teleport them: crates that count, debris that does not.
+  auto mutate = [&](unsigned seed) {
+    std::mt19937 random(seed);
+    std::uniform_real_distribution<float> across(1.0f, extent - 1.0f);
+    std::vector<BodyID> mine;
+    // At least this many operations, and on until the world has stepped often enough to overlap jobs.
+    for (int op = 0; op < operations_per_thread || steps.load() < min_steps; ++op) {
+      const int action = static_cast<int>(random() % 4);
+      if ((action <= 1 && mine.size() < 150) || mine.size() < 4) {
+        const float half = (random() % 2) ? 1.0f : 0.15f;
+        auto settings = Dynamic(Box(half, half, half), Vec3(across(random), half + 0.01f, across(random)));
+        if (auto id = world->bodies().CreateAndAddBody(settings)) mine.push_back(*id);
+      } else if (action == 2) {
+        const std::size_t pick = random() % mine.size();
+        EXPECT_TRUE(world->bodies().RemoveAndDestroyBody(mine[pick]).ok());
+        mine[pick] = mine.back();
+        mine.pop_back();
+      } else {
+        EXPECT_TRUE(world->bodies()
+                        .SetPosition(mine[random() % mine.size()], Vec3(across(random), 1.2f, across(random)))
+                        .ok());
+      }
+    }
+  };
+  std::thread mutator_a(mutate, 1u), mutator_b(mutate, 2u);
+
+  std::thread stepper([&] {
+    while (!stop.load()) {
+      ASSERT_TRUE(world->Step(1.0f / 60.0f).ok());
+      ++steps;
+    }
+  });
+
+  // An agent asks for tiles around where it is and queries paths on whatever is published so far.
+  std::thread agent([&] {
+    std::mt19937 random(3);
+    std::uniform_real_distribution<float> across(1.0f, extent - 1.0f);
+    const auto query = MakeQuery(service->navmesh());
+    while (!stop.load()) {
+      const Vec3 position(across(random), 0.0f, across(random));
+      ASSERT_TRUE(service->RequestAround(position, kTile).ok());
+      (void)query->FindPath(position, Vec3(across(random), 0.0f, across(random)));
+      std::this_thread::yield();
+    }
+  });
+
+  mutator_a.join();
+  mutator_b.join();
+  stop = true;
+  stepper.join();
+  agent.join();
+  ASSERT_TRUE(service->RequestBox(TileArea(kTiles)).ok());
+  // The world is frozen now; give the scanner time to see the last changes, then let the rebuilds finish.
+  ASSERT_TRUE(service->WaitUntilIdle(std::chrono::seconds(120)));
+  std::this_thread::sleep_for(4 * config.scan_interval + config.rebuild_delay);
+  ASSERT_TRUE(service->WaitUntilIdle(std::chrono::seconds(120)));
+  EXPECT_EQ(service->stats().failures, 0u) << service->last_error();
+  for (int z = 0; z < kTiles; ++z)
+    for (int x = 0; x < kTiles; ++x)
+      EXPECT_EQ(service->GetTileState({x, z}), navmesh::TileState::kReady) << x << ", " << z;
+  EXPECT_GT(service->stats().rebuilds, 0u);
+  // Dirty tracking kept up: the live navmesh is the one a fresh build of the final world gives.
+  const auto fresh = BuildArea(*world, TileArea(kTiles), FastServiceConfig(1));
+  EXPECT_EQ(service->navmesh().polygon_count(), fresh->navmesh().polygon_count());
+  EXPECT_EQ(service->navmesh().WalkableArea(), fresh->navmesh().WalkableArea());
+}
+
+TEST(NavMeshServiceThreads, JobsRunWhileWorldChanges) {
+  RunServiceUnderLoad(1500, 60);
+}
+
+TEST(NavMeshServiceThreadsStress, JobsRunWhileWorldChangesLong) {
+  RunServiceUnderLoad(20000, 1200);
+}
+
+}  // namespace
+}  // namespace strata::test

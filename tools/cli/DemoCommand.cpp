@@ -1,0 +1,319 @@
+// `strata demo [LEVEL]`: the main job. Imports a level (the bundled courtyard by default), fills it with
+// falling crates and rolling boulders, spawns agents that request navmesh tiles around themselves, and
+// steps the world while the tiles build in the background. Prints per-tile build figures, the agents'
+// paths and the longest foreground stall, and writes the navmesh as OBJ plus a top-down PNG.
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <map>
+#include <random>
+
+#include "navmesh/NavMeshQuery.h"
+#include "navmesh/NavMeshService.h"
+#include "navmesh/Validation.h"
+#include "physics/shapes/BoxShape.h"
+#include "physics/shapes/SphereShape.h"
+#include "physics/world/PhysicsSystem.h"
+#include "physics/world/WorldQuery.h"
+#include "tools/cli/Commands.h"
+#include "tools/cli/NavMeshOptions.h"
+#include "tools/demo/TopDownImage.h"
+
+namespace strata::cli {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+struct DemoOptions {
+  std::string level = DefaultLevelPath();
+  LevelLoadOptions level_options;
+  navmesh::NavMeshSettings settings;
+  int steps = 600;
+  int crates = 300;
+  int boulders = 6;
+  int agents = 8;
+  float request_radius = 16.0f;
+  int physics_threads = 1;
+  int navmesh_threads = 1;
+  std::string out_dir = "build/demo";
+  unsigned seed = 1;
+};
+
+struct Agent {
+  Vec3 position;
+  Vec3 target;
+};
+
+double Milliseconds(Clock::duration duration) {
+  return std::chrono::duration<double, std::milli>(duration).count();
+}
+
+/// The highest surface below (x, z) within the level, found by a ray cast from above it.
+std::optional<Vec3> GroundAt(const PhysicsSystem& world, const AABB& level, float x, float z) {
+  const Vec3 origin(x, level.max.y() + 1.0f, z);
+  const auto hit = world.query().CastRay(origin, Vec3(0.0f, level.min.y() - level.max.y() - 2.0f, 0.0f),
+                                         QueryFilter::OnlyLayer(layers::kNonMoving));
+  if (!hit.ok() || !hit->has_value()) return std::nullopt;
+  return (*hit)->position;
+}
+
+void SpawnDynamicBodies(PhysicsSystem& world, const AABB& level, const DemoOptions& options,
+                        std::mt19937& random) {
+  std::uniform_real_distribution<float> x(level.min.x() + 2.0f, level.max.x() - 2.0f);
+  std::uniform_real_distribution<float> z(level.min.z() + 2.0f, level.max.z() - 2.0f);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  const ShapeRef crate = *BoxShape::Create(Vec3(0.4f, 0.4f, 0.4f));
+  for (int i = 0; i < options.crates; ++i) {
+    BodyCreationSettings settings;
+    settings.shape = crate;
+    settings.position = Vec3(x(random), level.max.y() + 2.0f + 10.0f * unit(random), z(random));
+    settings.rotation =
+        Quat(Eigen::AngleAxisf(6.0f * unit(random), Vec3(unit(random), 1.0f, unit(random)).normalized()));
+    (void)world.bodies().CreateAndAddBody(settings);
+  }
+  const ShapeRef boulder = *SphereShape::Create(1.0f);  // 2 m across: large enough to count for the navmesh
+  for (int i = 0; i < options.boulders; ++i) {
+    const auto ground = GroundAt(world, level, x(random), z(random));
+    if (!ground) continue;
+    BodyCreationSettings settings;
+    settings.shape = boulder;
+    settings.position = *ground + Vec3(0.0f, 1.05f, 0.0f);
+    const float angle = 6.2832f * unit(random);
+    settings.linear_velocity = Vec3(4.0f * std::cos(angle), 0.0f, 4.0f * std::sin(angle));
+    settings.friction = 0.8f;
+    (void)world.bodies().CreateAndAddBody(settings);
+  }
+}
+
+std::vector<Agent> SpawnAgents(const PhysicsSystem& world, const AABB& level, int count,
+                               std::mt19937& random) {
+  std::uniform_real_distribution<float> x(level.min.x() + 2.0f, level.max.x() - 2.0f);
+  std::uniform_real_distribution<float> z(level.min.z() + 2.0f, level.max.z() - 2.0f);
+  std::vector<Agent> agents;
+  for (int attempt = 0; attempt < 50 * count && static_cast<int>(agents.size()) < count; ++attempt) {
+    const auto start = GroundAt(world, level, x(random), z(random));
+    const auto target = GroundAt(world, level, x(random), z(random));
+    if (start && target) agents.push_back({*start, *target});
+  }
+  return agents;
+}
+
+void PrintTileTable(const navmesh::NavMeshService& service) {
+  std::map<navmesh::TileCoord, std::vector<navmesh::TileBuildRecord>> by_tile;
+  for (const auto& record : service.build_log()) by_tile[record.coord].push_back(record);
+  std::printf("\n%-9s %6s %6s %9s %8s %10s %10s %10s %12s\n", "tile", "builds", "bodies", "triangles",
+              "polygons", "gather ms", "recast ms", "publish ms", "request->ready ms");
+  for (const auto& [coord, records] : by_tile) {
+    const auto& last = records.back();
+    char name[32];
+    std::snprintf(name, sizeof(name), "(%d,%d)", coord.x, coord.z);
+    std::printf("%-9s %6zu %6zu %9zu %8d %10.2f %10.2f %10.3f %12.1f\n", name, records.size(), last.bodies,
+                last.triangles, last.polygons, last.gather_ms, last.recast_ms, last.publish_ms,
+                records.front().request_to_ready_ms);
+  }
+}
+
+void DrawPicture(PhysicsSystem& world, const LoadedLevel& level, const navmesh::NavMeshService& service,
+                 const std::vector<Agent>& agents, const std::vector<navmesh::PathResult>& paths,
+                 const std::filesystem::path& path) {
+  demo::TopDownImage image(level.bounds.Expanded(Vec3(2.0f, 0.0f, 2.0f)), 8.0f);
+  // Level: grey by height, lower surfaces first.
+  struct Face {
+    Triangle triangle;
+    float top;
+  };
+  std::vector<Face> faces;
+  for (const BodyID id : level.bodies) {
+    const auto shape = world.bodies().GetShape(id);
+    if (!shape.ok()) continue;
+    std::vector<Triangle> triangles;
+    (*shape)->GetTrianglesInBox(level.bounds.Expanded(1.0f), Pose{}, triangles);
+    for (const Triangle& t : triangles)
+      faces.push_back({t, std::max({t.vertices[0].y(), t.vertices[1].y(), t.vertices[2].y()})});
+  }
+  std::sort(faces.begin(), faces.end(), [](const Face& a, const Face& b) { return a.top < b.top; });
+  const float low = level.bounds.min.y(), range = std::max(0.1f, level.bounds.Size().y());
+  for (const Face& face : faces) {
+    const auto grey = static_cast<std::uint8_t>(70.0f + 150.0f * (face.top - low) / range);
+    image.FillTriangle(face.triangle.vertices[0], face.triangle.vertices[1], face.triangle.vertices[2],
+                       {grey, grey, grey});
+  }
+  // Navmesh: translucent blue detail triangles.
+  service.navmesh().Read([&](const dtNavMesh& mesh) {
+    for (int t = 0; t < mesh.getMaxTiles(); ++t) {
+      const dtMeshTile* tile = mesh.getTile(t);
+      if (!tile || !tile->header) continue;
+      for (int p = 0; p < tile->header->polyCount; ++p) {
+        const dtPoly& poly = tile->polys[p];
+        for (int i = 2; i < poly.vertCount; ++i) {
+          const auto vertex = [&](int k) {
+            const float* v = &tile->verts[poly.verts[k] * 3];
+            return Vec3(v[0], v[1], v[2]);
+          };
+          image.FillTriangle(vertex(0), vertex(i - 1), vertex(i), {40, 110, 230}, 0.45f);
+        }
+      }
+    }
+    return 0;
+  });
+  // Tile borders of every tile the service knows.
+  const navmesh::TileGrid& grid = service.grid();
+  for (const navmesh::TileCoord tile : grid.TilesInBox(level.bounds)) {
+    if (service.GetTileState(tile) == navmesh::TileState::kMissing) continue;
+    const AABB b = grid.Bounds(tile);
+    const Vec3 c00(b.min.x(), 0, b.min.z()), c10(b.max.x(), 0, b.min.z()), c11(b.max.x(), 0, b.max.z()),
+        c01(b.min.x(), 0, b.max.z());
+    for (const auto& [a, c] : {std::pair{c00, c10}, {c10, c11}, {c11, c01}, {c01, c00}})
+      image.DrawLine(a, c, {20, 60, 20});
+  }
+  for (const BodyID id : world.BodiesInWorld()) {
+    const auto motion = world.bodies().GetMotionType(id);
+    if (motion.ok() && *motion == MotionType::kDynamic)
+      image.DrawDot(*world.bodies().GetPosition(id), 2, {150, 90, 30});
+  }
+  for (std::size_t i = 0; i < agents.size(); ++i) {
+    for (std::size_t k = 1; k < paths[i].points.size(); ++k)
+      image.DrawLine(paths[i].points[k - 1], paths[i].points[k], {220, 30, 30});
+    image.DrawDot(agents[i].position, 4, {20, 170, 40});
+    image.DrawDot(agents[i].target, 3, {200, 30, 200});
+  }
+  if (Status status = image.SavePng(path); !status.ok()) std::cerr << status.message() << "\n";
+}
+
+int RunDemo(const DemoOptions& options) {
+  navmesh::NavMeshServiceConfig config;
+  config.settings = options.settings;
+  config.worker_threads = options.navmesh_threads;
+  if (Status status = config.Validate(); !status.ok()) {
+    std::cerr << "strata demo: " << status.message() << "\n";
+    return 2;
+  }
+  PhysicsSystemConfig world_config;
+  world_config.max_bodies = 16384;
+  world_config.thread_count = options.physics_threads;
+  auto created = PhysicsSystem::Create(world_config);
+  if (!created) {
+    std::cerr << "strata demo: " << created.error().message << "\n";
+    return 2;
+  }
+  PhysicsSystem& world = **created;
+  const Clock::time_point load_start = Clock::now();
+  Result<LoadedLevel> level = LoadLevel(world, options.level, options.level_options);
+  if (!level) {
+    std::cerr << "strata demo: " << level.error().message << "\n";
+    return 2;
+  }
+  std::printf("level %s: %zu triangles in %zu chunks, loaded in %.1f ms\n", options.level.c_str(),
+              level->triangles, level->chunks, Milliseconds(Clock::now() - load_start));
+
+  std::mt19937 random(options.seed);
+  SpawnDynamicBodies(world, level->bounds, options, random);
+  std::vector<Agent> agents = SpawnAgents(world, level->bounds, options.agents, random);
+  config.max_tiles = static_cast<int>(std::min<std::size_t>(
+      navmesh::TileGrid(options.settings.tile_size()).TilesInBox(level->bounds).size() + 1, 1 << 16));
+  auto service = navmesh::NavMeshService::Create(world, config);
+  if (!service) {
+    std::cerr << "strata demo: " << service.error().message << "\n";
+    return 2;
+  }
+  std::printf("%zu bodies, %zu agents; %d physics thread(s), %d navmesh thread(s)\n",
+              world.body_count_in_world(), agents.size(), options.physics_threads, options.navmesh_threads);
+
+  // The game loop: agents (re)request tiles around them every second; the world steps at 60 Hz.
+  double longest_frame_ms = 0.0, longest_request_ms = 0.0, step_ms_busy = 0.0, step_ms_idle = 0.0;
+  int busy_steps = 0, idle_steps = 0;
+  for (int step = 0; step < options.steps; ++step) {
+    const Clock::time_point frame_start = Clock::now();
+    if (step % 60 == 0) {
+      for (const Agent& agent : agents) {
+        const Clock::time_point request_start = Clock::now();
+        (void)(*service)->RequestAround(agent.position, options.request_radius);
+        longest_request_ms = std::max(longest_request_ms, Milliseconds(Clock::now() - request_start));
+      }
+    }
+    const navmesh::NavMeshServiceStats before = (*service)->stats();
+    const Clock::time_point step_start = Clock::now();
+    if (Status status = world.Step(1.0f / 60.0f); !status.ok()) {
+      std::cerr << "strata demo: " << status.message() << "\n";
+      return 1;
+    }
+    const double step_ms = Milliseconds(Clock::now() - step_start);
+    const bool jobs_running = before.building > 0 || before.queued > 0;
+    (jobs_running ? step_ms_busy : step_ms_idle) += step_ms;
+    (jobs_running ? busy_steps : idle_steps) += 1;
+    longest_frame_ms = std::max(longest_frame_ms, Milliseconds(Clock::now() - frame_start));
+  }
+  const bool idle = (*service)->WaitUntilIdle(std::chrono::seconds(60));
+  const navmesh::NavMeshServiceStats stats = (*service)->stats();
+
+  PrintTileTable(**service);
+  std::printf("\n%zu builds (%zu rebuilds of stale tiles), %zu failures; %zu tiles ready%s\n", stats.builds,
+              stats.rebuilds, stats.failures, stats.ready, idle ? "" : " (service still busy after 60 s)");
+
+  auto query = navmesh::NavMeshQuery::Create((*service)->navmesh());
+  std::vector<navmesh::PathResult> paths;
+  std::printf("\n%-5s %-24s %-24s %6s %8s %9s %7s\n", "agent", "from", "to", "found", "reached", "length m",
+              "corners");
+  for (std::size_t i = 0; i < agents.size(); ++i) {
+    auto path = (*query)->FindPath(agents[i].position, agents[i].target);
+    paths.push_back(path.ok() ? *path : navmesh::PathResult{});
+    const navmesh::PathResult& p = paths.back();
+    char from[64], to[64];
+    std::snprintf(from, sizeof(from), "(%.1f, %.1f, %.1f)", agents[i].position.x(), agents[i].position.y(),
+                  agents[i].position.z());
+    std::snprintf(to, sizeof(to), "(%.1f, %.1f, %.1f)", agents[i].target.x(), agents[i].target.y(),
+                  agents[i].target.z());
+    std::printf("%-5zu %-24s %-24s %6s %8s %9.2f %7zu%s\n", i, from, to, p.found ? "yes" : "no",
+                p.reached_end ? "yes" : "no", p.length, p.points.size(),
+                path.ok() ? "" : "  (no navmesh at start)");
+  }
+
+  const navmesh::NavMesh& navmesh = (*service)->navmesh();
+  std::printf("\nnavmesh: %d tiles, %d polygons, %.1f m^2 walkable, %d islands\n", navmesh.tile_count(),
+              navmesh.polygon_count(), navmesh.WalkableArea(), navmesh::CountIslands(navmesh));
+  std::printf(
+      "foreground: longest frame %.2f ms, longest RequestAround %.3f ms; step %.2f ms mean with jobs running "
+      "(%d steps), %.2f ms without (%d steps)\n",
+      longest_frame_ms, longest_request_ms, busy_steps ? step_ms_busy / busy_steps : 0.0, busy_steps,
+      idle_steps ? step_ms_idle / idle_steps : 0.0, idle_steps);
+
+  std::error_code error;
+  std::filesystem::create_directories(options.out_dir, error);
+  const std::filesystem::path obj = std::filesystem::path(options.out_dir) / "navmesh.obj";
+  const std::filesystem::path png = std::filesystem::path(options.out_dir) / "navmesh.png";
+  if (Status status = navmesh.WriteObj(obj); !status.ok()) std::cerr << status.message() << "\n";
+  DrawPicture(world, *level, **service, agents, paths, png);
+  std::printf("wrote %s and %s\n", obj.string().c_str(), png.string().c_str());
+  return stats.failures == 0 ? 0 : 1;
+}
+
+}  // namespace
+
+std::function<int()> AddDemoCommand(CLI::App& app) {
+  auto options = std::make_shared<DemoOptions>();
+  CLI::App* demo =
+      app.add_subcommand("demo", "the main job: a moving world with agents and background navmesh");
+  demo->add_option("level", options->level, "level mesh file")->capture_default_str();
+  demo->add_option("--steps", options->steps, "physics steps at 60 Hz")->capture_default_str();
+  demo->add_option("--crates", options->crates, "falling crates (debris: not in the navmesh)")
+      ->capture_default_str();
+  demo->add_option("--boulders", options->boulders, "rolling boulders (2 m: they count)")
+      ->capture_default_str();
+  demo->add_option("--agents", options->agents, "agents requesting tiles")->capture_default_str();
+  demo->add_option("--request-radius", options->request_radius, "radius of each agent's request (m)")
+      ->capture_default_str();
+  demo->add_option("--threads", options->physics_threads, "physics threads")->capture_default_str();
+  demo->add_option("--navmesh-threads", options->navmesh_threads, "background navmesh threads")
+      ->capture_default_str();
+  demo->add_option("--out-dir", options->out_dir, "where navmesh.obj and navmesh.png go")
+      ->capture_default_str();
+  demo->add_option("--seed", options->seed, "spawn seed")->capture_default_str();
+  AddNavMeshSettingsOptions(*demo, options->settings);
+  AddLevelOptions(*demo, options->level_options);
+  return [options] { return RunDemo(*options); };
+}
+
+}  // namespace strata::cli

@@ -1,0 +1,203 @@
+// `strata navmesh bake LEVEL --out NAV.bin [--obj NAV.obj] [--report report.json]`: builds every navmesh
+// tile of a level with the background service and saves them in RecastDemo's tiled set format.
+// `strata navmesh path NAV.bin --from x,y,z --to x,y,z [--json]`: a path query on a saved navmesh.
+// Bad input (missing or corrupt files, bad settings, bad points) exits with code 2.
+#include <unistd.h>
+
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <thread>
+
+#include "navmesh/NavMeshQuery.h"
+#include "navmesh/NavMeshService.h"
+#include "navmesh/Validation.h"
+#include "physics/core/JobSystem.h"
+#include "physics/world/PhysicsSystem.h"
+#include "tools/cli/Commands.h"
+#include "tools/cli/NavMeshOptions.h"
+
+namespace strata::cli {
+
+namespace {
+
+struct BakeOptions {
+  std::string level;
+  LevelLoadOptions level_options;
+  navmesh::NavMeshSettings settings;
+  std::string out;
+  std::string obj;
+  std::string report;
+  int threads = 2;
+};
+
+struct PathOptions {
+  std::string navmesh;
+  std::string from;
+  std::string to;
+  bool json = false;
+};
+
+int Fail(const std::string& command, const std::string& message) {
+  std::cerr << "strata navmesh " << command << ": " << message << "\n";
+  return 2;
+}
+
+void DrawProgress(std::size_t done, std::size_t total) {
+  constexpr int kWidth = 40;
+  const int filled = total == 0 ? kWidth : static_cast<int>(kWidth * done / total);
+  std::printf("\r[%s%s] %zu/%zu tiles", std::string(static_cast<std::size_t>(filled), '#').c_str(),
+              std::string(static_cast<std::size_t>(kWidth - filled), '.').c_str(), done, total);
+  std::fflush(stdout);
+}
+
+nlohmann::json Report(const BakeOptions& options, const LoadedLevel& level,
+                      const navmesh::NavMeshService& service, double wall_ms) {
+  std::vector<double> gather, recast, total;
+  for (const navmesh::TileBuildRecord& record : service.build_log()) {
+    gather.push_back(record.gather_ms);
+    recast.push_back(record.recast_ms);
+    total.push_back(record.gather_ms + record.recast_ms);
+  }
+  const auto stats = [](const std::vector<double>& values) {
+    const auto [median, max] = MedianAndMax(values);
+    return nlohmann::json{{"median", median}, {"max", max}};
+  };
+  const navmesh::NavMesh& navmesh = service.navmesh();
+  return {{"level", options.level},
+          {"level_triangles", level.triangles},
+          {"level_chunks", level.chunks},
+          {"tiles_built", service.build_log().size()},
+          {"tiles", navmesh.tile_count()},
+          {"polygons", navmesh.polygon_count()},
+          {"walkable_area_m2", navmesh.WalkableArea()},
+          {"islands", navmesh::CountIslands(navmesh)},
+          {"build_ms", {{"gather", stats(gather)}, {"recast", stats(recast)}, {"total", stats(total)}}},
+          {"wall_ms", wall_ms},
+          {"threads", options.threads},
+          {"settings",
+           {{"cell_size", options.settings.cell_size},
+            {"cell_height", options.settings.cell_height},
+            {"agent_height", options.settings.agent_height},
+            {"agent_radius", options.settings.agent_radius},
+            {"agent_max_climb", options.settings.agent_max_climb},
+            {"agent_max_slope", options.settings.agent_max_slope}}}};
+}
+
+int RunBake(const BakeOptions& options) {
+  navmesh::NavMeshServiceConfig config;
+  config.settings = options.settings;
+  config.worker_threads = options.threads;
+  if (Status status = config.Validate(); !status.ok()) return Fail("bake", status.message());
+  PhysicsSystemConfig world_config;
+  world_config.max_bodies = 4096;
+  world_config.job_system = std::make_shared<SerialJobSystem>();
+  auto world = PhysicsSystem::Create(world_config);
+  if (!world) return Fail("bake", world.error().message);
+  const auto start = std::chrono::steady_clock::now();
+  Result<LoadedLevel> level = LoadLevel(**world, options.level, options.level_options);
+  if (!level) return Fail("bake", level.error().message);
+
+  const navmesh::TileGrid grid(options.settings.tile_size());
+  const std::size_t tile_count = grid.TilesInBox(level->bounds).size();
+  config.max_tiles = static_cast<int>(std::min<std::size_t>(tile_count + 1, 1 << 16));
+  auto service = navmesh::NavMeshService::Create(**world, config);
+  if (!service) return Fail("bake", service.error().message);
+  if (Status status = (*service)->RequestBox(level->bounds); !status.ok())
+    return Fail("bake", status.message());
+  const bool terminal = isatty(fileno(stdout));
+  while (!(*service)->WaitUntilIdle(std::chrono::milliseconds(100)))
+    if (terminal) DrawProgress((*service)->stats().builds, tile_count);
+  if (terminal) {
+    DrawProgress((*service)->stats().builds, tile_count);
+    std::printf("\n");
+  }
+  const double wall_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  if ((*service)->stats().failures > 0) return Fail("bake", (*service)->last_error());
+
+  const navmesh::NavMesh& navmesh = (*service)->navmesh();
+  if (Status status = navmesh.Save(options.out); !status.ok()) return Fail("bake", status.message());
+  if (!options.obj.empty())
+    if (Status status = navmesh.WriteObj(options.obj); !status.ok()) return Fail("bake", status.message());
+  const nlohmann::json report = Report(options, *level, **service, wall_ms);
+  if (!options.report.empty()) {
+    std::ofstream file(options.report);
+    file << report.dump(2) << "\n";
+    if (!file) return Fail("bake", options.report + ": cannot write");
+  }
+  std::printf("%s: %zu triangles in %zu chunks -> %d tiles, %d polygons, %.1f m^2 walkable, %d islands\n",
+              options.level.c_str(), level->triangles, level->chunks, navmesh.tile_count(),
+              navmesh.polygon_count(), navmesh.WalkableArea(), report["islands"].get<int>());
+  std::printf(
+      "per tile: gather %.2f ms median (max %.2f), recast %.2f ms median (max %.2f); %.0f ms in all\n",
+      report["build_ms"]["gather"]["median"].get<double>(), report["build_ms"]["gather"]["max"].get<double>(),
+      report["build_ms"]["recast"]["median"].get<double>(), report["build_ms"]["recast"]["max"].get<double>(),
+      wall_ms);
+  std::printf("wrote %s\n", options.out.c_str());
+  return 0;
+}
+
+int RunPath(const PathOptions& options) {
+  const std::optional<Vec3> from = ParsePoint(options.from);
+  const std::optional<Vec3> to = ParsePoint(options.to);
+  if (!from) return Fail("path", "--from must be x,y,z with finite numbers, got '" + options.from + "'");
+  if (!to) return Fail("path", "--to must be x,y,z with finite numbers, got '" + options.to + "'");
+  Result<std::unique_ptr<navmesh::NavMesh>> navmesh = navmesh::NavMesh::Load(options.navmesh);
+  if (!navmesh) return Fail("path", navmesh.error().message);
+  auto query = navmesh::NavMeshQuery::Create(**navmesh);
+  if (!query) return Fail("path", query.error().message);
+  Result<navmesh::PathResult> path = (*query)->FindPath(*from, *to);
+  if (!path) return Fail("path", path.error().message);
+  if (options.json) {
+    nlohmann::json points = nlohmann::json::array();
+    for (const Vec3& p : path->points) points.push_back({p.x(), p.y(), p.z()});
+    std::cout << nlohmann::json{{"found", path->found},
+                                {"reached_end", path->reached_end},
+                                {"length", path->length},
+                                {"polygons", path->polys.size()},
+                                {"points", points}}
+                     .dump()
+              << "\n";
+    return 0;
+  }
+  std::printf("found: %s\nreached end: %s\nlength: %.3f m over %zu polygons\n", path->found ? "yes" : "no",
+              path->reached_end ? "yes" : "no", path->length, path->polys.size());
+  for (const Vec3& p : path->points) std::printf("  (%.3f, %.3f, %.3f)\n", p.x(), p.y(), p.z());
+  return 0;
+}
+
+}  // namespace
+
+std::function<int()> AddNavMeshCommand(CLI::App& app) {
+  CLI::App* command = app.add_subcommand("navmesh", "bake navmeshes and query paths");
+  command->require_subcommand(1);
+
+  auto bake = std::make_shared<BakeOptions>();
+  CLI::App* bake_command = command->add_subcommand("bake", "build every navmesh tile of a level");
+  bake_command->add_option("level", bake->level, "level mesh (OBJ, glTF/GLB, FBX, PLY, STL, DAE)")
+      ->required();
+  bake_command->add_option("--out", bake->out, "navmesh set file to write (RecastDemo's MSET format)")
+      ->required();
+  bake_command->add_option("--obj", bake->obj, "also write the navmesh as OBJ");
+  bake_command->add_option("--report", bake->report, "write build figures as JSON");
+  bake_command->add_option("--threads", bake->threads, "background build threads")->capture_default_str();
+  AddNavMeshSettingsOptions(*bake_command, bake->settings);
+  AddLevelOptions(*bake_command, bake->level_options);
+
+  auto path = std::make_shared<PathOptions>();
+  CLI::App* path_command = command->add_subcommand("path", "find a path on a saved navmesh");
+  path_command->add_option("navmesh", path->navmesh, "navmesh set file")->required();
+  path_command->add_option("--from", path->from, "start x,y,z")->required();
+  path_command->add_option("--to", path->to, "target x,y,z")->required();
+  path_command->add_flag("--json", path->json, "print JSON");
+
+  return [bake, path, bake_command, path_command] {
+    if (bake_command->parsed()) return RunBake(*bake);
+    if (path_command->parsed()) return RunPath(*path);
+    return 2;
+  };
+}
+
+}  // namespace strata::cli

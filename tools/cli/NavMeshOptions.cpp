@@ -1,0 +1,65 @@
+#include "tools/cli/NavMeshOptions.h"
+
+#include <algorithm>
+#include <sstream>
+
+namespace strata::cli {
+
+void AddNavMeshSettingsOptions(CLI::App& command, navmesh::NavMeshSettings& settings) {
+  command.add_option("--cell-size", settings.cell_size, "horizontal voxel size (m)")->capture_default_str();
+  command.add_option("--cell-height", settings.cell_height, "vertical voxel size (m)")->capture_default_str();
+  command.add_option("--tile-cells", settings.tile_cells, "cells per tile side")->capture_default_str();
+  command.add_option("--agent-height", settings.agent_height, "agent height (m)")->capture_default_str();
+  command.add_option("--agent-radius", settings.agent_radius, "agent radius (m)")->capture_default_str();
+  command.add_option("--max-climb", settings.agent_max_climb, "highest walkable step (m)")
+      ->capture_default_str();
+  command.add_option("--max-slope", settings.agent_max_slope, "steepest walkable slope (degrees)")
+      ->capture_default_str();
+  command.add_option("--region-min", settings.region_min_size, "smallest region kept (cells, squared)")
+      ->capture_default_str();
+  command
+      .add_option("--region-merge", settings.region_merge_size, "regions below this merge (cells, squared)")
+      ->capture_default_str();
+  command.add_option("--edge-max-len", settings.edge_max_length, "longest contour edge (m)")
+      ->capture_default_str();
+  command.add_option("--edge-max-error", settings.edge_max_error, "contour simplification error (cells)")
+      ->capture_default_str();
+  command.add_option("--verts-per-poly", settings.verts_per_poly, "3..6")->capture_default_str();
+  command.add_option("--detail-sample-dist", settings.detail_sample_distance, "detail sampling (cells)")
+      ->capture_default_str();
+  command.add_option("--detail-max-error", settings.detail_sample_max_error, "detail height error (cells)")
+      ->capture_default_str();
+}
+
+void AddLevelOptions(CLI::App& command, LevelLoadOptions& options) {
+  command.add_option("--scale", options.import.scale, "multiplies every coordinate of the level file")
+      ->capture_default_str();
+  command.add_flag("--z-up", options.import.z_up, "the level file is Z-up");
+  command.add_option("--world-tile", options.world_tile_size, "side of the level's physics chunks (m)")
+      ->capture_default_str();
+}
+
+std::optional<Vec3> ParsePoint(const std::string& text) {
+  std::istringstream stream(text);
+  Vec3 point;
+  char comma1 = 0, comma2 = 0;
+  if (!(stream >> point.x() >> comma1 >> point.y() >> comma2 >> point.z()) || comma1 != ',' || comma2 != ',')
+    return std::nullopt;
+  std::string rest;
+  if (stream >> rest || !IsFinite(point)) return std::nullopt;
+  return point;
+}
+
+std::pair<double, double> MedianAndMax(std::vector<double> values) {
+  if (values.empty()) return {0.0, 0.0};
+  std::sort(values.begin(), values.end());
+  const std::size_t middle = values.size() / 2;
+  const double median = values.size() % 2 ? values[middle] : 0.5 * (values[middle - 1] + values[middle]);
+  return {median, values.back()};
+}
+
+std::string DefaultLevelPath() {
+  return std::string(STRATA_LEVELS_DIR) + "/courtyard.obj";
+}
+
+}  // namespace strata::cli

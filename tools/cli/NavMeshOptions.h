@@ -1,0 +1,26 @@
+// Command-line options shared by the commands that build navmeshes (navmesh bake, demo, bench-navmesh):
+// the Recast settings, level import options and small parsing helpers. Used on the CLI's main thread.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "assets/level/LevelLoader.h"
+#include "navmesh/NavMeshSettings.h"
+
+namespace strata::cli {
+
+/// Registers --cell-size, --agent-radius, ... on `command`, writing into `settings`.
+void AddNavMeshSettingsOptions(CLI::App& command, navmesh::NavMeshSettings& settings);
+/// Registers --scale, --z-up and --world-tile on `command`.
+void AddLevelOptions(CLI::App& command, LevelLoadOptions& options);
+/// Parses "x,y,z"; nullopt for anything else.
+std::optional<Vec3> ParsePoint(const std::string& text);
+/// Median and maximum of `values` (0, 0 when empty).
+std::pair<double, double> MedianAndMax(std::vector<double> values);
+/// The default level the main job and bake use when none is given.
+std::string DefaultLevelPath();
+
+}  // namespace strata::cli

@@ -1,0 +1,77 @@
+#include "tools/demo/TopDownImage.h"
+
+#include <stb/stb_image_write.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace strata::demo {
+
+TopDownImage::TopDownImage(const AABB& bounds, float pixels_per_metre)
+    : bounds_(bounds),
+      scale_(pixels_per_metre),
+      width_(std::max(1, static_cast<int>(std::ceil(bounds.Size().x() * pixels_per_metre)))),
+      height_(std::max(1, static_cast<int>(std::ceil(bounds.Size().z() * pixels_per_metre)))),
+      rgb_(static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_) * 3, 255) {}
+
+TopDownImage::Pixel TopDownImage::ToPixel(const Vec3& point) const {
+  return {(point.x() - bounds_.min.x()) * scale_, (point.z() - bounds_.min.z()) * scale_};
+}
+
+void TopDownImage::Blend(int x, int y, const Color& color, float alpha) {
+  if (x < 0 || y < 0 || x >= width_ || y >= height_) return;
+  std::uint8_t* pixel =
+      &rgb_[(static_cast<std::size_t>(y) * static_cast<std::size_t>(width_) + static_cast<std::size_t>(x)) *
+            3];
+  for (int c = 0; c < 3; ++c)
+    pixel[c] = static_cast<std::uint8_t>(
+        std::lround((1.0f - alpha) * pixel[c] + alpha * color[static_cast<std::size_t>(c)]));
+}
+
+void TopDownImage::FillTriangle(const Vec3& a, const Vec3& b, const Vec3& c, const Color& color,
+                                float alpha) {
+  const Pixel p[3] = {ToPixel(a), ToPixel(b), ToPixel(c)};
+  const float area = (p[1].x - p[0].x) * (p[2].y - p[0].y) - (p[1].y - p[0].y) * (p[2].x - p[0].x);
+  if (std::abs(area) < 1e-6f) return;
+  const int x0 = std::max(0, static_cast<int>(std::floor(std::min({p[0].x, p[1].x, p[2].x}))));
+  const int x1 = std::min(width_ - 1, static_cast<int>(std::ceil(std::max({p[0].x, p[1].x, p[2].x}))));
+  const int y0 = std::max(0, static_cast<int>(std::floor(std::min({p[0].y, p[1].y, p[2].y}))));
+  const int y1 = std::min(height_ - 1, static_cast<int>(std::ceil(std::max({p[0].y, p[1].y, p[2].y}))));
+  const auto edge = [](Pixel u, Pixel v, float x, float y) {
+    return (v.x - u.x) * (y - u.y) - (v.y - u.y) * (x - u.x);
+  };
+  for (int y = y0; y <= y1; ++y) {
+    for (int x = x0; x <= x1; ++x) {
+      const float px = static_cast<float>(x) + 0.5f, py = static_cast<float>(y) + 0.5f;
+      const float w0 = edge(p[1], p[2], px, py), w1 = edge(p[2], p[0], px, py), w2 = edge(p[0], p[1], px, py);
+      const bool inside = area > 0 ? (w0 >= 0 && w1 >= 0 && w2 >= 0) : (w0 <= 0 && w1 <= 0 && w2 <= 0);
+      if (inside) Blend(x, y, color, alpha);
+    }
+  }
+}
+
+void TopDownImage::DrawLine(const Vec3& a, const Vec3& b, const Color& color) {
+  const Pixel p = ToPixel(a), q = ToPixel(b);
+  const int steps =
+      std::max(1, static_cast<int>(std::ceil(std::max(std::abs(q.x - p.x), std::abs(q.y - p.y)))));
+  for (int i = 0; i <= steps; ++i) {
+    const float t = static_cast<float>(i) / static_cast<float>(steps);
+    Blend(static_cast<int>(p.x + t * (q.x - p.x)), static_cast<int>(p.y + t * (q.y - p.y)), color, 1.0f);
+  }
+}
+
+void TopDownImage::DrawDot(const Vec3& center, int radius_pixels, const Color& color) {
+  const Pixel p = ToPixel(center);
+  for (int dy = -radius_pixels; dy <= radius_pixels; ++dy)
+    for (int dx = -radius_pixels; dx <= radius_pixels; ++dx)
+      if (dx * dx + dy * dy <= radius_pixels * radius_pixels)
+        Blend(static_cast<int>(p.x) + dx, static_cast<int>(p.y) + dy, color, 1.0f);
+}
+
+Status TopDownImage::SavePng(const std::filesystem::path& path) const {
+  if (!stbi_write_png(path.string().c_str(), width_, height_, 3, rgb_.data(), width_ * 3))
+    return MakeError(ErrorCode::kParseError, path.string() + ": cannot write PNG");
+  return Status::Ok();
+}
+
+}  // namespace strata::demo
