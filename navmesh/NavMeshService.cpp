@@ -2,6 +2,14 @@
 
 #include <string>
 
+#if defined(__linux__)
+#include <sys/resource.h>
+#include <sys/syscall.h>
+#include <unistd.h>
+
+#include <cerrno>
+#endif
+
 #include "navmesh/TileBuilder.h"
 #include "physics/world/PhysicsSystem.h"
 
@@ -22,6 +30,19 @@ float SquaredPlanarDistance(const Vec3& a, const Vec3& b) {
 bool MovedBeyond(const AABB& before, const AABB& now, float threshold) {
   return (before.min - now.min).cwiseAbs().maxCoeff() > threshold ||
          (before.max - now.max).cwiseAbs().maxCoeff() > threshold;
+}
+
+/// Lowers the calling thread's priority by `niceness` (best effort: failing leaves it as it was).
+void LowerThisThreadPriority(int niceness) {
+#if defined(__linux__)
+  if (niceness <= 0) return;
+  const auto thread = static_cast<id_t>(::syscall(SYS_gettid));
+  errno = 0;
+  const int current = ::getpriority(PRIO_PROCESS, thread);
+  if (errno == 0) (void)::setpriority(PRIO_PROCESS, thread, std::min(19, current + niceness));
+#else
+  (void)niceness;
+#endif
 }
 
 }  // namespace
@@ -50,6 +71,8 @@ Status NavMeshServiceConfig::Validate() const {
     return MakeError(ErrorCode::kInvalidArgument, "navmesh service: move_threshold must be >= 0");
   if (std::isnan(filter.min_dynamic_size) || filter.min_dynamic_size < 0.0f)
     return MakeError(ErrorCode::kInvalidArgument, "navmesh service: filter.min_dynamic_size must be >= 0");
+  if (thread_niceness < 0 || thread_niceness > 19)
+    return MakeError(ErrorCode::kInvalidArgument, "navmesh service: thread_niceness must be in [0, 19]");
   if (rebuild_delay.count() < 0 || scan_interval.count() < 1)
     return MakeError(ErrorCode::kInvalidArgument,
                      "navmesh service: rebuild_delay must be >= 0 and scan_interval >= 1 ms");
@@ -67,8 +90,15 @@ Result<std::unique_ptr<NavMeshService>> NavMeshService::Create(const PhysicsSyst
 NavMeshService::NavMeshService(const PhysicsSystem& world, const NavMeshServiceConfig& config,
                                std::unique_ptr<NavMesh> navmesh)
     : world_(world), config_(config), grid_(config.settings.tile_size()), navmesh_(std::move(navmesh)) {
-  for (int i = 0; i < config_.worker_threads; ++i) workers_.emplace_back([this] { WorkerLoop(); });
-  scanner_ = std::thread([this] { ScannerLoop(); });
+  for (int i = 0; i < config_.worker_threads; ++i)
+    workers_.emplace_back([this] {
+      LowerThisThreadPriority(config_.thread_niceness);
+      WorkerLoop();
+    });
+  scanner_ = std::thread([this] {
+    LowerThisThreadPriority(config_.thread_niceness);
+    ScannerLoop();
+  });
 }
 
 NavMeshService::~NavMeshService() {

@@ -39,6 +39,10 @@ struct NavMeshServiceConfig {
   float move_threshold = 0.25f;  ///< a counted body whose bounds move more than this (m) makes its tile stale
   std::chrono::milliseconds rebuild_delay{250};  ///< a stale tile waits this long for more changes
   std::chrono::milliseconds scan_interval{20};   ///< how often ready tiles are checked for changes
+  /// Added to the service threads' nice value (Linux; 0 leaves them as created). A lower priority lets a
+  /// game thread that wakes up (e.g. a step that waited for a body lock) take a core back at once instead of
+  /// waiting out a background thread's time slice.
+  int thread_niceness = 10;
   Status Validate() const;
 };
 

@@ -83,7 +83,12 @@ Status BodyManager::DestroyBody(BodyID id) {
 }
 
 void BodyManager::LockAll() {
-  for (SpinningSharedMutex& mutex : mutexes_) mutex.lock();
+  // Timed like any other contended acquisition, so tools can see a step waiting for readers.
+  for (SpinningSharedMutex& mutex : mutexes_) {
+    std::unique_lock lock(mutex, std::defer_lock);
+    LockTimingWait(lock);
+    lock.release();
+  }
 }
 
 void BodyManager::UnlockAll() {

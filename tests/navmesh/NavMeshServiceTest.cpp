@@ -96,6 +96,9 @@ TEST(NavMeshService, RejectsBadConfigAndRequests) {
   config.settings.verts_per_poly = 7;
   EXPECT_FALSE(navmesh::NavMeshService::Create(*world, config).ok());
   config = {};
+  config.thread_niceness = -1;
+  EXPECT_FALSE(navmesh::NavMeshService::Create(*world, config).ok());
+  config = {};
   config.worker_threads = 0;
   EXPECT_FALSE(navmesh::NavMeshService::Create(*world, config).ok());
 
