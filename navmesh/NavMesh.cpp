@@ -93,6 +93,8 @@ bool TileIsConsistent(std::span<const unsigned char> bytes) {
   for (std::size_t p = 0; p < polys.size(); ++p) {
     const dtPoly& poly = polys[p];
     if (poly.vertCount < 3 || poly.vertCount > DT_VERTS_PER_POLYGON) return false;
+    if (poly.getType() != DT_POLYTYPE_GROUND)
+      return false;  // off-mesh links would index a table we never write
     for (int v = 0; v < poly.vertCount; ++v) {
       if (poly.verts[v] >= header.vertCount) return false;
       const unsigned short neighbour = poly.neis[v];
