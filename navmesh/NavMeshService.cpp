@@ -1,5 +1,7 @@
 #include "navmesh/NavMeshService.h"
 
+#include <algorithm>
+#include <cmath>
 #include <string>
 
 #if defined(__linux__)
