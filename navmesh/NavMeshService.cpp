@@ -108,7 +108,7 @@ NavMeshService::~NavMeshService() {
     const std::lock_guard lock(mutex_);
     stopping_ = true;
   }
-  work_ready_.notify_all();
+  WakeWorkers();
   state_changed_.notify_all();
   for (std::thread& worker : workers_) worker.join();
   scanner_.join();
@@ -122,14 +122,11 @@ Status NavMeshService::RequestAround(const Vec3& position, float radius) {
   const float reach = radius + grid_.tile_size();
   if (reach * reach * 4.0f > static_cast<float>(config_.max_tiles) * grid_.tile_size() * grid_.tile_size())
     return MakeError(ErrorCode::kInvalidArgument, "navmesh request: radius covers more tiles than max_tiles");
-  const std::vector<TileCoord> tiles = grid_.TilesInCircle(position, radius);
   const Clock::time_point now = Clock::now();
-  {
-    const std::lock_guard lock(mutex_);
-    for (const TileCoord tile : tiles)
-      Enqueue(tile, SquaredPlanarDistance(grid_.Center(tile), position), now);
-  }
-  work_ready_.notify_all();
+  std::vector<PendingRequest> requests;
+  for (const TileCoord tile : grid_.TilesInCircle(position, radius))
+    requests.push_back({tile, SquaredPlanarDistance(grid_.Center(tile), position), now});
+  Submit(std::move(requests));
   return Status::Ok();
 }
 
@@ -138,15 +135,44 @@ Status NavMeshService::RequestBox(const AABB& box) {
   const Vec3 size = box.Size() / grid_.tile_size();
   if ((size.x() + 1.0f) * (size.z() + 1.0f) > static_cast<float>(config_.max_tiles))
     return MakeError(ErrorCode::kInvalidArgument, "navmesh request: box covers more tiles than max_tiles");
-  const std::vector<TileCoord> tiles = grid_.TilesInBox(box);
   const Clock::time_point now = Clock::now();
-  {
-    const std::lock_guard lock(mutex_);
-    for (const TileCoord tile : tiles)
-      Enqueue(tile, SquaredPlanarDistance(grid_.Center(tile), box.Center()), now);
-  }
-  work_ready_.notify_all();
+  std::vector<PendingRequest> requests;
+  for (const TileCoord tile : grid_.TilesInBox(box))
+    requests.push_back({tile, SquaredPlanarDistance(grid_.Center(tile), box.Center()), now});
+  Submit(std::move(requests));
   return Status::Ok();
+}
+
+void NavMeshService::Submit(std::vector<PendingRequest> requests) {
+  {
+    const std::lock_guard lock(front_mutex_);
+    for (const PendingRequest& request : requests) {
+      TileState& state = front_states_[request.tile];
+      if (state == TileState::kMissing) state = TileState::kQueued;
+    }
+    inbox_.insert(inbox_.end(), requests.begin(), requests.end());
+  }
+  WakeWorkers();
+}
+
+void NavMeshService::WakeWorkers() {
+  work_epoch_.fetch_add(1, std::memory_order_release);
+  work_epoch_.notify_all();
+}
+
+void NavMeshService::DrainInbox() {
+  std::vector<PendingRequest> requests;
+  {
+    const std::lock_guard lock(front_mutex_);
+    requests.swap(inbox_);
+  }
+  for (const PendingRequest& request : requests) Enqueue(request.tile, request.priority, request.when);
+}
+
+void NavMeshService::SetState(TileCoord tile, TileRecord& record, TileState state) {
+  record.state = state;
+  const std::lock_guard lock(front_mutex_);
+  front_states_[tile] = state;
 }
 
 Status NavMeshService::Invalidate(const AABB& box) {
@@ -155,7 +181,7 @@ Status NavMeshService::Invalidate(const AABB& box) {
   const std::lock_guard lock(mutex_);
   for (auto& [coord, record] : tiles_) {
     if (record.state != TileState::kReady || !grid_.Bounds(coord).Overlaps(box)) continue;
-    record.state = TileState::kStale;
+    SetState(coord, record, TileState::kStale);
     record.stale_since = now;
   }
   return Status::Ok();
@@ -165,7 +191,7 @@ void NavMeshService::Enqueue(TileCoord tile, float priority, Clock::time_point n
   TileRecord& record = tiles_[tile];
   switch (record.state) {
     case TileState::kMissing:
-      record.state = TileState::kQueued;
+      SetState(tile, record, TileState::kQueued);
       record.priority = priority;
       record.requested = now;
       queue_.insert({priority, tile});
@@ -185,13 +211,17 @@ void NavMeshService::Enqueue(TileCoord tile, float priority, Clock::time_point n
 }
 
 TileState NavMeshService::GetTileState(TileCoord tile) const {
-  const std::lock_guard lock(mutex_);
-  const auto found = tiles_.find(tile);
-  return found == tiles_.end() ? TileState::kMissing : found->second.state;
+  const std::lock_guard lock(front_mutex_);
+  const auto found = front_states_.find(tile);
+  return found == front_states_.end() ? TileState::kMissing : found->second;
 }
 
 bool NavMeshService::Idle() const {
   if (!queue_.empty()) return false;
+  {
+    const std::lock_guard lock(front_mutex_);
+    if (!inbox_.empty()) return false;
+  }
   for (const auto& [coord, record] : tiles_)
     if (record.state == TileState::kBuilding || record.state == TileState::kStale) return false;
   return true;
@@ -225,16 +255,24 @@ std::string NavMeshService::last_error() const {
 }
 
 void NavMeshService::WorkerLoop() {
-  std::unique_lock lock(mutex_);
   while (true) {
-    work_ready_.wait(lock, [this] { return stopping_ || !queue_.empty(); });
+    // Read the epoch before looking for work: a request submitted after this changes it, so the wait
+    // below returns at once instead of missing the wake-up.
+    const std::uint64_t epoch = work_epoch_.load(std::memory_order_acquire);
+    std::unique_lock lock(mutex_);
     if (stopping_) return;
+    DrainInbox();
+    if (queue_.empty()) {
+      lock.unlock();
+      state_changed_.notify_all();  // the inbox may just have been emptied into nothing new
+      work_epoch_.wait(epoch, std::memory_order_acquire);
+      continue;
+    }
     const TileCoord tile = queue_.begin()->second;
     queue_.erase(queue_.begin());
-    tiles_[tile].state = TileState::kBuilding;
+    SetState(tile, tiles_[tile], TileState::kBuilding);
     lock.unlock();
     BuildOne(tile);
-    lock.lock();
   }
 }
 
@@ -260,11 +298,11 @@ void NavMeshService::BuildOne(TileCoord tile) {
     TileRecord& state = tiles_[tile];
     if (!published.ok()) {
       // Back to missing, so the next request tries again; the old tile (if any) was kept or removed above.
-      state.state = TileState::kMissing;
+      SetState(tile, state, TileState::kMissing);
       ++counters_.failures;
       last_error_ = published.message();
     } else {
-      state.state = TileState::kReady;
+      SetState(tile, state, TileState::kReady);
       state.bodies = std::make_shared<const std::vector<GatheredBody>>(std::move(geometry.bodies));
       record.build = ++state.builds;
       record.request_to_ready_ms = MillisecondsSince(state.requested);
@@ -298,13 +336,13 @@ void NavMeshService::ScannerLoop() {
     for (auto& [coord, record] : tiles_) {
       if (record.state == TileState::kReady) ready.emplace_back(coord, record.bodies);
       if (record.state == TileState::kStale && now - record.stale_since >= config_.rebuild_delay) {
-        record.state = TileState::kQueued;
+        SetState(coord, record, TileState::kQueued);
         record.requested = record.stale_since;
         queue_.insert({record.priority, coord});
         queued = true;
       }
     }
-    if (queued) work_ready_.notify_all();
+    if (queued) WakeWorkers();
     lock.unlock();
     std::vector<std::size_t> changed;
     for (std::size_t i = 0; i < ready.size(); ++i)
@@ -314,7 +352,7 @@ void NavMeshService::ScannerLoop() {
       TileRecord& record = tiles_[ready[i].first];
       // Only if the tile still holds the build we compared against (no rebuild finished meanwhile).
       if (record.state != TileState::kReady || record.bodies != ready[i].second) continue;
-      record.state = TileState::kStale;
+      SetState(ready[i].first, record, TileState::kStale);
       record.stale_since = Clock::now();
     }
   }

@@ -2,10 +2,12 @@
 // Agents call RequestAround; the service's own worker threads (never the physics step's) gather each tile
 // from a pinned broad-phase generation, build it with Recast and publish it into the NavMesh. A scanner
 // thread marks ready tiles stale when counted bodies in them are added, removed or moved, and queues
-// them again after a debounce delay. Every public method is thread-safe and returns quickly: the caller
-// never waits for a job.
+// them again after a debounce delay. Every public method is thread-safe. RequestAround, RequestBox and
+// GetTileState touch only a small front lock that the service's low-priority threads hold for a few
+// instructions, so a game thread never waits behind a job or a scan.
 #pragma once
 
+#include <atomic>
 #include <chrono>
 #include <condition_variable>
 #include <map>
@@ -116,9 +118,20 @@ class NavMeshService {
     std::shared_ptr<const std::vector<GatheredBody>> bodies;  ///< what the published tile was built from
   };
 
+  /// A request waiting in the front inbox until a worker moves it into the queue.
+  struct PendingRequest {
+    TileCoord tile;
+    float priority;
+    Clock::time_point when;
+  };
+
   NavMeshService(const PhysicsSystem& world, const NavMeshServiceConfig& config,
                  std::unique_ptr<NavMesh> navmesh);
+  void Submit(std::vector<PendingRequest> requests);
+  void WakeWorkers();
+  void DrainInbox();                                                    // mutex_ held
   void Enqueue(TileCoord tile, float priority, Clock::time_point now);  // mutex_ held
+  void SetState(TileCoord tile, TileRecord& record, TileState state);   // mutex_ held
   void WorkerLoop();
   void BuildOne(TileCoord tile);
   void ScannerLoop();
@@ -130,8 +143,8 @@ class NavMeshService {
   const TileGrid grid_;
   std::unique_ptr<NavMesh> navmesh_;
 
+  // Back end: everything below mutex_ is the workers' and the scanner's.
   mutable std::mutex mutex_;
-  mutable std::condition_variable work_ready_;
   mutable std::condition_variable state_changed_;
   std::map<TileCoord, TileRecord> tiles_;
   std::set<std::pair<float, TileCoord>> queue_;  // (priority, tile): nearest first, ties in tile order
@@ -139,6 +152,13 @@ class NavMeshService {
   NavMeshServiceStats counters_;
   std::string last_error_;
   bool stopping_ = false;
+
+  // Front: what game threads touch. Requests wait here, and every state change is mirrored here, so the
+  // front lock is only ever held for a vector append or a map write.
+  mutable std::mutex front_mutex_;
+  std::vector<PendingRequest> inbox_;
+  std::map<TileCoord, TileState> front_states_;
+  std::atomic<std::uint64_t> work_epoch_{0};  // bumped (and waited on) whenever workers may have work
 
   std::vector<std::thread> workers_;
   std::thread scanner_;

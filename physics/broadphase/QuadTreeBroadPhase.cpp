@@ -297,10 +297,15 @@ void QuadTreeBroadPhase::Rebuild(bool full) {
     if (rebuild[t]) needed += QuadTree::NodesToBuild(items[t].size());
   }
   if (needed == 0) return;  // nothing changed anywhere: the current generation stays
-  if (!pool_.Reserve(needed)) {
+  // A rebuild can wait and an add cannot: keep room for every body not yet present to be added one at a
+  // time (at most two nodes each), however many nodes generations pinned by slow readers still hold.
+  const auto add_headroom = static_cast<std::uint32_t>(
+      2 * (max_bodies_ - std::min<std::size_t>(max_bodies_, body_count())) + trees_.size());
+  if (!pool_.Reserve(needed + add_headroom)) {
     rebuilds_skipped_.fetch_add(1, kRelaxed);
     return;
   }
+  pool_.Unreserve(add_headroom);
   std::uint32_t used = 0;
   for (std::size_t t = 0; t < trees_.size(); ++t)
     if (rebuild[t]) roots[t] = trees_[t].BuildRoot(items[t], used);

@@ -76,8 +76,11 @@ void BroadPhaseUnderConcurrentChange(int workers, int iterations) {
           layers.push_back(random() % 4 ? layers::kMoving : layers::kNonMoving);
         }
         Result<AddBatch> batch = broad_phase.AddBodiesPrepare(ids, bounds, layers);
-        if (!batch.ok() || !broad_phase.AddBodiesFinalize(*batch).ok()) {
-          violations.Report("batch add failed");
+        const Status added = batch.ok() ? broad_phase.AddBodiesFinalize(*batch) : batch.status();
+        if (!added.ok()) {
+          // Report and stop this worker, but still count it out, or the rebuilder would spin forever.
+          violations.Report("batch add failed: " + added.message());
+          workers_left.fetch_sub(1);
           return;
         }
         for (std::size_t i = 0; i < ids.size(); ++i) present.push_back({ids[i], bounds[i]});
