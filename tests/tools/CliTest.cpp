@@ -85,9 +85,10 @@ TEST(Cli, NavmeshBakeWritesSetObjAndReportThenPathQueriesIt) {
   // 25.6 m square minus the agent radius at the edges and the pillars' footprints.
   EXPECT_GT(json["walkable_area_m2"].get<double>(), 500.0);
   EXPECT_LT(json["walkable_area_m2"].get<double>(), 25.6 * 25.6);
-  EXPECT_GT(json["build_ms"]["recast"]["median"].get<double>(), 0.0);
-  EXPECT_GE(json["build_ms"]["gather"]["max"].get<double>(),
-            json["build_ms"]["gather"]["median"].get<double>());
+  // The report carries the per-tile split (speed itself is bench-navmesh's business, not a test's).
+  for (const char* part : {"gather", "recast", "total"})
+    for (const char* figure : {"median", "max"})
+      EXPECT_TRUE(json["build_ms"][part][figure].is_number()) << part;
   EXPECT_GT(std::filesystem::file_size(obj), 100u);
 
   std::string output;
