@@ -52,6 +52,14 @@ class Body {
   float max_linear_velocity() const { return max_linear_velocity_; }
   float max_angular_velocity() const { return max_angular_velocity_; }
   bool allow_sleeping() const { return allow_sleeping_; }
+  /// Key shared by the bodies of a sleeping island (meaningful only while sleeping).
+  std::uint32_t sleep_island() const { return sleep_island_; }
+  /// How far any point of the body may move in `dt` at its current velocities (0 unless active).
+  float MotionBound(float dt) const {
+    if (!IsActive()) return 0.0f;
+    const float radius = shape_->LocalBounds().HalfExtents().norm() + center_of_mass_local_.norm();
+    return (linear_velocity_.norm() + angular_velocity_.norm() * radius) * dt;
+  }
   const AABB& world_bounds() const { return world_bounds_; }
   std::uint64_t user_data() const { return user_data_; }
   const Vec3& accumulated_force() const { return force_; }

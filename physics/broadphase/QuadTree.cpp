@@ -3,23 +3,13 @@
 #include <algorithm>
 #include <cassert>
 
+#include "physics/core/Atomics.h"
+
 namespace strata {
 
 namespace {
 
 constexpr std::memory_order kRelaxed = std::memory_order_relaxed;
-
-void AtomicMin(std::atomic<float>& value, float candidate) {
-  float current = value.load(kRelaxed);
-  while (candidate < current && !value.compare_exchange_weak(current, candidate, kRelaxed)) {
-  }
-}
-
-void AtomicMax(std::atomic<float>& value, float candidate) {
-  float current = value.load(kRelaxed);
-  while (candidate > current && !value.compare_exchange_weak(current, candidate, kRelaxed)) {
-  }
-}
 
 AABB SlotBounds(const QuadTreeNode& node, int slot) {
   return {

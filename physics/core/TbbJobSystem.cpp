@@ -1,19 +1,32 @@
 #include "physics/core/TbbJobSystem.h"
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
+#include <tbb/task_group.h>
 
 #include <thread>
 
 namespace strata {
 
 namespace {
+
 int ResolveThreadCount(int requested) {
   if (requested > 0) return requested;
   const unsigned hardware = std::thread::hardware_concurrency();
   return hardware == 0 ? 1 : static_cast<int>(hardware);
 }
+
+// Jobs become tasks of one task_group; oneTBB takes task memory from its own pools, not from operator new.
+class GroupQueue final : public JobQueue {
+ public:
+  explicit GroupQueue(tbb::task_group& group) : group_(group) {}
+  void Push(const Job& job) override {
+    group_.run([job] { job(); });
+  }
+
+ private:
+  tbb::task_group& group_;
+};
+
 }  // namespace
 
 struct TbbJobSystem::Arena {
@@ -27,16 +40,12 @@ TbbJobSystem::TbbJobSystem(int thread_count)
 
 TbbJobSystem::~TbbJobSystem() = default;
 
-void TbbJobSystem::ParallelFor(std::size_t count, std::size_t grain, const RangeFunction& function) {
-  if (count == 0) return;
-  if (thread_count_ == 1 || count <= grain) {
-    function(0, count);
-    return;
-  }
+void TbbJobSystem::Run(StartFunction start, void* context) {
   arena_->arena.execute([&] {
-    tbb::parallel_for(
-        tbb::blocked_range<std::size_t>(0, count, grain == 0 ? 1 : grain),
-        [&](const tbb::blocked_range<std::size_t>& range) { function(range.begin(), range.end()); });
+    tbb::task_group group;
+    GroupQueue queue(group);
+    start(context, queue);
+    group.wait();
   });
 }
 

@@ -1,7 +1,7 @@
-// TbbJobSystem: the default JobSystem, a oneTBB task arena with a fixed number of threads.
+// TbbJobSystem: the default JobSystem, a oneTBB task arena with a fixed number of threads; each Run is one
+// tbb::task_group in that arena, so concurrent Runs from several threads (several worlds) stay apart.
 // This is the only place in physics/ that includes oneTBB (only in its .cpp); it is compiled only when
 // STRATA_WITH_TBB is on.
-// Thread-safe to share between PhysicsSystems; ParallelFor calls from several threads are allowed.
 #pragma once
 
 #include <memory>
@@ -16,7 +16,7 @@ class TbbJobSystem final : public JobSystem {
   explicit TbbJobSystem(int thread_count = 0);
   ~TbbJobSystem() override;
 
-  void ParallelFor(std::size_t count, std::size_t grain, const RangeFunction& function) override;
+  void Run(StartFunction start, void* context) override;
   int ThreadCount() const override { return thread_count_; }
 
  private:

@@ -2,7 +2,33 @@
 
 #include <algorithm>
 
+#if defined(__x86_64__) || defined(__i386__)
+#include <immintrin.h>
+#endif
+
 namespace strata {
+
+namespace {
+void CpuRelax() {
+#if defined(__x86_64__) || defined(__i386__)
+  _mm_pause();
+#endif
+}
+}  // namespace
+
+// One Run's view of the pool: pushing counts the job as unfinished; the job's completion uncounts it.
+class ThreadPoolJobSystem::RunQueue final : public JobQueue {
+ public:
+  explicit RunQueue(ThreadPoolJobSystem& pool) : pool_(pool) {}
+  void Push(const Job& job) override {
+    unfinished.fetch_add(1, std::memory_order_relaxed);
+    pool_.Push({job, this});
+  }
+  std::atomic<std::int64_t> unfinished{0};
+
+ private:
+  ThreadPoolJobSystem& pool_;
+};
 
 ThreadPoolJobSystem::ThreadPoolJobSystem(int thread_count) {
   if (thread_count <= 0) thread_count = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
@@ -10,66 +36,61 @@ ThreadPoolJobSystem::ThreadPoolJobSystem(int thread_count) {
 }
 
 ThreadPoolJobSystem::~ThreadPoolJobSystem() {
-  {
-    std::lock_guard lock(mutex_);
-    stopping_ = true;
-  }
-  work_ready_.notify_all();
+  stopping_.store(true, std::memory_order_seq_cst);
+  wake_epoch_.fetch_add(1, std::memory_order_seq_cst);
+  wake_epoch_.notify_all();
   for (std::thread& worker : workers_) worker.join();
 }
 
-void ThreadPoolJobSystem::RunChunks(const Loop& loop) {
-  // Chunks are claimed with one atomic add each; which thread runs a chunk does not matter because
-  // callers write results per index.
-  while (true) {
-    const std::size_t begin = next_.fetch_add(loop.grain, std::memory_order_relaxed);
-    if (begin >= loop.count) return;
-    (*loop.function)(begin, std::min(begin + loop.grain, loop.count));
+void ThreadPoolJobSystem::Push(const Entry& entry) {
+  if (!queue_.TryPush(entry)) {
+    // Full: running it here keeps the job's order guarantees (none) and needs no allocation.
+    entry.job();
+    entry.run->unfinished.fetch_sub(1, std::memory_order_acq_rel);
+    return;
   }
+  // Pairs with the fence in WorkerLoop: either the worker sees the job, or this sees the sleeper.
+  std::atomic_thread_fence(std::memory_order_seq_cst);
+  if (sleepers_.load(std::memory_order_relaxed) > 0) {
+    wake_epoch_.fetch_add(1, std::memory_order_release);
+    wake_epoch_.notify_one();
+  }
+}
+
+bool ThreadPoolJobSystem::RunOne() {
+  Entry entry;
+  if (!queue_.TryPop(entry)) return false;
+  entry.job();
+  entry.run->unfinished.fetch_sub(1, std::memory_order_acq_rel);
+  return true;
 }
 
 void ThreadPoolJobSystem::WorkerLoop() {
-  std::uint64_t seen = 0;
-  while (true) {
-    Loop loop;
-    {
-      // Take the loop under the lock: the caller cannot return (and a new loop cannot start) until
-      // this worker is no longer counted as busy.
-      std::unique_lock lock(mutex_);
-      work_ready_.wait(lock, [&] { return stopping_ || generation_ != seen; });
-      if (stopping_) return;
-      seen = generation_;
-      loop = loop_;
-      ++busy_workers_;
+  while (!stopping_.load(std::memory_order_relaxed)) {
+    if (RunOne()) continue;
+    bool found = false;
+    for (int spin = 0; spin < kSpinsBeforeSleep && !found; ++spin) {
+      CpuRelax();
+      found = !queue_.LooksEmpty();
     }
-    RunChunks(loop);
-    {
-      std::lock_guard lock(mutex_);
-      --busy_workers_;
-    }
-    work_done_.notify_all();
+    if (found) continue;
+    // Either Push sees this sleeper and bumps the epoch, or this sees the job (store-buffer pattern over
+    // the two seq_cst fences); reading a bumped epoch (acquire) also makes the job visible.
+    sleepers_.fetch_add(1, std::memory_order_seq_cst);
+    std::atomic_thread_fence(std::memory_order_seq_cst);
+    const std::uint32_t epoch = wake_epoch_.load(std::memory_order_acquire);
+    if (queue_.LooksEmpty() && !stopping_.load(std::memory_order_seq_cst))
+      wake_epoch_.wait(epoch, std::memory_order_acquire);
+    sleepers_.fetch_sub(1, std::memory_order_relaxed);
   }
 }
 
-void ThreadPoolJobSystem::ParallelFor(std::size_t count, std::size_t grain, const RangeFunction& function) {
-  if (count == 0) return;
-  grain = std::max<std::size_t>(1, grain);
-  if (workers_.empty() || count <= grain) {
-    function(0, count);
-    return;
-  }
-  const Loop loop{&function, count, grain};
-  {
-    std::lock_guard lock(mutex_);
-    loop_ = loop;
-    next_.store(0, std::memory_order_relaxed);
-    ++generation_;
-  }
-  work_ready_.notify_all();
-  RunChunks(loop);
-  // Wait until no worker is still inside a chunk of this loop; late workers find no chunk left.
-  std::unique_lock lock(mutex_);
-  work_done_.wait(lock, [&] { return busy_workers_ == 0; });
+void ThreadPoolJobSystem::Run(StartFunction start, void* context) {
+  RunQueue run(*this);
+  start(context, run);
+  // The caller works until its own jobs are done; it may run other Runs' jobs meanwhile.
+  while (run.unfinished.load(std::memory_order_acquire) > 0)
+    if (!RunOne()) CpuRelax();
 }
 
 }  // namespace strata

@@ -1,14 +1,14 @@
-// ThreadPoolJobSystem: a JobSystem on plain std::threads, for builds without oneTBB (and the
-// ThreadSanitizer build, which cannot see inside the uninstrumented oneTBB library).
-// ParallelFor may be called from one thread at a time; the caller works on chunks too.
+// ThreadPoolJobSystem: a JobSystem on plain std::threads, for builds without oneTBB and for the
+// ThreadSanitizer build (which cannot see inside the uninstrumented oneTBB library). Jobs go through one
+// lock-free queue; idle workers spin briefly (stages of a step follow each other within microseconds) and
+// then sleep on an atomic. Run may be called from several threads at once; the caller runs jobs too.
 #pragma once
 
 #include <atomic>
-#include <condition_variable>
-#include <mutex>
 #include <thread>
 #include <vector>
 
+#include "physics/core/BoundedQueue.h"
 #include "physics/core/JobSystem.h"
 
 namespace strata {
@@ -16,33 +16,36 @@ namespace strata {
 /// Fixed pool of `thread_count - 1` workers plus the calling thread.
 class ThreadPoolJobSystem final : public JobSystem {
  public:
+  /// `thread_count` 0 = all hardware threads.
   explicit ThreadPoolJobSystem(int thread_count = 0);
   ~ThreadPoolJobSystem() override;
   ThreadPoolJobSystem(const ThreadPoolJobSystem&) = delete;
   ThreadPoolJobSystem& operator=(const ThreadPoolJobSystem&) = delete;
 
-  void ParallelFor(std::size_t count, std::size_t grain, const RangeFunction& function) override;
+  void Run(StartFunction start, void* context) override;
   int ThreadCount() const override { return static_cast<int>(workers_.size()) + 1; }
 
  private:
-  struct Loop {
-    const RangeFunction* function = nullptr;
-    std::size_t count = 0;
-    std::size_t grain = 1;
+  class RunQueue;
+  // A queued job and the Run it belongs to (whose unfinished count it lowers when done).
+  struct Entry {
+    Job job;
+    RunQueue* run = nullptr;
   };
 
+  void Push(const Entry& entry);
+  bool RunOne();
   void WorkerLoop();
-  void RunChunks(const Loop& loop);
 
+  static constexpr std::size_t kQueueCapacity = 4096;
+  // About 20-50 microseconds of polling before a worker sleeps.
+  static constexpr int kSpinsBeforeSleep = 2000;
+
+  BoundedQueue<Entry> queue_{kQueueCapacity};
   std::vector<std::thread> workers_;
-  std::mutex mutex_;
-  std::condition_variable work_ready_;
-  std::condition_variable work_done_;
-  Loop loop_;                         // the current loop (guarded by mutex_)
-  std::atomic<std::size_t> next_{0};  // first index not yet claimed
-  std::uint64_t generation_ = 0;      // bumped per loop so sleeping workers see new work
-  int busy_workers_ = 0;
-  bool stopping_ = false;
+  std::atomic<std::uint32_t> wake_epoch_{0};
+  std::atomic<int> sleepers_{0};
+  std::atomic<bool> stopping_{false};
 };
 
 }  // namespace strata

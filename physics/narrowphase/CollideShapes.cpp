@@ -3,7 +3,9 @@
 #include "physics/narrowphase/Epa.h"
 #include "physics/narrowphase/ManifoldBuilder.h"
 #include "physics/narrowphase/PolyhedronCollider.h"
+#include "physics/narrowphase/TriangleCollider.h"
 #include "physics/shapes/BoxShape.h"
+#include "physics/shapes/CapsuleShape.h"
 #include "physics/shapes/SphereShape.h"
 
 namespace strata {
@@ -55,6 +57,7 @@ void WorldFace(const ConvexShape& shape, const Pose& pose, const Vec3& world_dir
                SupportingFace& face) {
   shape.GetSupportingFace(pose.DirectionToLocal(world_direction), face);
   for (int i = 0; i < face.count; ++i) face.vertices[i] = pose.ToWorld(face.vertices[i]);
+  face.normal = pose.DirectionToWorld(face.normal);
 }
 
 bool CollideSpheres(const SphereShape& a, const Pose& pose_a, const SphereShape& b, const Pose& pose_b,
@@ -108,9 +111,11 @@ bool CollideSphereBox(const SphereShape& a, const Pose& pose_a, const BoxShape& 
 void TriangleFace(const TriangleSupport& triangle, const Vec3& face_normal, const Vec3& direction,
                   SupportingFace& face) {
   face.count = 0;
+  face.normal = Vec3::Zero();
   const float facing = face_normal.dot(direction) / direction.norm();
   if (std::abs(facing) > 0.5f) {
     // Keep counter-clockwise order as seen from the side the direction points to.
+    face.normal = facing > 0 ? face_normal : Vec3(-face_normal);
     if (facing > 0) {
       for (int i = 0; i < 3; ++i) face.Add(triangle.vertex(i));
     } else {
@@ -234,36 +239,63 @@ bool CollideConvexConvex(const ConvexShape& a, const Pose& pose_a, const ConvexS
 void CollideConvexMesh(const ConvexShape& a, const Pose& pose_a, const TriangleMeshShape& mesh,
                        const Pose& pose_mesh, float max_separation, const ContactManifold& prototype,
                        std::vector<ContactManifold>& out) {
-  const Pose mesh_inverse{pose_mesh.rotation.conjugate() * -pose_mesh.position,
-                          pose_mesh.rotation.conjugate()};
-  const AABB local_box = a.WorldBounds(pose_a).Expanded(max_separation).Transformed(mesh_inverse);
+  // Everything runs in the mesh's frame, so the triangles are used as stored; the convex is posed there
+  // once and the manifolds go back to world space at the end.
+  const Quat to_mesh = pose_mesh.rotation.conjugate();
+  const Pose local_a{to_mesh * (pose_a.position - pose_mesh.position), to_mesh * pose_a.rotation};
+  const AABB local_box = a.WorldBounds(local_a).Expanded(max_separation);
   thread_local std::vector<std::uint32_t> triangles;
   triangles.clear();
+  // The hierarchy is walked in a fixed order, so the triangles (and the merged manifolds) come out the same
+  // on every run.
   mesh.QueryBox(local_box, triangles);
-  std::sort(triangles.begin(), triangles.end());  // deterministic merge order
-  const PosedConvex core_a(a, pose_a, true), exact_a(a, pose_a, false);
+  if (triangles.empty()) return;
+  const PosedConvex core_a(a, local_a, true), exact_a(a, local_a, false);
+  const Mat3 rotation_a = local_a.rotation.toRotationMatrix();
   thread_local Polyhedron polyhedron_a, triangle_polyhedron;
-  const bool use_sat = IsPolyhedron(a) && MakePolyhedron(a, pose_a, polyhedron_a);
+  const bool use_sat = IsPolyhedron(a) && MakePolyhedron(a, local_a, polyhedron_a);
+  Vec3 capsule_core[2];
+  if (a.type() == ShapeType::kCapsule) {
+    const Vec3 half_axis = rotation_a.col(1) * static_cast<const CapsuleShape&>(a).half_height();
+    capsule_core[0] = local_a.position - half_axis;
+    capsule_core[1] = local_a.position + half_axis;
+  }
   const std::size_t first = out.size();
   for (std::uint32_t t : triangles) {
-    const TriangleSupport triangle(pose_mesh.ToWorld(mesh.Vertex(t, 0)), pose_mesh.ToWorld(mesh.Vertex(t, 1)),
-                                   pose_mesh.ToWorld(mesh.Vertex(t, 2)));
-    const Vec3 face_normal = pose_mesh.DirectionToWorld(mesh.Normal(t));
+    const Vec3& face_normal = mesh.Normal(t);
+    const TriangleSupport triangle(mesh.Vertex(t, 0), mesh.Vertex(t, 1), mesh.Vertex(t, 2));
+    // The convex's deepest point below the triangle's plane: if even that stays above it by more than the
+    // speculative reach, no feature of the triangle can come closer.
+    const Vec3 lowest = local_a.position + rotation_a * a.Support(rotation_a.transpose() * -face_normal);
+    if (face_normal.dot(lowest - triangle.vertex(0)) > max_separation) continue;
     ContactManifold manifold = prototype;
     manifold.sub_shape_b = t;
     Vec3 normal;
     ContactPoint deepest;
+    const MeshTriangle corners{{triangle.vertex(0), triangle.vertex(1), triangle.vertex(2)}, face_normal};
+    bool within = true;
     if (use_sat) {
-      MakeTrianglePolyhedron(triangle.vertex(0), triangle.vertex(1), triangle.vertex(2), triangle_polyhedron);
-      if (!CollidePolyhedra(polyhedron_a, triangle_polyhedron, max_separation, manifold)) continue;
+      if (a.type() == ShapeType::kBox) {
+        if (!CollideBoxTriangle(static_cast<const BoxShape&>(a), rotation_a, local_a.position, corners,
+                                max_separation, manifold))
+          continue;
+      } else {
+        MakeTrianglePolyhedron(triangle.vertex(0), triangle.vertex(1), triangle.vertex(2), face_normal,
+                               triangle_polyhedron);
+        if (!CollidePolyhedra(polyhedron_a, triangle_polyhedron, max_separation, manifold)) continue;
+      }
       normal = manifold.normal;
       deepest = manifold.points[0];
       for (int i = 1; i < manifold.count; ++i)
         if (manifold.points[i].separation < deepest.separation) deepest = manifold.points[i];
     } else if (a.type() == ShapeType::kSphere) {
-      if (!SphereTriangleContact(pose_a.position, a.core_radius(), triangle, face_normal, max_separation,
+      if (!SphereTriangleContact(local_a.position, a.core_radius(), triangle, face_normal, max_separation,
                                  normal, deepest))
         continue;
+    } else if (a.type() == ShapeType::kCapsule &&
+               CapsuleTriangleContact(capsule_core[0], capsule_core[1], a.core_radius(), corners,
+                                      max_separation, within, normal, deepest)) {
+      if (!within) continue;
     } else if (!FindContact(core_a, exact_a, a.core_radius(), triangle, triangle, 0.0f, max_separation,
                             normal, deepest)) {
       continue;
@@ -279,15 +311,32 @@ void CollideConvexMesh(const ConvexShape& a, const Pose& pose_a, const TriangleM
       normal = corrected;
       deepest.separation = (deepest.position_b - deepest.position_a).dot(normal);
     }
+    manifold.normal = normal;
+    if (a.type() == ShapeType::kSphere) {
+      // A sphere touches in one point: clipping a face against it could only give that point back.
+      if (deepest.separation > max_separation) continue;
+      manifold.count = 1;
+      manifold.points[0] = deepest;
+      MergeManifold(manifold, first, out);
+      continue;
+    }
     SupportingFace face_a, face_b;
     if (use_sat)
       polyhedron_a.Face(MostAlignedFace(polyhedron_a, normal), face_a);
     else
-      WorldFace(a, pose_a, normal, face_a);
+      WorldFace(a, local_a, normal, face_a);
     TriangleFace(triangle, face_normal, -normal, face_b);
     manifold.normal = normal;
     BuildManifold(face_a, face_b, deepest, max_separation, manifold);
     if (manifold.count > 0) MergeManifold(manifold, first, out);
+  }
+  for (std::size_t m = first; m < out.size(); ++m) {
+    ContactManifold& manifold = out[m];
+    manifold.normal = pose_mesh.rotation * manifold.normal;
+    for (int i = 0; i < manifold.count; ++i) {
+      manifold.points[i].position_a = pose_mesh.ToWorld(manifold.points[i].position_a);
+      manifold.points[i].position_b = pose_mesh.ToWorld(manifold.points[i].position_b);
+    }
   }
 }
 

@@ -30,6 +30,7 @@ int ClipAgainstPlane(const Polygon& in, int count, const Vec3& plane_point, cons
 }
 
 Vec3 FaceNormal(const SupportingFace& face) {
+  if (face.normal != Vec3::Zero()) return face.normal;
   Vec3 normal = Vec3::Zero();
   // Newell's method: robust for any planar polygon.
   for (int i = 0; i < face.count; ++i) {
@@ -102,33 +103,35 @@ void BuildManifold(const SupportingFace& face_a, const SupportingFace& face_b, c
   const float alignment = reference_is_a ? alignment_a : alignment_b;
 
   if (reference.count >= 3 && alignment > 0.1f && incident.count >= 1) {
-    Polygon polygon, clipped;
+    // Two buffers that trade roles each clipping plane (swapping pointers, not 64 vertices).
+    Polygon buffers[2];
+    Polygon* polygon = &buffers[0];
+    Polygon* clipped = &buffers[1];
     int count = 0;
-    for (int i = 0; i < incident.count; ++i) polygon[count++] = incident.vertices[i];
-    if (count >= 3 || reference.count >= 3) {
-      for (int i = 0; i < reference.count && count > 0; ++i) {
-        const Vec3& p = reference.vertices[i];
-        const Vec3& q = reference.vertices[(i + 1) % reference.count];
-        const Vec3 side = (q - p).cross(reference_normal);  // outward for counter-clockwise faces
-        if (count == 1) {
-          if (side.dot(polygon[0] - p) > 1e-6f) count = 0;
-          continue;
-        }
-        if (count == 2) {
-          // Clip a segment.
-          const float d0 = side.dot(polygon[0] - p), d1 = side.dot(polygon[1] - p);
-          if (d0 > 0 && d1 > 0) {
-            count = 0;
-          } else if (d0 > 0) {
-            polygon[0] = polygon[0] + d0 / (d0 - d1) * (polygon[1] - polygon[0]);
-          } else if (d1 > 0) {
-            polygon[1] = polygon[0] + d0 / (d0 - d1) * (polygon[1] - polygon[0]);
-          }
-          continue;
-        }
-        count = ClipAgainstPlane(polygon, count, p, side, clipped);
-        std::swap(polygon, clipped);
+    for (int i = 0; i < incident.count; ++i) (*polygon)[count++] = incident.vertices[i];
+    for (int i = 0; i < reference.count && count > 0; ++i) {
+      const Vec3& p = reference.vertices[i];
+      const Vec3& q = reference.vertices[(i + 1) % reference.count];
+      const Vec3 side = (q - p).cross(reference_normal);  // outward for counter-clockwise faces
+      if (count == 1) {
+        if (side.dot((*polygon)[0] - p) > 1e-6f) count = 0;
+        continue;
       }
+      if (count == 2) {
+        // Clip a segment.
+        Polygon& segment = *polygon;
+        const float d0 = side.dot(segment[0] - p), d1 = side.dot(segment[1] - p);
+        if (d0 > 0 && d1 > 0) {
+          count = 0;
+        } else if (d0 > 0) {
+          segment[0] = segment[0] + d0 / (d0 - d1) * (segment[1] - segment[0]);
+        } else if (d1 > 0) {
+          segment[1] = segment[0] + d0 / (d0 - d1) * (segment[1] - segment[0]);
+        }
+        continue;
+      }
+      count = ClipAgainstPlane(*polygon, count, p, side, *clipped);
+      std::swap(polygon, clipped);
     }
     const Vec3& plane_point = reference.vertices[0];
     const float denominator = n.dot(reference_normal);
@@ -136,11 +139,12 @@ void BuildManifold(const SupportingFace& face_a, const SupportingFace& face_b, c
     int point_count = 0;
     for (int i = 0; i < count; ++i) {
       // Project the incident point onto the reference plane along the contact normal.
-      const float t = (plane_point - polygon[i]).dot(reference_normal) / denominator;
-      const Vec3 on_reference = polygon[i] + t * n;
+      const Vec3& incident_point = (*polygon)[i];
+      const float t = (plane_point - incident_point).dot(reference_normal) / denominator;
+      const Vec3 on_reference = incident_point + t * n;
       ContactPoint point;
-      point.position_a = reference_is_a ? on_reference : polygon[i];
-      point.position_b = reference_is_a ? polygon[i] : on_reference;
+      point.position_a = reference_is_a ? on_reference : incident_point;
+      point.position_b = reference_is_a ? incident_point : on_reference;
       point.separation = (point.position_b - point.position_a).dot(n);
       if (point.separation <= max_separation) points[point_count++] = point;
     }

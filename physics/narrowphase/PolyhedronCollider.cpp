@@ -1,5 +1,6 @@
 #include "physics/narrowphase/PolyhedronCollider.h"
 
+#include "physics/narrowphase/ClosestPoints.h"
 #include "physics/narrowphase/ManifoldBuilder.h"
 #include "physics/shapes/BoxShape.h"
 #include "physics/shapes/ConvexHullShape.h"
@@ -11,30 +12,6 @@ namespace {
 // An edge axis must beat the best face axis by this much to be chosen: faces give stable 4-point
 // manifolds, so near-ties go to them.
 constexpr float kEdgeBias = 0.005f;
-
-void AddFace(Polyhedron& p, std::span<const int> loop) {
-  const int f = p.face_count++;
-  const int start = p.face_start[f];
-  for (std::size_t i = 0; i < loop.size(); ++i) p.face_loop[start + i] = loop[i];
-  p.face_start[f + 1] = start + static_cast<int>(loop.size());
-  Vec3 normal = Vec3::Zero();
-  for (std::size_t i = 0; i < loop.size(); ++i)
-    normal += p.vertices[loop[i]].cross(p.vertices[loop[(i + 1) % loop.size()]]);
-  p.face_normals[f] = normal.normalized();
-  p.face_offsets[f] = p.face_normals[f].dot(p.vertices[loop[0]]);
-}
-
-// Parallel edges give the same separating axes; test each direction once.
-void AddEdgeDirections(Polyhedron& p) {
-  p.direction_count = 0;
-  for (int e = 0; e < p.edge_count; ++e) {
-    const Vec3 direction = (p.vertices[p.edges[e][1]] - p.vertices[p.edges[e][0]]).normalized();
-    bool known = false;
-    for (int d = 0; d < p.direction_count && !known; ++d)
-      known = std::abs(p.edge_directions[d].dot(direction)) > 0.9999f;
-    if (!known) p.edge_directions[p.direction_count++] = direction;
-  }
-}
 
 struct Axis {
   enum Kind { kFaceA, kFaceB, kEdges } kind = kFaceA;
@@ -96,25 +73,6 @@ int ExtremeEdge(const Polyhedron& p, const Vec3& direction, const Vec3& axis) {
   return best;
 }
 
-// Closest points between segments p0-p1 and q0-q1 (Ericson 5.1.9).
-void ClosestPointsOfSegments(const Vec3& p0, const Vec3& p1, const Vec3& q0, const Vec3& q1, Vec3& on_p,
-                             Vec3& on_q) {
-  const Vec3 d1 = p1 - p0, d2 = q1 - q0, r = p0 - q0;
-  const float a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
-  float s = 0.0f, t = 0.0f;
-  const float c = d1.dot(r), b = d1.dot(d2);
-  const float denominator = a * e - b * b;
-  if (denominator > 1e-12f) s = std::clamp((b * f - c * e) / denominator, 0.0f, 1.0f);
-  t = e > 0.0f ? (b * s + f) / e : 0.0f;
-  if (t < 0.0f)
-    t = 0.0f, s = a > 0.0f ? std::clamp(-c / a, 0.0f, 1.0f) : 0.0f;
-  else if (t > 1.0f)
-    t = 1.0f, s = a > 0.0f ? std::clamp((b - c) / a, 0.0f, 1.0f) : 0.0f;
-  on_p = p0 + s * d1;
-  on_q = q0 + t * d2;
-}
-
-// The face of `p` most aligned with `direction`.
 }  // namespace
 
 int MostAlignedFace(const Polyhedron& p, const Vec3& direction) {
@@ -126,15 +84,22 @@ int MostAlignedFace(const Polyhedron& p, const Vec3& direction) {
 
 namespace {
 
-Vec3 Centroid(const Polyhedron& p) {
+void ComputeCentroid(Polyhedron& p) {
   Vec3 sum = Vec3::Zero();
   for (int i = 0; i < p.vertex_count; ++i) sum += p.vertices[i];
-  return sum / static_cast<float>(p.vertex_count);
+  p.centroid = sum / static_cast<float>(p.vertex_count);
 }
 
 }  // namespace
 
 Vec3 Polyhedron::Support(const Vec3& direction) const {
+  if (is_box) {
+    // The box's edge directions are its axes: the farthest corner has the signs of the direction along them.
+    const int corner = (edge_directions[0].dot(direction) > 0.0f ? 1 : 0) |
+                       (edge_directions[1].dot(direction) > 0.0f ? 2 : 0) |
+                       (edge_directions[2].dot(direction) > 0.0f ? 4 : 0);
+    return vertices[corner];
+  }
   int best = 0;
   float best_dot = vertices[0].dot(direction);
   for (int i = 1; i < vertex_count; ++i) {
@@ -146,6 +111,7 @@ Vec3 Polyhedron::Support(const Vec3& direction) const {
 
 void Polyhedron::Face(int f, SupportingFace& face) const {
   face.count = 0;
+  face.normal = face_normals[f];
   for (int i = face_start[f]; i < face_start[f + 1]; ++i) face.Add(vertices[face_loop[i]]);
 }
 
@@ -178,6 +144,8 @@ void MakeBox(const BoxShape& box, const Pose& pose, Polyhedron& out) {
   out.edge_count = 12;
   for (int axis = 0; axis < 3; ++axis) out.edge_directions[axis] = rotation.col(axis);
   out.direction_count = 3;
+  out.is_box = true;
+  out.centroid = pose.position;
 }
 
 bool MakeHull(const ConvexHullShape& hull, const Pose& pose, Polyhedron& out) {
@@ -199,6 +167,7 @@ bool MakeHull(const ConvexHullShape& hull, const Pose& pose, Polyhedron& out) {
   for (const auto& edge : hull.edges()) out.edges[out.edge_count++] = edge;
   for (const Vec3& direction : hull.edge_directions())
     out.edge_directions[out.direction_count++] = rotation * direction;
+  ComputeCentroid(out);
   return true;
 }
 
@@ -207,6 +176,7 @@ bool MakeHull(const ConvexHullShape& hull, const Pose& pose, Polyhedron& out) {
 bool MakePolyhedron(const ConvexShape& shape, const Pose& pose, Polyhedron& out) {
   out.vertex_count = out.face_count = out.edge_count = out.direction_count = 0;
   out.one_sided = false;
+  out.is_box = false;
   out.face_start[0] = 0;
   if (shape.type() == ShapeType::kBox) {
     MakeBox(static_cast<const BoxShape&>(shape), pose, out);
@@ -217,18 +187,26 @@ bool MakePolyhedron(const ConvexShape& shape, const Pose& pose, Polyhedron& out)
   return false;
 }
 
-void MakeTrianglePolyhedron(const Vec3& a, const Vec3& b, const Vec3& c, Polyhedron& out) {
+void MakeTrianglePolyhedron(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& normal,
+                            Polyhedron& out) {
   out.vertex_count = 3;
-  out.face_count = 0;
-  out.edge_count = 0;
-  out.face_start[0] = 0;
   out.vertices[0] = a, out.vertices[1] = b, out.vertices[2] = c;
   out.one_sided = true;
-  static constexpr int kFront[3] = {0, 1, 2};
-  AddFace(out, kFront);
+  out.is_box = false;
+  out.face_count = 1;
+  out.face_normals[0] = normal;
+  out.face_offsets[0] = normal.dot(a);
+  out.face_start[0] = 0;
+  out.face_start[1] = 3;
+  out.face_loop[0] = 0, out.face_loop[1] = 1, out.face_loop[2] = 2;
   out.edges[0] = {0, 1}, out.edges[1] = {1, 2}, out.edges[2] = {2, 0};
   out.edge_count = 3;
-  AddEdgeDirections(out);
+  // A triangle's three edges are never parallel, so each is an axis direction of its own.
+  out.edge_directions[0] = (b - a).normalized();
+  out.edge_directions[1] = (c - b).normalized();
+  out.edge_directions[2] = (a - c).normalized();
+  out.direction_count = 3;
+  out.centroid = (a + b + c) / 3.0f;
 }
 
 bool CollidePolyhedra(const Polyhedron& a, const Polyhedron& b, float max_separation,
@@ -237,8 +215,7 @@ bool CollidePolyhedra(const Polyhedron& a, const Polyhedron& b, float max_separa
   if (face_a.separation > max_separation) return false;
   const Axis face_b = BestFaceAxis(b, a, Axis::kFaceB);
   if (face_b.separation > max_separation) return false;
-  const Vec3 center_a = Centroid(a), center_b = Centroid(b);
-  const Axis edges = BestEdgeAxis(a, b, center_a, center_b);
+  const Axis edges = BestEdgeAxis(a, b, a.centroid, b.centroid);
   if (edges.separation > max_separation) return false;
 
   // Prefer A's face, then B's, then an edge pair, unless the later one is clearly better.

@@ -27,6 +27,8 @@ struct Polyhedron {
   std::array<int, kMaxFaces * 8> face_loop;
   std::array<std::array<int, 2>, kMaxEdges> edges;  ///< each undirected edge once
   bool one_sided = false;                           ///< a mesh triangle: only its front face collides
+  bool is_box = false;                              ///< vertex i has signs (bit 0: x, bit 1: y, bit 2: z)
+  Vec3 centroid = Vec3::Zero();                     ///< average of the vertices
   int direction_count = 0;
   std::array<Vec3, kMaxEdges> edge_directions;  ///< unit, one per set of parallel edges (SAT axes)
 
@@ -38,9 +40,9 @@ struct Polyhedron {
 
 /// A box, hull or triangle posed in world space. Returns false for shapes that are not polyhedra.
 bool MakePolyhedron(const ConvexShape& shape, const Pose& pose, Polyhedron& out);
-/// A single mesh triangle: one front face (counter-clockwise a, b, c), three edges. It is one-sided:
-/// contacts only push bodies out through the front, as level geometry expects.
-void MakeTrianglePolyhedron(const Vec3& a, const Vec3& b, const Vec3& c, Polyhedron& out);
+/// A single mesh triangle with unit front normal `normal`: one front face (counter-clockwise a, b, c), three
+/// edges. It is one-sided: contacts only push bodies out through the front, as level geometry expects.
+void MakeTrianglePolyhedron(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& normal, Polyhedron& out);
 
 /// The face of `p` whose normal is most aligned with `direction`.
 int MostAlignedFace(const Polyhedron& p, const Vec3& direction);

@@ -69,6 +69,8 @@ void BoxShape::GetSupportingFace(const Vec3& direction, SupportingFace& face) co
   int axis = 0;
   direction.cwiseAbs().maxCoeff(&axis);
   const float sign = direction[axis] < 0 ? -1.0f : 1.0f;
+  face.normal = Vec3::Zero();
+  face.normal[axis] = sign;
   const int u = (axis + 1) % 3, v = (axis + 2) % 3;
   const float corners[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
   for (int i = 0; i < 4; ++i) {

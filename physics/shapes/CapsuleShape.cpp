@@ -71,6 +71,7 @@ Vec3 CapsuleShape::Support(const Vec3& direction) const {
 
 void CapsuleShape::GetSupportingFace(const Vec3& direction, SupportingFace& face) const {
   face.count = 0;
+  face.normal = Vec3::Zero();
   const float length = direction.norm();
   if (length == 0.0f) return;
   const Vec3 unit = direction / length;

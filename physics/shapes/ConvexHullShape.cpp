@@ -115,6 +115,7 @@ void ConvexHullShape::GetSupportingFace(const Vec3& direction, SupportingFace& f
     if (d > best_dot) best_dot = d, best = &f;
   }
   face.count = 0;
+  face.normal = best->normal;
   for (int v : best->vertices) face.Add(hull_.vertices[v]);
 }
 

@@ -13,6 +13,7 @@ struct SupportingFace {
   static constexpr int kMaxVertices = 32;
   std::array<Vec3, kMaxVertices> vertices;
   int count = 0;
+  Vec3 normal = Vec3::Zero();  ///< outward unit normal where the shape knows it; zero = work it out
   void Add(const Vec3& v) {
     if (count < kMaxVertices) vertices[count++] = v;
   }

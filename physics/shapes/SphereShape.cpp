@@ -46,6 +46,7 @@ Vec3 SphereShape::Support(const Vec3& direction) const {
 
 void SphereShape::GetSupportingFace(const Vec3& direction, SupportingFace& face) const {
   face.count = 0;
+  face.normal = Vec3::Zero();
   face.Add(Support(direction));
 }
 

@@ -74,71 +74,153 @@ void TriangleMeshShape::ComputeActiveEdges() {
   }
 }
 
+namespace {
+
+// The binary hierarchy the 4-wide one is folded from: an inner node's children are at `first` and `first +
+// 1`; a leaf covers order[first, first + count).
+struct BinaryNode {
+  AABB bounds;
+  std::uint32_t first = 0;
+  std::uint32_t count = 0;  // 0 = inner node
+};
+
+void SetLane(float (&min_x)[4], float (&min_y)[4], float (&min_z)[4], float (&max_x)[4], float (&max_y)[4],
+             float (&max_z)[4], int lane, const AABB& box) {
+  min_x[lane] = box.min.x(), min_y[lane] = box.min.y(), min_z[lane] = box.min.z();
+  max_x[lane] = box.max.x(), max_y[lane] = box.max.y(), max_z[lane] = box.max.z();
+}
+
+}  // namespace
+
+int TriangleMeshShape::Bounds4::OverlapMask(const AABB& box) const {
+  // Branch-free over the four lanes, which the compiler turns into packed compares.
+  int mask = 0;
+  for (int i = 0; i < 4; ++i) {
+    const bool hit = (min_x[i] <= box.max.x()) & (box.min.x() <= max_x[i]) & (min_y[i] <= box.max.y()) &
+                     (box.min.y() <= max_y[i]) & (min_z[i] <= box.max.z()) & (box.min.z() <= max_z[i]);
+    mask |= static_cast<int>(hit) << i;
+  }
+  return mask;
+}
+
+void TriangleMeshShape::Bounds4::RayEntries(const Vec3& origin, const Vec3& inverse_direction,
+                                            float max_fraction, float* entry) const {
+  for (int i = 0; i < 4; ++i)
+    entry[i] = AABB({min_x[i], min_y[i], min_z[i]}, {max_x[i], max_y[i], max_z[i]})
+                   .RayEntry(origin, inverse_direction, max_fraction);
+}
+
 void TriangleMeshShape::BuildHierarchy() {
-  leaf_triangles_.resize(triangles_.size());
-  std::iota(leaf_triangles_.begin(), leaf_triangles_.end(), 0u);
-  std::vector<Vec3> centers(triangles_.size());
-  std::vector<AABB> bounds(triangles_.size());
-  for (std::uint32_t t = 0; t < triangles_.size(); ++t) {
+  const auto count = static_cast<std::uint32_t>(triangles_.size());
+  std::vector<std::uint32_t> order(count);
+  std::iota(order.begin(), order.end(), 0u);
+  std::vector<Vec3> centers(count);
+  std::vector<AABB> bounds(count);
+  for (std::uint32_t t = 0; t < count; ++t) {
     for (int corner = 0; corner < 3; ++corner) bounds[t].Encapsulate(Vertex(t, corner));
     centers[t] = bounds[t].Center();
   }
-  nodes_.reserve(2 * triangles_.size() / kMaxLeafTriangles + 1);
-  nodes_.push_back({});
+  std::vector<BinaryNode> binary;
+  binary.reserve(2 * count / kMaxLeafTriangles + 1);
+  binary.push_back({});
   struct Task {
     std::uint32_t node, begin, end;
   };
-  std::vector<Task> stack = {{0, 0, static_cast<std::uint32_t>(triangles_.size())}};
+  std::vector<Task> stack = {{0, 0, count}};
   while (!stack.empty()) {
     const Task task = stack.back();
     stack.pop_back();
     AABB node_bounds, center_bounds;
     for (std::uint32_t i = task.begin; i < task.end; ++i) {
-      node_bounds.Encapsulate(bounds[leaf_triangles_[i]]);
-      center_bounds.Encapsulate(centers[leaf_triangles_[i]]);
+      node_bounds.Encapsulate(bounds[order[i]]);
+      center_bounds.Encapsulate(centers[order[i]]);
     }
-    nodes_[task.node].bounds = node_bounds;
+    binary[task.node].bounds = node_bounds;
     if (task.end - task.begin <= kMaxLeafTriangles) {
-      nodes_[task.node].first = task.begin;
-      nodes_[task.node].count = task.end - task.begin;
+      binary[task.node].first = task.begin;
+      binary[task.node].count = task.end - task.begin;
       continue;
     }
     // Median split along the longest axis of the centres: O(n log n) overall and balanced.
     int axis = 0;
     center_bounds.Size().maxCoeff(&axis);
     const std::uint32_t middle = task.begin + (task.end - task.begin) / 2;
-    std::nth_element(leaf_triangles_.begin() + task.begin, leaf_triangles_.begin() + middle,
-                     leaf_triangles_.begin() + task.end,
+    std::nth_element(order.begin() + task.begin, order.begin() + middle, order.begin() + task.end,
                      [&](std::uint32_t a, std::uint32_t b) { return centers[a][axis] < centers[b][axis]; });
-    const auto left = static_cast<std::uint32_t>(nodes_.size());
-    nodes_.push_back({});
-    nodes_.push_back({});
-    nodes_[task.node].first = left;
-    nodes_[task.node].count = 0;
+    const auto left = static_cast<std::uint32_t>(binary.size());
+    binary.push_back({});
+    binary.push_back({});
+    binary[task.node].first = left;
+    binary[task.node].count = 0;
     stack.push_back({left, task.begin, middle});
     stack.push_back({left + 1, middle, task.end});
   }
+  bounds_ = binary[0].bounds;
+
+  // Fold two binary levels into one 4-wide level: a node's children are its binary grandchildren (or its
+  // children, where those are leaves).
+  nodes_.clear();
+  leaves_.clear();
+  nodes_.reserve(binary.size() / 3 + 1);
+  leaves_.reserve(binary.size() / 2 + 1);
+  auto build = [&](auto&& self, std::uint32_t index) -> std::uint32_t {
+    const BinaryNode& b = binary[index];
+    if (b.count > 0) {
+      Leaf leaf;
+      for (int lane = 0; lane < 4; ++lane) {
+        const bool used = lane < static_cast<int>(b.count);
+        leaf.triangle[lane] = used ? order[b.first + lane] : kEmpty;
+        SetLane(leaf.bounds.min_x, leaf.bounds.min_y, leaf.bounds.min_z, leaf.bounds.max_x, leaf.bounds.max_y,
+                leaf.bounds.max_z, lane, used ? bounds[order[b.first + lane]] : AABB());
+      }
+      leaves_.push_back(leaf);
+      return kLeaf | static_cast<std::uint32_t>(leaves_.size() - 1);
+    }
+    std::uint32_t picks[4];
+    int picked = 0;
+    for (const std::uint32_t child : {b.first, b.first + 1}) {
+      if (binary[child].count == 0) {
+        picks[picked++] = binary[child].first;
+        picks[picked++] = binary[child].first + 1;
+      } else {
+        picks[picked++] = child;
+      }
+    }
+    const auto node_index = static_cast<std::uint32_t>(nodes_.size());
+    nodes_.emplace_back();
+    for (int slot = 0; slot < 4; ++slot) {
+      const bool used = slot < picked;
+      const std::uint32_t code = used ? self(self, picks[slot]) : kEmpty;
+      Node& node = nodes_[node_index];  // after the recursion, which may have grown nodes_
+      node.child[slot] = code;
+      SetLane(node.bounds.min_x, node.bounds.min_y, node.bounds.min_z, node.bounds.max_x, node.bounds.max_y,
+              node.bounds.max_z, slot, used ? binary[picks[slot]].bounds : AABB());
+    }
+    return node_index;
+  };
+  root_ = build(build, 0);
 }
 
 void TriangleMeshShape::QueryBox(const AABB& local_box, std::vector<std::uint32_t>& out) const {
-  if (nodes_.empty()) return;
-  std::uint32_t stack[64];
+  if (root_ == kEmpty) return;
+  // Depth is about log4(triangles / 4), so 3 entries per level stay far below the stack size.
+  std::uint32_t stack[128];
   int top = 0;
-  stack[top++] = 0;
+  stack[top++] = root_;
   while (top > 0) {
-    const Node& node = nodes_[stack[--top]];
-    if (!node.bounds.Overlaps(local_box)) continue;
-    if (node.count == 0) {
-      stack[top++] = node.first;
-      stack[top++] = node.first + 1;
+    const std::uint32_t code = stack[--top];
+    if ((code & kLeaf) != 0) {
+      const Leaf& leaf = leaves_[code & ~kLeaf];
+      const int mask = leaf.bounds.OverlapMask(local_box);
+      for (int lane = 0; lane < 4; ++lane)
+        if ((mask >> lane) & 1) out.push_back(leaf.triangle[lane]);
       continue;
     }
-    for (std::uint32_t i = node.first; i < node.first + node.count; ++i) {
-      const std::uint32_t t = leaf_triangles_[i];
-      AABB triangle_bounds;
-      for (int corner = 0; corner < 3; ++corner) triangle_bounds.Encapsulate(Vertex(t, corner));
-      if (triangle_bounds.Overlaps(local_box)) out.push_back(t);
-    }
+    const Node& node = nodes_[code];
+    const int mask = node.bounds.OverlapMask(local_box);
+    // Children pushed last-first, so they are visited in slot order.
+    for (int slot = 3; slot >= 0; --slot)
+      if ((mask >> slot) & 1) stack[top++] = node.child[slot];
   }
 }
 
@@ -160,35 +242,44 @@ float RayTriangle(const Vec3& origin, const Vec3& direction, const Vec3& a, cons
 
 bool TriangleMeshShape::CastRay(const Vec3& origin, const Vec3& direction, float max_fraction,
                                 ShapeRayHit& hit) const {
-  if (nodes_.empty()) return false;
+  if (root_ == kEmpty) return false;
   const Vec3 inverse = SafeInverse(direction);
   float best = max_fraction;
   std::uint32_t best_triangle = 0;
   bool found = false;
-  std::uint32_t stack[64];
+  struct Entry {
+    std::uint32_t code;
+    float entry;
+  };
+  Entry stack[128];
   int top = 0;
-  stack[top++] = 0;
+  stack[top++] = {root_, 0.0f};
   while (top > 0) {
-    const Node& node = nodes_[stack[--top]];
-    if (node.bounds.RayEntry(origin, inverse, best) < 0.0f) continue;
-    if (node.count == 0) {
-      // Visit the nearer child first so `best` shrinks early.
-      const float left = nodes_[node.first].bounds.RayEntry(origin, inverse, best);
-      const float right = nodes_[node.first + 1].bounds.RayEntry(origin, inverse, best);
-      const bool left_first = left >= 0.0f && (right < 0.0f || left <= right);
-      stack[top++] = left_first ? node.first + 1 : node.first;
-      stack[top++] = left_first ? node.first : node.first + 1;
+    const Entry current = stack[--top];
+    if (current.entry > best) continue;  // a nearer hit was found since it was pushed
+    if ((current.code & kLeaf) != 0) {
+      const Leaf& leaf = leaves_[current.code & ~kLeaf];
+      for (const std::uint32_t t : leaf.triangle) {
+        if (t == kEmpty) continue;
+        const float fraction = RayTriangle(origin, direction, Vertex(t, 0), Vertex(t, 1), Vertex(t, 2));
+        if (fraction >= 0.0f && fraction <= best) {
+          best = fraction;
+          best_triangle = t;
+          found = true;
+        }
+      }
       continue;
     }
-    for (std::uint32_t i = node.first; i < node.first + node.count; ++i) {
-      const std::uint32_t t = leaf_triangles_[i];
-      const float fraction = RayTriangle(origin, direction, Vertex(t, 0), Vertex(t, 1), Vertex(t, 2));
-      if (fraction >= 0.0f && fraction <= best) {
-        best = fraction;
-        best_triangle = t;
-        found = true;
-      }
-    }
+    const Node& node = nodes_[current.code];
+    float entry[4];
+    node.bounds.RayEntries(origin, inverse, best, entry);
+    // Push the farthest first so the nearest child is visited next and `best` shrinks early.
+    int slots[4];
+    int hits = 0;
+    for (int slot = 0; slot < 4; ++slot)
+      if (node.child[slot] != kEmpty && entry[slot] >= 0.0f) slots[hits++] = slot;
+    std::sort(slots, slots + hits, [&](int a, int b) { return entry[a] > entry[b]; });
+    for (int i = 0; i < hits; ++i) stack[top++] = {node.child[slots[i]], entry[slots[i]]};
   }
   if (!found) return false;
   hit.fraction = best;

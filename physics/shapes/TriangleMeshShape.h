@@ -1,5 +1,6 @@
-// TriangleMeshShape: static level geometry as an indexed triangle list with its own bounding volume
-// hierarchy, built once at creation (1M+ triangles load in about a second). Immutable; thread-safe.
+// TriangleMeshShape: static level geometry as an indexed triangle list with its own 4-wide bounding volume
+// hierarchy (each node holds its four children's bounds side by side, each leaf its four triangles' bounds,
+// so every test is one packed compare), built once at creation. Immutable; thread-safe.
 // Only static and kinematic bodies may use it (it has no volume, so no mass).
 #pragma once
 
@@ -40,7 +41,7 @@ class TriangleMeshShape final : public Shape {
   /// Appends indices of triangles whose bounds overlap `local_box`.
   void QueryBox(const AABB& local_box, std::vector<std::uint32_t>& out) const;
 
-  AABB LocalBounds() const override { return nodes_.empty() ? AABB() : nodes_[0].bounds; }
+  AABB LocalBounds() const override { return bounds_; }
   MassProperties ComputeMassProperties(float) const override { return {}; }
   bool CastRay(const Vec3& origin, const Vec3& direction, float max_fraction,
                ShapeRayHit& hit) const override;
@@ -49,12 +50,26 @@ class TriangleMeshShape final : public Shape {
   void CollectLocalTriangles(const AABB& local_box, std::vector<Triangle>& out) const override;
 
  private:
-  /// BVH node: an inner node's children are at `first` and `first + 1`; a leaf covers
-  /// leaf_triangles_[first, first + count).
+  /// Four boxes side by side, tested together: a node's children or a leaf's triangles.
+  struct alignas(16) Bounds4 {
+    float min_x[4], min_y[4], min_z[4], max_x[4], max_y[4], max_z[4];
+    /// Bit i set where box i overlaps `box`.
+    int OverlapMask(const AABB& box) const;
+    /// Ray entry fraction of each box (negative where it misses) into `entry`.
+    void RayEntries(const Vec3& origin, const Vec3& inverse_direction, float max_fraction,
+                    float* entry) const;
+  };
+  /// Child slot encoding: a node index, a leaf (kLeaf | leaf index) or kEmpty.
+  static constexpr std::uint32_t kLeaf = 0x80000000u;
+  static constexpr std::uint32_t kEmpty = 0xffffffffu;
   struct Node {
-    AABB bounds;
-    std::uint32_t first = 0;
-    std::uint32_t count = 0;  // 0 = inner node
+    Bounds4 bounds;
+    std::uint32_t child[4];
+  };
+  /// Up to four triangles; empty lanes have inside-out bounds and triangle kEmpty.
+  struct Leaf {
+    Bounds4 bounds;
+    std::uint32_t triangle[4];
   };
 
   void BuildHierarchy();
@@ -64,8 +79,10 @@ class TriangleMeshShape final : public Shape {
   std::vector<Indices> triangles_;
   std::vector<Vec3> normals_;
   std::vector<std::uint8_t> active_edges_;
-  std::vector<std::uint32_t> leaf_triangles_;
   std::vector<Node> nodes_;
+  std::vector<Leaf> leaves_;
+  std::uint32_t root_ = kEmpty;  // a node, or a leaf for meshes of up to four triangles
+  AABB bounds_;
 };
 
 /// Moller-Trumbore ray/triangle test; returns the fraction or -1 (both sides count).

@@ -1,73 +1,52 @@
-// ContactSolver: sequential impulses (Catto, GDC 2009) over contact manifolds: accumulated and clamped
-// normal impulses, two-axis friction, restitution above a velocity threshold, speculative contacts,
-// warm starting from the ContactCache, then non-linear position correction. Runs inside the step only.
+// ContactSolver: sequential impulses (Catto, GDC 2009) one contact constraint at a time, for the islands and
+// splits whose constraints share bodies: small islands and the sequential split of a large one. Setup lays a
+// ContactConstraint out as a SolverContact: per point, the Jacobian rows of the normal and both friction
+// axes and their images under each body's inverse inertia, so the passes are dot products and multiply-adds
+// on 4-wide vectors. Functions touch only the contact and its two solver bodies; callers keep two threads
+// off the same dynamic body.
 #pragma once
 
-#include <span>
-#include <vector>
-
-#include "physics/narrowphase/ContactCache.h"
-#include "physics/solver/SolverBody.h"
-#include "physics/world/PhysicsSettings.h"
+#include "physics/core/BlockArena.h"
+#include "physics/solver/ContactConstraint.h"
 
 namespace strata {
 
-/// Material of a manifold's two bodies.
-struct ContactMaterial {
+/// Velocity rows of one contact point: [0] the normal, [1] and [2] the friction axes.
+struct alignas(16) SolverContactPoint {
+  Vec4 angular_a[3];   ///< r_a x axis
+  Vec4 angular_b[3];   ///< r_b x axis
+  Vec4 response_a[3];  ///< inverse inertia of A times angular_a
+  Vec4 response_b[3];  ///< inverse inertia of B times angular_b
+  float normal_mass;   ///< 1 / effective mass along the normal
+  float tangent_mass;  ///< one mass for both friction axes, so friction opposes sliding in every direction
+  float target_velocity;
+  float normal_impulse;  ///< accumulated
+  float tangent_impulse[2];
+};
+
+/// A ContactConstraint set up for the sequential solver; its points follow it in memory.
+struct alignas(16) SolverContact {
+  Vec4 normal;
+  Vec4 tangent[2];
+  ContactConstraint* constraint;
   float friction;
-  float restitution;
+  std::uint8_t point_count;
+
+  SolverContactPoint* points() { return reinterpret_cast<SolverContactPoint*>(this + 1); }
+  const SolverContactPoint* points() const { return reinterpret_cast<const SolverContactPoint*>(this + 1); }
 };
 
-/// Solves one step's contacts over a SolverBody array.
-class ContactSolver {
- public:
-  /// Builds constraints for `manifolds` (bodies given as indices into `bodies`), warm-started from `cache`.
-  void Setup(std::span<const ContactManifold> manifolds, std::span<const std::uint32_t> body_a,
-             std::span<const std::uint32_t> body_b, std::span<const ContactMaterial> materials,
-             std::span<const SolverBody> bodies, const ContactCache& cache, float dt,
-             const PhysicsSettings& settings);
-  /// Applies the cached impulses to the velocities.
-  void WarmStart(std::span<SolverBody> bodies) const;
-  /// One Gauss-Seidel pass over every constraint (`iteration` = pass number within the step).
-  void SolveVelocities(std::span<SolverBody> bodies, int iteration);
-  /// Writes this step's impulses into the cache for the next step.
-  void StoreImpulses(ContactCache& cache) const;
-  /// Moves bouncing bodies back to where a mid-step impact would have left them (after integration).
-  void ApplyBounceCorrection(std::span<SolverBody> bodies) const;
-  /// One non-linear Gauss-Seidel position pass; returns the largest remaining penetration (m).
-  float SolvePositions(std::span<SolverBody> bodies, const PhysicsSettings& settings) const;
-
-  std::size_t constraint_count() const { return constraints_.size(); }
-
- private:
-  // One constraint axis at one point, with everything the inner loop needs precomputed: the angular
-  // Jacobians (r x axis) and their images under each body's inverse inertia.
-  struct AxisPart {
-    Vec3 angular_a, angular_b;
-    Vec3 response_a, response_b;  // inverse inertia * angular
-    float mass;                   // 1 / effective mass along the axis
-    float impulse;                // accumulated
-  };
-  struct Point {
-    AxisPart normal;
-    AxisPart tangent[2];
-    Vec3 local_a, local_b;  // contact point from each centre of mass in the body's frame (position pass)
-    float target_velocity;  // the normal velocity the constraint aims for (bounce or speculative)
-    float separation;
-  };
-  struct Constraint {
-    std::uint32_t a, b;
-    Vec3 normal;
-    Vec3 tangent[2];
-    float friction;
-    float
-        bounce_shift;  // metres to pull the bodies together after integration (bouncing speculative contact)
-    int count;
-    Point points[ContactManifold::kMaxPoints];
-    ContactKey key;
-  };
-
-  std::vector<Constraint> constraints_;
-};
+/// Sets `constraint` up in `arena` against the bodies' current inverse masses and inertias.
+SolverContact* SetupSolverContact(BlockArena& arena, ContactConstraint& constraint, const SolverBody* bodies);
+/// Applies the warm-start impulses to the bodies' velocities.
+void WarmStartContact(const SolverContact& contact, SolverBody* bodies);
+/// One Gauss-Seidel pass: friction (clamped to the circle), then non-penetration. `reverse` visits the points
+/// backwards (alternate it per pass so stacks do not lean).
+void SolveContactVelocity(SolverContact& contact, SolverBody* bodies, bool reverse);
+/// Leaves the accumulated impulses in the constraint's cache entry for next step's warm start.
+void StoreContactImpulses(const SolverContact& contact);
+/// One non-linear position pass over the constraint's points; returns the deepest penetration seen (m, <= 0).
+float SolveContactPosition(const ContactConstraint& constraint, const SolverBody* bodies, SolverPose* poses,
+                           const PhysicsSettings& settings);
 
 }  // namespace strata

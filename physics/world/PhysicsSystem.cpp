@@ -2,19 +2,19 @@
 
 #include <algorithm>
 #include <cassert>
+#include <chrono>
 #include <shared_mutex>
 #include <string>
 
 #include "physics/body/BodyInterface.h"
 #include "physics/broadphase/QuadTreeBroadPhase.h"
-#include "physics/narrowphase/CollideShapes.h"
 #include "physics/world/WorldQuery.h"
 
 namespace strata {
 
 namespace {
-constexpr std::uint32_t kNoSolverIndex = 0xffffffffu;
-constexpr std::size_t kPairGrain = 64;
+constexpr std::uint32_t kBodyChunk = 64;
+constexpr std::uint32_t kIslandChunk = 16;
 
 // Releases the step's hold on every body lock however the step leaves.
 class AllBodiesLock {
@@ -40,25 +40,30 @@ class StepScope {
   BodyManager& manager_;
 };
 
-// Runs `function(begin, end, out)` over chunks of [0, count) in parallel and concatenates the chunk
-// outputs in index order, so the result does not depend on how the job system split the range.
-template <class T, class Function>
-void ParallelCollect(JobSystem& jobs, std::size_t count, std::size_t grain, std::vector<T>& out,
-                     Function&& function) {
-  struct Chunk {
-    std::size_t begin;
-    std::vector<T> items;
-  };
-  std::mutex chunks_mutex;
-  std::vector<Chunk> chunks;
-  jobs.ParallelFor(count, grain, [&](std::size_t begin, std::size_t end) {
-    Chunk chunk{begin, {}};
-    function(begin, end, chunk.items);
-    std::lock_guard lock(chunks_mutex);
-    chunks.push_back(std::move(chunk));
-  });
-  std::sort(chunks.begin(), chunks.end(), [](const Chunk& a, const Chunk& b) { return a.begin < b.begin; });
-  for (Chunk& chunk : chunks) out.insert(out.end(), chunk.items.begin(), chunk.items.end());
+// Stage trampolines: the job graph calls plain functions with the system as context.
+template <void (PhysicsSystem::*Stage)()>
+void SerialStage(void* system, std::uint32_t, std::uint32_t) {
+  (static_cast<PhysicsSystem*>(system)->*Stage)();
+}
+template <void (PhysicsSystem::*Stage)(std::uint32_t)>
+void ParallelStage(void* system, std::uint32_t job, std::uint32_t) {
+  (static_cast<PhysicsSystem*>(system)->*Stage)(job);
+}
+
+// Claims chunks of [0, count) from `next` until none is left.
+template <class Function>
+void ForEachChunk(std::atomic<std::uint32_t>& next, std::uint32_t count, std::uint32_t chunk,
+                  Function&& function) {
+  while (true) {
+    const std::uint32_t begin = next.fetch_add(chunk, std::memory_order_relaxed);
+    if (begin >= count) return;
+    const std::uint32_t end = std::min(begin + chunk, count);
+    for (std::uint32_t i = begin; i < end; ++i) function(i);
+  }
+}
+
+double MillisecondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 }  // namespace
 
@@ -96,9 +101,40 @@ PhysicsSystem::PhysicsSystem(const PhysicsSystemConfig& config, const PhysicsSet
       query_(std::make_unique<WorldQuery>(*this)),
       speculative_distance_(settings.speculative_distance),
       active_flags_(config.max_bodies, 0),
-      solver_index_(config.max_bodies, kNoSolverIndex) {}
+      solver_index_(config.max_bodies, 0),
+      pair_cache_(config.max_bodies) {
+  job_count_ = static_cast<std::uint32_t>(std::max(1, jobs_->ThreadCount()));
+  finish_counters_.resize(job_count_);
+  BuildStepGraphs();
+}
 
 PhysicsSystem::~PhysicsSystem() = default;
+
+void PhysicsSystem::BuildStepGraphs() {
+  const JobGraph::StageId prepare =
+      start_graph_.Add("prepare", &SerialStage<&PhysicsSystem::PrepareStep>, this);
+  const JobGraph::StageId forces =
+      start_graph_.Add("apply forces", &ParallelStage<&PhysicsSystem::ApplyForces>, this, {prepare});
+  start_graph_.SetWidth(forces, job_count_);
+
+  // The rebuild publishes a new broad-phase generation while the collision jobs query the pinned old one.
+  const JobGraph::StageId rebuild =
+      middle_graph_.Add("broad-phase update", &SerialStage<&PhysicsSystem::UpdateBroadPhase>, this);
+  const JobGraph::StageId collide =
+      middle_graph_.Add("find collisions", &ParallelStage<&PhysicsSystem::FindCollisions>, this);
+  middle_graph_.SetWidth(collide, job_count_);
+  const JobGraph::StageId finalize = middle_graph_.Add(
+      "finalize islands", &SerialStage<&PhysicsSystem::FinalizeIslands>, this, {rebuild, collide});
+  prepare_islands_stage_ =
+      middle_graph_.Add("prepare islands", &ParallelStage<&PhysicsSystem::PrepareIslands>, this, {finalize});
+  const JobGraph::StageId solve = middle_graph_.Add(
+      "solve islands", &ParallelStage<&PhysicsSystem::SolveIslands>, this, {prepare_islands_stage_});
+  middle_graph_.SetWidth(solve, job_count_);
+
+  const JobGraph::StageId finish =
+      end_graph_.Add("finish islands", &ParallelStage<&PhysicsSystem::FinishIslands>, this);
+  end_graph_.SetWidth(finish, job_count_);
+}
 
 Status PhysicsSystem::SetSettings(const PhysicsSettings& settings) {
   if (Status valid = settings.Validate(); !valid) return valid;
@@ -126,12 +162,6 @@ void PhysicsSystem::RequestWake(std::uint32_t island_key) {
   pending_wakes_.push_back(island_key);
 }
 
-float PhysicsSystem::MotionBound(const Body& body, float dt) const {
-  if (!body.IsActive()) return 0.0f;
-  const float radius = body.shape()->LocalBounds().HalfExtents().norm() + body.center_of_mass_local().norm();
-  return (body.linear_velocity().norm() + body.angular_velocity().norm() * radius) * dt;
-}
-
 AABB PhysicsSystem::BroadPhaseBounds(const Body& body, float dt) const {
   AABB bounds = body.world_bounds().Expanded(settings_.speculative_distance);
   if (!body.IsActive()) return bounds;
@@ -152,255 +182,231 @@ Status PhysicsSystem::Step(float dt) {
                      "step dt must be a positive finite number, got " + std::to_string(dt));
   std::lock_guard step(step_mutex_);
   StepScope no_writers(body_manager_);
+  const auto start = std::chrono::steady_clock::now();
   stats_ = {};
+  profile_.stage_count = 0;
+  step_dt_ = dt;
+  auto run = [&](JobGraph& graph) {
+    const double offset = MillisecondsSince(start);
+    graph.Run(*jobs_);
+    for (std::size_t s = 0; s < graph.stage_count() && profile_.stage_count < StepProfile::kMaxStages; ++s) {
+      StageTiming timing = graph.timing(static_cast<JobGraph::StageId>(s));
+      timing.start_ms += offset;
+      timing.end_ms += offset;
+      profile_.stages[profile_.stage_count++] = timing;
+    }
+  };
   {
     AllBodiesLock bodies(body_manager_);
-    last_dt_.store(dt, std::memory_order_relaxed);
-    WakePendingIslands();
-    CollectActiveBodies();
-    ApplyForces(dt);
+    run(start_graph_);
   }
   // Between the two windows only this step changes anything, so bodies are read here without locks while
   // queries and other readers carry on. The broad phase swaps in a rebuilt generation; pinned readers keep
   // the old one.
-  broad_phase_->Update();
-  FindPairs(dt);
-  RunNarrowPhase();
-  WakeTouchedSleepers();
-  Solve(dt);
+  run(middle_graph_);
   {
     AllBodiesLock bodies(body_manager_);
-    WriteBackSolvedBodies();
-    UpdateBroadPhaseBounds(dt);
-    UpdateSleeping(dt);
+    next_chunk_.store(0, std::memory_order_relaxed);
+    run(end_graph_);
   }
+  FinishStep();
+  profile_.total_ms = MillisecondsSince(start);
   return Status::Ok();
 }
 
-void PhysicsSystem::WakePendingIslands() {
-  std::vector<std::uint32_t> keys;
+void PhysicsSystem::PrepareStep() {
+  last_dt_.store(step_dt_, std::memory_order_relaxed);
+  // Islands woken through the API since the last step (the API holds one body's lock, so it queued keys).
+  wake_keys_.clear();
   {
     std::lock_guard lock(wake_mutex_);
-    keys.swap(pending_wakes_);
+    wake_keys_.swap(pending_wakes_);
   }
-  if (keys.empty()) return;
-  std::sort(keys.begin(), keys.end());
-  const std::uint32_t limit = body_manager_.slot_limit();
-  for (std::uint32_t index = 0; index < limit; ++index) {
-    Body& body = body_manager_.BodyAt(index);
-    if (body.sleeping_ && std::binary_search(keys.begin(), keys.end(), body.sleep_island_)) {
-      body.sleeping_ = false;
-      body.sleep_timer_ = 0.0f;
-    }
+  std::sort(wake_keys_.begin(), wake_keys_.end());
+  for (const BodyID id : active_) {
+    active_flags_[id.index] = 0;
+    solver_index_[id.index] = 0;
   }
-}
-
-void PhysicsSystem::CollectActiveBodies() {
-  for (const BodyID id : active_) active_flags_[id.index] = 0;
   active_.clear();
   // Index order: the same bodies give the same order, whatever order threads added them in.
   const std::uint32_t limit = body_manager_.slot_limit();
   for (std::uint32_t index = 0; index < limit; ++index) {
-    const Body& body = body_manager_.BodyAt(index);
+    Body& body = body_manager_.BodyAt(index);
+    if (body.sleeping_ && !wake_keys_.empty() &&
+        std::binary_search(wake_keys_.begin(), wake_keys_.end(), body.sleep_island_)) {
+      body.sleeping_ = false;
+      body.sleep_timer_ = 0.0f;
+    }
     if (!body.IsActive()) continue;
     active_.push_back(body.id());
     active_flags_[index] = 1;
+    solver_index_[index] = static_cast<std::uint32_t>(active_.size());
   }
-  stats_.active_bodies = active_.size();
-}
-
-void PhysicsSystem::ApplyForces(float dt) {
-  for (const BodyID id : active_) {
-    Body& body = body_manager_.BodyAt(id.index);
-    if (!body.IsDynamic()) continue;
-    body.linear_velocity_ +=
-        dt * (settings_.gravity * body.gravity_factor_ + body.inverse_mass_ * body.force_);
-    body.angular_velocity_ += dt * (body.InverseInertiaWorld() * body.torque_);
-    body.force_.setZero();
-    body.torque_.setZero();
-    body.linear_velocity_ *= std::max(0.0f, 1.0f - body.linear_damping_ * dt);
-    body.angular_velocity_ *= std::max(0.0f, 1.0f - body.angular_damping_ * dt);
-    if (body.linear_velocity_.norm() > body.max_linear_velocity_)
-      body.linear_velocity_ *= body.max_linear_velocity_ / body.linear_velocity_.norm();
-    if (body.angular_velocity_.norm() > body.max_angular_velocity_)
-      body.angular_velocity_ *= body.max_angular_velocity_ / body.angular_velocity_.norm();
-  }
-}
-
-void PhysicsSystem::FindPairs(float dt) {
-  pairs_.clear();
-  ParallelCollect(*jobs_, active_.size(), kPairGrain, pairs_,
-                  [&](std::size_t begin, std::size_t end, auto& out) {
-                    broad_phase_->FindPairs(std::span<const BodyID>(active_).subspan(begin, end - begin),
-                                            active_flags_, *layers_, out);
-                  });
-  // Keep only pairs with a dynamic body (kinematic vs static or kinematic makes no contact), with the
-  // convex shape first so the narrow phase always sees mesh as B.
-  std::vector<BodyPair> kept;
-  kept.reserve(pairs_.size());
-  for (BodyPair pair : pairs_) {
-    const Body& a = body_manager_.BodyAt(pair.a.index);
-    const Body& b = body_manager_.BodyAt(pair.b.index);
-    // The broad phase may briefly hold a body another thread is adding or removing.
-    if (!b.in_world() || b.id() != pair.b) continue;
-    if (!a.IsDynamic() && !b.IsDynamic()) continue;
-    if (!a.shape()->IsConvex()) std::swap(pair.a, pair.b);
-    kept.push_back(pair);
-  }
-  std::sort(kept.begin(), kept.end());
-  pairs_.swap(kept);
-  pair_max_separation_.resize(pairs_.size());
-  for (std::size_t i = 0; i < pairs_.size(); ++i)
-    pair_max_separation_[i] = settings_.speculative_distance +
-                              MotionBound(body_manager_.BodyAt(pairs_[i].a.index), dt) +
-                              MotionBound(body_manager_.BodyAt(pairs_[i].b.index), dt);
-  stats_.pairs = pairs_.size();
-}
-
-void PhysicsSystem::RunNarrowPhase() {
-  manifolds_.clear();
-  ParallelCollect(
-      *jobs_, pairs_.size(), kPairGrain, manifolds_, [&](std::size_t begin, std::size_t end, auto& out) {
-        for (std::size_t i = begin; i < end; ++i) {
-          const Body& a = body_manager_.BodyAt(pairs_[i].a.index);
-          const Body& b = body_manager_.BodyAt(pairs_[i].b.index);
-          ContactManifold prototype;
-          prototype.body_a = a.id();
-          prototype.body_b = b.id();
-          CollideShapes(*a.shape(), a.pose(), *b.shape(), b.pose(), pair_max_separation_[i], prototype, out);
-        }
-      });
-  stats_.manifolds = manifolds_.size();
-  for (const ContactManifold& manifold : manifolds_) stats_.contact_points += manifold.count;
-}
-
-void PhysicsSystem::WakeTouchedSleepers() {
-  std::vector<std::uint32_t> keys;
-  for (const ContactManifold& manifold : manifolds_) {
-    const Body& a = body_manager_.BodyAt(manifold.body_a.index);
-    const Body& b = body_manager_.BodyAt(manifold.body_b.index);
-    if (manifold.MinSeparation() > settings_.speculative_distance) continue;
-    // A sleeping body stays put (infinite mass) this step and wakes, with its island, for the next one.
-    if (a.sleeping_ && b.IsActive()) keys.push_back(a.sleep_island_);
-    if (b.sleeping_ && a.IsActive()) keys.push_back(b.sleep_island_);
-  }
-  if (keys.empty()) return;
-  std::lock_guard lock(wake_mutex_);
-  pending_wakes_.insert(pending_wakes_.end(), keys.begin(), keys.end());
-}
-
-void PhysicsSystem::Solve(float dt) {
-  // Solver bodies: the active ones first (they are integrated), then static/asleep ones that contacts touch.
-  for (const std::uint32_t index : solver_body_index_) solver_index_[index] = kNoSolverIndex;
-  solver_bodies_.clear();
-  solver_body_index_.clear();
-  auto add_solver_body = [&](const Body& body) {
-    const std::uint32_t index = body.id().index;
-    if (solver_index_[index] != kNoSolverIndex) return solver_index_[index];
-    SolverBody solver;
-    solver.center_of_mass = body.CenterOfMass();
-    solver.rotation = body.rotation();
-    if (body.IsActive()) {
-      solver.linear_velocity = body.linear_velocity();
-      solver.angular_velocity = body.angular_velocity();
-      if (body.IsDynamic()) {
-        solver.inverse_mass = body.inverse_mass();
-        solver.inverse_inertia = body.InverseInertiaWorld();
-        solver.gravity_factor = body.gravity_factor();
-      }
-    }
-    solver_index_[index] = static_cast<std::uint32_t>(solver_bodies_.size());
-    solver_bodies_.push_back(solver);
-    solver_body_index_.push_back(index);
-    return solver_index_[index];
-  };
-  for (const BodyID id : active_) add_solver_body(body_manager_.BodyAt(id.index));
-  std::vector<std::uint32_t> body_a(manifolds_.size()), body_b(manifolds_.size());
-  std::vector<ContactMaterial> materials(manifolds_.size());
-  for (std::size_t m = 0; m < manifolds_.size(); ++m) {
-    const Body& a = body_manager_.BodyAt(manifolds_[m].body_a.index);
-    const Body& b = body_manager_.BodyAt(manifolds_[m].body_b.index);
-    body_a[m] = add_solver_body(a);
-    body_b[m] = add_solver_body(b);
-    materials[m] = {std::sqrt(a.friction() * b.friction()), std::max(a.restitution(), b.restitution())};
-  }
-
-  contact_cache_.BeginStep();
-  contact_solver_.Setup(manifolds_, body_a, body_b, materials, solver_bodies_, contact_cache_, dt, settings_);
-  contact_solver_.WarmStart(solver_bodies_);
-  for (int i = 0; i < settings_.velocity_iterations; ++i) contact_solver_.SolveVelocities(solver_bodies_, i);
-  contact_solver_.StoreImpulses(contact_cache_);
-
-  // Symplectic Euler: positions move with the velocities the solver just produced.
-  for (std::size_t i = 0; i < active_.size(); ++i) {
-    SolverBody& body = solver_bodies_[i];
-    body.center_of_mass += body.linear_velocity * dt;
-    const Vec3 turn = body.angular_velocity * dt;
-    const Quat delta(0.0f, 0.5f * turn.x(), 0.5f * turn.y(), 0.5f * turn.z());
-    body.rotation.coeffs() += (delta * body.rotation).coeffs();
-    body.rotation.normalize();
-  }
-  contact_solver_.ApplyBounceCorrection(solver_bodies_);
-  float penetration = 0.0f;
-  for (int i = 0; i < settings_.position_iterations; ++i)
-    penetration = contact_solver_.SolvePositions(solver_bodies_, settings_);
-  stats_.max_penetration = -penetration;
-}
-
-void PhysicsSystem::WriteBackSolvedBodies() {
-  for (std::size_t i = 0; i < active_.size(); ++i) {
-    Body& body = body_manager_.BodyAt(active_[i].index);
-    const SolverBody& solved = solver_bodies_[i];
-    body.linear_velocity_ = solved.linear_velocity;
-    body.angular_velocity_ = solved.angular_velocity;
-    body.pose_.rotation = solved.rotation;
-    body.pose_.position = solved.center_of_mass - solved.rotation * body.center_of_mass_local_;
-    body.UpdateWorldBounds();
-  }
-}
-
-void PhysicsSystem::UpdateBroadPhaseBounds(float dt) {
-  for (const BodyID id : active_) {
-    const Status updated = broad_phase_->UpdateBody(id, BroadPhaseBounds(body_manager_.BodyAt(id.index), dt));
-    assert(updated.ok());
-    (void)updated;
-  }
-}
-
-void PhysicsSystem::UpdateSleeping(float dt) {
-  // Islands over the dynamic active bodies (solver indices [0, active count)).
+  wake_keys_.clear();
   const auto active_count = static_cast<std::uint32_t>(active_.size());
+  stats_.active_bodies = active_count;
+  solver_bodies_.resize(active_count + 1);
+  solver_poses_.resize(active_count + 1);
+  solver_bodies_[0] = SolverBody();
+  solver_poses_[0] = SolverPose();
   islands_.Reset(active_count);
-  for (const ContactManifold& manifold : manifolds_) {
-    const std::uint32_t a = solver_index_[manifold.body_a.index];
-    const std::uint32_t b = solver_index_[manifold.body_b.index];
-    if (a < active_count && b < active_count && body_manager_.BodyAt(manifold.body_a.index).IsDynamic() &&
-        body_manager_.BodyAt(manifold.body_b.index).IsDynamic())
-      islands_.Link(a, b);
-  }
-  std::vector<std::uint8_t> island_awake(active_count, 0);
-  for (std::uint32_t i = 0; i < active_count; ++i) {
+  pair_cache_.BeginStep(job_count_);
+  CollisionFinder::Input input;
+  input.bodies = &body_manager_;
+  input.broad_phase = broad_phase_.get();
+  input.layers = layers_.get();
+  input.settings = &settings_;
+  input.dt = step_dt_;
+  input.active = active_;
+  input.active_flags = active_flags_;
+  input.solver_index = solver_index_;
+  input.solver_bodies = solver_bodies_.data();
+  input.solver_poses = solver_poses_.data();
+  input.cache = &pair_cache_;
+  input.islands = &islands_;
+  collisions_.BeginStep(input, job_count_);
+  next_chunk_.store(0, std::memory_order_relaxed);
+}
+
+void PhysicsSystem::ApplyForces(std::uint32_t) {
+  const float dt = step_dt_;
+  ForEachChunk(next_chunk_, static_cast<std::uint32_t>(active_.size()), kBodyChunk, [&](std::uint32_t i) {
     Body& body = body_manager_.BodyAt(active_[i].index);
-    const bool resting = body.linear_velocity_.norm() < settings_.sleep_linear_velocity &&
-                         body.angular_velocity_.norm() < settings_.sleep_angular_velocity;
-    body.sleep_timer_ = resting ? body.sleep_timer_ + dt : 0.0f;
-    const bool may_sleep =
-        settings_.allow_sleeping && body.allow_sleeping_ && body.sleep_timer_ >= settings_.time_before_sleep;
-    if (!may_sleep) island_awake[islands_.Find(i)] = 1;
+    SolverBody& solver = solver_bodies_[i + 1];
+    SolverPose& pose = solver_poses_[i + 1];
+    pose.center_of_mass = ToVec4(body.CenterOfMass());
+    pose.rotation = body.rotation();
+    if (body.IsDynamic()) {
+      // Velocity half of symplectic Euler.
+      body.linear_velocity_ +=
+          dt * (settings_.gravity * body.gravity_factor_ + body.inverse_mass_ * body.force_);
+      const Mat3 inverse_inertia = body.InverseInertiaWorld();
+      body.angular_velocity_ += dt * (inverse_inertia * body.torque_);
+      body.force_.setZero();
+      body.torque_.setZero();
+      body.linear_velocity_ *= std::max(0.0f, 1.0f - body.linear_damping_ * dt);
+      body.angular_velocity_ *= std::max(0.0f, 1.0f - body.angular_damping_ * dt);
+      if (body.linear_velocity_.norm() > body.max_linear_velocity_)
+        body.linear_velocity_ *= body.max_linear_velocity_ / body.linear_velocity_.norm();
+      if (body.angular_velocity_.norm() > body.max_angular_velocity_)
+        body.angular_velocity_ *= body.max_angular_velocity_ / body.angular_velocity_.norm();
+      solver.inverse_mass = body.inverse_mass_;
+      for (int column = 0; column < 3; ++column)
+        solver.inverse_inertia[column] = ToVec4(inverse_inertia.col(column));
+    } else {
+      solver.inverse_mass = 0.0f;
+      for (Vec4& column : solver.inverse_inertia) column.setZero();
+    }
+    solver.linear_velocity = ToVec4(body.linear_velocity_);
+    solver.angular_velocity = ToVec4(body.angular_velocity_);
+  });
+}
+
+void PhysicsSystem::UpdateBroadPhase() {
+  broad_phase_->Update();
+}
+
+void PhysicsSystem::FindCollisions(std::uint32_t job) {
+  collisions_.RunJob(job);
+}
+
+void PhysicsSystem::FinalizeIslands() {
+  collisions_.Gather(constraints_, constraint_island_body_);
+  islands_.Finalize(constraint_island_body_);
+  // Kinematic bodies follow their velocity whatever they touch; moving them now lets the position passes
+  // of the islands they touch read their end-of-step pose.
+  for (std::uint32_t i = 0; i < active_.size(); ++i) {
+    if (body_manager_.BodyAt(active_[i].index).IsDynamic()) continue;
+    SolverPose& pose = solver_poses_[i + 1];
+    const SolverBody& body = solver_bodies_[i + 1];
+    pose.center_of_mass += body.linear_velocity * step_dt_;
+    const Vec4 turn = body.angular_velocity * step_dt_;
+    const Quat delta(0.0f, 0.5f * turn.x(), 0.5f * turn.y(), 0.5f * turn.z());
+    pose.rotation.coeffs() += (delta * pose.rotation).coeffs();
+    pose.rotation.normalize();
   }
-  std::vector<std::uint32_t> island_key(active_count, 0);
-  for (std::uint32_t i = 0; i < active_count; ++i) {
-    const std::uint32_t root = islands_.Find(i);
-    if (root == i) ++stats_.islands;
-    if (island_awake[root]) continue;
-    if (island_key[root] == 0) island_key[root] = next_island_key_++;
-    Body& body = body_manager_.BodyAt(active_[i].index);
-    body.sleeping_ = true;
-    body.sleep_island_ = island_key[root];
-    body.linear_velocity_.setZero();
-    body.angular_velocity_.setZero();
-    (void)broad_phase_->UpdateBody(body.id(), BroadPhaseBounds(body, dt));
-    ++stats_.bodies_put_to_sleep;
+  IslandSolver::Input input;
+  input.islands = &islands_;
+  input.constraints = constraints_;
+  input.bodies = solver_bodies_.data();
+  input.poses = solver_poses_.data();
+  input.solver_body_count = static_cast<std::uint32_t>(solver_bodies_.size());
+  input.dt = step_dt_;
+  input.settings = &settings_;
+  island_solver_.BeginStep(input, job_count_);
+  const std::uint32_t island_count = islands_.island_count();
+  middle_graph_.SetWidth(prepare_islands_stage_,
+                         std::min(job_count_, (island_count + kIslandChunk - 1) / kIslandChunk));
+  sleep_key_base_ = next_island_key_.fetch_add(island_count, std::memory_order_relaxed);
+  next_chunk_.store(0, std::memory_order_relaxed);
+}
+
+void PhysicsSystem::PrepareIslands(std::uint32_t job) {
+  ForEachChunk(next_chunk_, islands_.island_count(), kIslandChunk,
+               [&](std::uint32_t island) { island_solver_.PrepareIsland(island, job); });
+}
+
+void PhysicsSystem::SolveIslands(std::uint32_t job) {
+  island_solver_.SolveJob(job);
+}
+
+void PhysicsSystem::FinishIslands(std::uint32_t job) {
+  const float dt = step_dt_;
+  ForEachChunk(next_chunk_, islands_.island_count(), kIslandChunk, [&](std::uint32_t island) {
+    const std::span<const std::uint32_t> members = islands_.bodies(island);
+    bool awake = false;
+    for (const std::uint32_t i : members) {
+      Body& body = body_manager_.BodyAt(active_[i].index);
+      const SolverBody& solved = solver_bodies_[i + 1];
+      const SolverPose& pose = solver_poses_[i + 1];
+      body.linear_velocity_ = ToVec3(solved.linear_velocity);
+      body.angular_velocity_ = ToVec3(solved.angular_velocity);
+      body.pose_.rotation = pose.rotation;
+      body.pose_.position = ToVec3(pose.center_of_mass) - pose.rotation * body.center_of_mass_local_;
+      body.UpdateWorldBounds();
+      const bool resting = body.linear_velocity_.norm() < settings_.sleep_linear_velocity &&
+                           body.angular_velocity_.norm() < settings_.sleep_angular_velocity;
+      body.sleep_timer_ = resting ? body.sleep_timer_ + dt : 0.0f;
+      awake |= !(settings_.allow_sleeping && body.allow_sleeping_ &&
+                 body.sleep_timer_ >= settings_.time_before_sleep);
+    }
+    for (const std::uint32_t i : members) {
+      Body& body = body_manager_.BodyAt(active_[i].index);
+      if (!awake) {
+        body.sleeping_ = true;
+        body.sleep_island_ = sleep_key_base_ + island;
+        body.linear_velocity_.setZero();
+        body.angular_velocity_.setZero();
+        ++finish_counters_[job].bodies_put_to_sleep;
+      }
+      const Status updated = broad_phase_->UpdateBody(body.id(), BroadPhaseBounds(body, dt));
+      assert(updated.ok());
+      (void)updated;
+    }
+  });
+}
+
+void PhysicsSystem::FinishStep() {
+  wake_keys_.clear();
+  collisions_.CollectWakeKeys(wake_keys_);
+  if (!wake_keys_.empty()) {
+    std::lock_guard lock(wake_mutex_);
+    pending_wakes_.insert(pending_wakes_.end(), wake_keys_.begin(), wake_keys_.end());
+  }
+  const CollisionStats collision = collisions_.stats();
+  stats_.pairs = collision.pairs;
+  stats_.pairs_replayed = collision.pairs_replayed;
+  stats_.manifolds = collision.manifolds;
+  stats_.contact_points = collision.contact_points;
+  stats_.island_links = collision.links;
+  stats_.island_link_hops = collision.link_hops;
+  stats_.islands = islands_.island_count();
+  stats_.split_islands = island_solver_.split_island_count();
+  stats_.max_splits = island_solver_.max_split_count();
+  stats_.max_penetration = -island_solver_.deepest_penetration();
+  for (FinishCounters& counters : finish_counters_) {
+    stats_.bodies_put_to_sleep += counters.bodies_put_to_sleep;
+    counters = {};
   }
 }
 

@@ -1,8 +1,10 @@
-// PhysicsSystem: owns the bodies, the broad phase, the contact cache and the job system, and runs the
-// step: forces -> broad phase -> narrow phase -> islands -> sequential impulses -> integration.
-// One Step at a time. BodyInterface calls and WorldQuery queries from any number of threads run at once
-// (sharded body locks, lock-free broad phase). While a step runs, queries and reads go on (they pause
-// only for its short LockAll windows at the start and end); body writes wait for the step to end.
+// PhysicsSystem: owns the bodies, the broad phase, the body-pair cache and the job system, and runs the
+// step as a graph of parallel stages: forces -> (broad-phase rebuild | find collisions: broad phase, narrow
+// phase, contact constraints, island links) -> islands -> split large islands -> solve islands (sequential
+// impulses, integration, position passes) -> write back and sleep. One Step at a time. BodyInterface calls
+// and WorldQuery queries from any number of threads run at once (sharded body locks, lock-free broad phase);
+// while a step runs, queries and reads go on (they pause only for its short LockAll windows at the start and
+// end) and body writes wait for the step to end.
 #pragma once
 
 #include <atomic>
@@ -12,10 +14,12 @@
 
 #include "physics/body/BodyManager.h"
 #include "physics/broadphase/BroadPhase.h"
+#include "physics/core/JobGraph.h"
 #include "physics/core/JobSystem.h"
-#include "physics/narrowphase/ContactCache.h"
-#include "physics/solver/ContactSolver.h"
+#include "physics/narrowphase/BodyPairCache.h"
 #include "physics/solver/IslandBuilder.h"
+#include "physics/solver/IslandSolver.h"
+#include "physics/world/CollisionFinder.h"
 #include "physics/world/PhysicsSettings.h"
 
 namespace strata {
@@ -29,7 +33,7 @@ struct PhysicsSystemConfig {
   std::uint32_t body_mutex_count = 32;       ///< read/write mutexes shared by the bodies
   int thread_count = 0;                      ///< threads of the default job system (0 = all cores)
   std::shared_ptr<const LayerSetup> layers;  ///< null = DefaultLayerSetup
-  std::shared_ptr<JobSystem> job_system;     ///< null = oneTBB default (serial without oneTBB)
+  std::shared_ptr<JobSystem> job_system;     ///< null = oneTBB default (std::thread pool without oneTBB)
   std::shared_ptr<BroadPhase> broad_phase;   ///< null = QuadTreeBroadPhase
 
   Status Validate() const;
@@ -38,12 +42,25 @@ struct PhysicsSystemConfig {
 /// What the last step did, for tools and tests.
 struct StepStats {
   std::size_t active_bodies = 0;
-  std::size_t pairs = 0;
+  std::size_t pairs = 0;           ///< body pairs whose bounds overlap (at least one dynamic body)
+  std::size_t pairs_replayed = 0;  ///< pairs that reused last step's manifolds (body-pair cache)
   std::size_t manifolds = 0;
   std::size_t contact_points = 0;
   std::size_t islands = 0;
+  std::size_t split_islands = 0;  ///< islands solved in parallel splits
+  std::size_t max_splits = 0;     ///< splits of the most split island
   std::size_t bodies_put_to_sleep = 0;
-  float max_penetration = 0.0f;  ///< after position correction (m)
+  std::size_t island_links = 0;        ///< IslandBuilder::Link calls
+  std::uint64_t island_link_hops = 0;  ///< links they followed
+  float max_penetration = 0.0f;        ///< after position correction (m)
+};
+
+/// Where the last step's time went: the stages in order, with their start, end and summed job time.
+struct StepProfile {
+  static constexpr std::size_t kMaxStages = 16;
+  StageTiming stages[kMaxStages];
+  std::size_t stage_count = 0;
+  double total_ms = 0.0;
 };
 
 /// A physics world.
@@ -68,6 +85,7 @@ class PhysicsSystem {
   /// Replaces the settings between steps; fails (settings unchanged) if they do not validate.
   Status SetSettings(const PhysicsSettings& settings);
   const StepStats& last_step_stats() const { return stats_; }
+  const StepProfile& last_step_profile() const { return profile_; }
   const LayerSetup& layers() const { return *layers_; }
   JobSystem& job_system() { return *jobs_; }
 
@@ -85,23 +103,22 @@ class PhysicsSystem {
   friend class WorldQuery;
 
   PhysicsSystem(const PhysicsSystemConfig& config, const PhysicsSettings& settings);
+  void BuildStepGraphs();
 
-  // Stages of Step, in order.
-  void WakePendingIslands();
-  void CollectActiveBodies();
-  void ApplyForces(float dt);
-  void FindPairs(float dt);
-  void RunNarrowPhase();
-  void WakeTouchedSleepers();
-  void Solve(float dt);
-  void WriteBackSolvedBodies();
-  void UpdateBroadPhaseBounds(float dt);
-  void UpdateSleeping(float dt);
+  // Stages of Step, in order. Each runs as jobs of the step's graphs (see BuildStepGraphs).
+  void PrepareStep();                      // serial: wake islands, collect active bodies
+  void ApplyForces(std::uint32_t job);     // parallel over active bodies
+  void UpdateBroadPhase();                 // one job, beside FindCollisions
+  void FindCollisions(std::uint32_t job);  // parallel over active bodies
+  void FinalizeIslands();                  // serial, O(bodies + constraints)
+  void PrepareIslands(std::uint32_t job);  // parallel over islands
+  void SolveIslands(std::uint32_t job);    // parallel over islands and split batches
+  void FinishIslands(std::uint32_t job);   // parallel over islands: write back, bounds, sleep
+  void FinishStep();                       // serial: wake-ups, figures
 
   // Wake-ups, shared with BodyInterface.
   void RequestWake(std::uint32_t island_key);
   AABB BroadPhaseBounds(const Body& body, float dt) const;
-  float MotionBound(const Body& body, float dt) const;
 
   PhysicsSettings settings_;
   std::shared_ptr<const LayerSetup> layers_;
@@ -120,19 +137,33 @@ class PhysicsSystem {
   std::atomic<float> last_dt_{1.0f / 60.0f};
   std::atomic<float> speculative_distance_;
 
-  // Per-step scratch, kept to avoid reallocation.
+  // The step's stages and its per-step data, sized once and reused so a steady step allocates nothing.
+  JobGraph start_graph_;   // runs while the step holds every body lock
+  JobGraph middle_graph_;  // runs unlocked
+  JobGraph end_graph_;     // runs while the step holds every body lock
+  JobGraph::StageId prepare_islands_stage_ = 0;
+  std::uint32_t job_count_ = 1;
+  float step_dt_ = 0.0f;
+  std::atomic<std::uint32_t> next_chunk_{0};  // work claimed by the current parallel stage
+  std::vector<std::uint32_t> wake_keys_;
   std::vector<BodyID> active_;
-  std::vector<std::uint8_t> active_flags_;
-  std::vector<BodyPair> pairs_;
-  std::vector<float> pair_max_separation_;
-  std::vector<ContactManifold> manifolds_;
-  std::vector<SolverBody> solver_bodies_;
-  std::vector<std::uint32_t> solver_index_;       // body index -> solver index (kNoSolverIndex if none)
-  std::vector<std::uint32_t> solver_body_index_;  // solver index -> body index
-  ContactCache contact_cache_;
-  ContactSolver contact_solver_;
+  std::vector<std::uint8_t> active_flags_;   // by body index
+  std::vector<std::uint32_t> solver_index_;  // by body index: active index + 1, 0 = not active
+  std::vector<SolverBody> solver_bodies_;    // [0] the fixed body, then the active bodies
+  std::vector<SolverPose> solver_poses_;
+  std::vector<ContactConstraint*> constraints_;
+  std::vector<std::uint32_t> constraint_island_body_;
+  std::uint32_t sleep_key_base_ = 0;  // island i falling asleep this step gets key base + i
+  struct alignas(64) FinishCounters {
+    std::size_t bodies_put_to_sleep = 0;
+  };
+  std::vector<FinishCounters> finish_counters_;
+  BodyPairCache pair_cache_;
+  CollisionFinder collisions_;
   IslandBuilder islands_;
+  IslandSolver island_solver_;
   StepStats stats_;
+  StepProfile profile_;
 };
 
 }  // namespace strata

@@ -5,11 +5,13 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <string>
 
 #include "physics/body/BodyInterface.h"
+#include "physics/core/ThreadPoolJobSystem.h"
 #include "physics/shapes/BoxShape.h"
 #include "physics/shapes/CapsuleShape.h"
 #include "physics/shapes/ConvexHullShape.h"
@@ -45,6 +47,19 @@ ShapeRef MakeShape(const BenchScene& scene, const BenchBody& body) {
   return nullptr;
 }
 
+// Sums a step's stage figures into `result` (stages matched by position; every step has the same list).
+void AddProfile(const StepProfile& profile, EngineResult& result) {
+  result.stage_count = static_cast<int>(std::min<std::size_t>(profile.stage_count, EngineResult::kMaxStages));
+  for (int s = 0; s < result.stage_count; ++s) {
+    const StageTiming& timing = profile.stages[s];
+    StageFigures& figures = result.stages[s];
+    std::snprintf(figures.name, sizeof(figures.name), "%s", timing.name);
+    figures.wall_ms += timing.end_ms - timing.start_ms;
+    figures.busy_ms += timing.busy_ms;
+    figures.jobs = timing.width;
+  }
+}
+
 }  // namespace
 
 float BenchMass(const BenchScene& scene, const BenchBody& body) {
@@ -70,6 +85,7 @@ void SummarizeTimes(std::vector<double> step_seconds, EngineResult& result) {
   result.total_seconds = 0.0;
   for (double s : step_seconds) result.total_seconds += s;
   if (step_seconds.empty()) return;
+  result.mean_step_ms = 1000.0 * result.total_seconds / static_cast<double>(step_seconds.size());
   result.max_step_ms = 1000.0 * *std::max_element(step_seconds.begin(), step_seconds.end());
   std::nth_element(step_seconds.begin(), step_seconds.begin() + step_seconds.size() / 2, step_seconds.end());
   result.median_step_ms = 1000.0 * step_seconds[step_seconds.size() / 2];
@@ -83,11 +99,13 @@ long PeakMemoryKb() {
   return 0;
 }
 
-EngineResult RunStrata(const BenchScene& scene, int threads) {
+EngineResult RunStrata(const BenchScene& scene, int threads, JobSystemKind job_system) {
   EngineResult result;
   PhysicsSystemConfig config;
   config.max_bodies = static_cast<std::uint32_t>(scene.bodies.size()) + 16;
   config.thread_count = threads;
+  if (job_system == JobSystemKind::kThreadPool)
+    config.job_system = std::make_shared<ThreadPoolJobSystem>(threads);
   PhysicsSettings settings;
   settings.velocity_iterations = scene.velocity_iterations;
   settings.position_iterations = scene.position_iterations;
@@ -119,11 +137,21 @@ EngineResult RunStrata(const BenchScene& scene, int threads) {
   if (!world.bodies().AddBodies(all_ids).ok()) return result;
   std::vector<double> times;
   times.reserve(scene.steps);
+  std::size_t pairs = 0, replayed = 0;
   for (int step = 0; step < scene.steps; ++step) {
     const auto start = std::chrono::steady_clock::now();
     if (!world.Step(scene.dt).ok()) return result;
     times.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    AddProfile(world.last_step_profile(), result);
+    pairs += world.last_step_stats().pairs;
+    replayed += world.last_step_stats().pairs_replayed;
   }
+  for (int s = 0; s < result.stage_count; ++s) {
+    result.stages[s].wall_ms /= scene.steps;
+    result.stages[s].busy_ms /= scene.steps;
+  }
+  result.replayed_pair_share = pairs > 0 ? static_cast<double>(replayed) / static_cast<double>(pairs) : 0.0;
+  result.threads = world.job_system().ThreadCount();
   SummarizeTimes(std::move(times), result);
   std::vector<FinalPose> poses;
   for (const BodyID id : dynamic_ids)

@@ -9,6 +9,17 @@
 
 namespace strata::bench {
 
+/// One stage of Strata's step, averaged over a run (ms per step).
+struct StageFigures {
+  char name[32] = {};
+  double wall_ms = 0.0;    ///< from its first job's start to its last job's end
+  double busy_ms = 0.0;    ///< summed over its jobs (spinning for a split island's next round included)
+  std::uint32_t jobs = 0;  ///< jobs it ran as in the last step
+};
+
+/// Which job system Strata runs on.
+enum class JobSystemKind { kDefault, kThreadPool };
+
 /// Figures of one engine on one scene. Plain data so it can cross a pipe from a child process.
 struct EngineResult {
   bool ok = false;
@@ -20,6 +31,12 @@ struct EngineResult {
   long peak_memory_kb = 0;       ///< peak resident set of the process that ran it
   int bodies_in_footprint = 0;   ///< pyramid: boxes still over the floor area; mesh: bodies above y = 0
   std::uint64_t state_hash = 0;  ///< FNV-1a of final dynamic positions and rotations
+  int threads = 1;
+  double mean_step_ms = 0.0;
+  static constexpr int kMaxStages = 16;
+  int stage_count = 0;  ///< Strata only
+  StageFigures stages[kMaxStages];
+  double replayed_pair_share = 0.0;  ///< Strata: pairs that reused last step's manifolds / all pairs
 
   double StepsPerSecond() const { return total_seconds > 0.0 ? steps / total_seconds : 0.0; }
 };
@@ -41,7 +58,8 @@ long PeakMemoryKb();
 float BenchMass(const BenchScene& scene, const BenchBody& body);
 
 /// Strata on `threads` worker threads (0 = all cores).
-EngineResult RunStrata(const BenchScene& scene, int threads);
+EngineResult RunStrata(const BenchScene& scene, int threads,
+                       JobSystemKind job_system = JobSystemKind::kDefault);
 /// Runs `run` in a forked child and returns what it reported (ok = false if the child failed).
 EngineResult RunIsolated(const std::function<EngineResult()>& run);
 

@@ -8,7 +8,9 @@
 #include "physics/shapes/BoxShape.h"
 #include "physics/shapes/CapsuleShape.h"
 #include "physics/shapes/ConvexHullShape.h"
+#include "physics/shapes/SphereShape.h"
 #include "physics/shapes/TriangleMeshShape.h"
+#include "tools/bench/BenchScenes.h"
 
 namespace strata {
 namespace {
@@ -104,6 +106,55 @@ void BM_CollideCapsuleOnBox(benchmark::State& state) {
       Pose{Vec3(0.2f, 1.49f, 0.1f), Quat(Eigen::AngleAxisf(1.5f, Vec3::UnitZ()))});
 }
 BENCHMARK(BM_CollideCapsuleOnBox);
+
+// Each convex_vs_mesh benchmark shape resting, tilted, on the benchmark's wavy mesh at 64 places (the last
+// one a little below the surface): one CollideConvexMesh call per place, so the figure is per body per step.
+void BM_CollideConvexOnMesh(benchmark::State& state) {
+  const bench::BenchScene scene = bench::MakeConvexVsMesh();
+  const ShapeRef mesh = *TriangleMeshShape::Create(scene.mesh_vertices, scene.mesh_triangles);
+  ShapeRef convex;
+  switch (state.range(0)) {
+    case 0:
+      convex = *SphereShape::Create(0.5f), state.SetLabel("sphere");
+      break;
+    case 1:
+      convex = *BoxShape::Create(Vec3(0.5f, 0.75f, 1.0f)), state.SetLabel("box");
+      break;
+    case 2:
+      convex = *CapsuleShape::Create(0.75f, 0.5f), state.SetLabel("capsule");
+      break;
+    default:
+      convex = *ConvexHullShape::Create(scene.hull_points), state.SetLabel("hull");
+      break;
+  }
+  const auto& shape = static_cast<const ConvexShape&>(*convex);
+  const auto& triangle_mesh = static_cast<const TriangleMeshShape&>(*mesh);
+  std::vector<Pose> poses;
+  for (int i = 0; i < 64; ++i) {
+    const float x = -120.0f + 3.7f * static_cast<float>(i), z = 40.0f - 2.3f * static_cast<float>(i);
+    ShapeRayHit hit;
+    if (!triangle_mesh.CastRay(Vec3(x, 50.0f, z), Vec3(0, -100.0f, 0), 1.0f, hit)) continue;
+    const float ground = 50.0f - 100.0f * hit.fraction;
+    // The lowest point of the tilted shape just touches (or sinks a centimetre into) the ground below it.
+    const Quat rotation(Eigen::AngleAxisf(0.2f * static_cast<float>(i), Vec3(1, 2, 3).normalized()));
+    const float lowest = (rotation * shape.Support(rotation.conjugate() * Vec3(0, -1, 0))).y();
+    poses.push_back({Vec3(x, ground - lowest - 0.005f * static_cast<float>(i % 3), z), rotation});
+  }
+  std::vector<ContactManifold> out;
+  const Pose identity;
+  std::size_t manifolds = 0;
+  for (auto _ : state) {
+    for (const Pose& pose : poses) {
+      out.clear();
+      CollideConvexMesh(shape, pose, triangle_mesh, identity, 0.05f, {}, out);
+      manifolds += out.size();
+    }
+  }
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * poses.size()));
+  state.counters["manifolds_per_body"] =
+      static_cast<double>(manifolds) / static_cast<double>(state.iterations() * poses.size());
+}
+BENCHMARK(BM_CollideConvexOnMesh)->DenseRange(0, 3);
 
 void BM_ConvexHullBuild(benchmark::State& state) {
   std::mt19937 random(3);

@@ -1,7 +1,13 @@
-// `strata bench [--scene pyramid|convex_vs_mesh|all] [--steps N] [--threads T]`: runs the benchmark scenes
-// in Strata and, when built with Bullet, in Bullet in the same run, each engine in its own child process.
+// `strata bench [--scene pyramid|convex_vs_mesh|all] [--steps N] [--threads 1,2,4,8,16] [--json FILE]
+// [--job-system default|pool] [--no-bullet]`: runs the benchmark scenes in Strata at each thread count and,
+// when built with Bullet, in Bullet (one thread) in the same run, each run in its own child process. Prints
+// one table per scene with a speedup column, then where a step's time goes, stage by stage.
+#include <algorithm>
 #include <cstdio>
+#include <fstream>
 #include <iostream>
+#include <nlohmann/json.hpp>
+#include <thread>
 
 #include "tools/bench/BenchRunner.h"
 #include "tools/cli/Commands.h"
@@ -13,29 +19,121 @@ namespace {
 struct BenchOptions {
   std::string scene = "all";
   int steps = 0;  // 0 = the scene's own count
-  int threads = 0;
+  std::vector<int> threads;
+  std::string json;
+  std::string job_system = "default";
   bool bullet = true;
 };
 
-void Print(const char* engine, const bench::BenchScene& scene, const bench::EngineResult& r) {
-  if (!r.ok) {
-    std::printf("  %-8s failed\n", engine);
-    return;
-  }
-  std::printf(
-      "  %-8s %5d bodies  %7.1f steps/s  %7.2f ms/step median  %7.2f ms max  %7.1f MiB peak  "
-      "%5d %s  hash %016llx\n",
-      engine, r.bodies, r.StepsPerSecond(), r.median_step_ms, r.max_step_ms, r.peak_memory_kb / 1024.0,
-      r.bodies_in_footprint, scene.name == "pyramid" ? "in footprint" : "above y=0",
-      static_cast<unsigned long long>(r.state_hash));
+// 1, 2, 4, ... up to the machine's cores, and the core count itself.
+std::vector<int> DefaultThreadCounts() {
+  const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  std::vector<int> counts;
+  for (int t = 1; t < cores; t *= 2) counts.push_back(t);
+  counts.push_back(cores);
+  return counts;
 }
 
-int RunBench(const BenchOptions& options) {
+void PrintRow(const char* engine, const bench::BenchScene& scene, const bench::EngineResult& r,
+              double speedup) {
+  if (!r.ok) {
+    std::printf("  %-7s %7s  failed\n", engine, "");
+    return;
+  }
+  std::printf("  %-7s %7d %9.1f %10.2f %9.2f %9.1f %8.2fx %6d %-12s %016llx\n", engine, r.threads,
+              r.StepsPerSecond(), r.median_step_ms, r.max_step_ms, r.peak_memory_kb / 1024.0, speedup,
+              r.bodies_in_footprint, scene.name == "pyramid" ? "in footprint" : "above y=0",
+              static_cast<unsigned long long>(r.state_hash));
+}
+
+// Stage by stage: time per step at each thread count, jobs, and the share of a one-thread step a stage
+// takes; stages that run as one job are the serial part that bounds the speedup.
+void PrintStages(const std::vector<bench::EngineResult>& runs) {
+  if (runs.empty() || !runs.front().ok || runs.front().stage_count == 0) return;
+  const bench::EngineResult& first = runs.front();
+  std::printf("  where a step goes (ms per step, wall clock of each stage; busy = summed over its jobs):\n");
+  std::printf("  %-20s %5s", "stage", "jobs");
+  for (const bench::EngineResult& run : runs) std::printf("  %2dT wall %2dT busy", run.threads, run.threads);
+  std::printf("  share@%dT  kind\n", first.threads);
+  double serial = 0.0, total = 0.0;
+  for (int s = 0; s < first.stage_count; ++s) total += first.stages[s].wall_ms;
+  for (int s = 0; s < first.stage_count; ++s) {
+    const bench::EngineResult& widest = runs.back();
+    const std::uint32_t jobs = s < widest.stage_count ? widest.stages[s].jobs : first.stages[s].jobs;
+    std::printf("  %-20s %5u", first.stages[s].name, jobs);
+    for (const bench::EngineResult& run : runs)
+      std::printf("  %8.3f %8.3f", s < run.stage_count ? run.stages[s].wall_ms : 0.0,
+                  s < run.stage_count ? run.stages[s].busy_ms : 0.0);
+    const bool one_job = jobs <= 1;
+    if (one_job) serial += first.stages[s].wall_ms;
+    std::printf("  %7.1f%%  %s\n", total > 0.0 ? 100.0 * first.stages[s].wall_ms / total : 0.0,
+                one_job ? "serial" : "parallel");
+  }
+  std::printf("  %-20s %5s", "step (mean)", "");
+  for (const bench::EngineResult& run : runs) std::printf("  %8.3f %8s", run.mean_step_ms, "");
+  std::printf(
+      "\n  serial stages: %.1f%% of a %d-thread step (Amdahl's limit %.1fx); pairs replayed from the "
+      "body-pair cache: %.1f%%\n",
+      total > 0.0 ? 100.0 * serial / total : 0.0, first.threads, serial > 0.0 ? total / serial : 0.0,
+      100.0 * first.replayed_pair_share);
+}
+
+nlohmann::json ToJson(const bench::EngineResult& r, double speedup) {
+  nlohmann::json run = {{"ok", r.ok},
+                        {"threads", r.threads},
+                        {"steps", r.steps},
+                        {"steps_per_second", r.StepsPerSecond()},
+                        {"mean_step_ms", r.mean_step_ms},
+                        {"median_step_ms", r.median_step_ms},
+                        {"max_step_ms", r.max_step_ms},
+                        {"peak_memory_mib", r.peak_memory_kb / 1024.0},
+                        {"bodies_in_footprint", r.bodies_in_footprint},
+                        {"state_hash", r.state_hash},
+                        {"speedup", speedup}};
+  if (r.stage_count > 0) {
+    run["replayed_pair_share"] = r.replayed_pair_share;
+    nlohmann::json stages = nlohmann::json::array();
+    for (int s = 0; s < r.stage_count; ++s)
+      stages.push_back({{"name", r.stages[s].name},
+                        {"wall_ms", r.stages[s].wall_ms},
+                        {"busy_ms", r.stages[s].busy_ms},
+                        {"jobs", r.stages[s].jobs}});
+    run["stages"] = stages;
+  }
+  return run;
+}
+
+bool WriteJson(const std::string& path, const nlohmann::json& document) {
+  // Written beside the target and renamed over it, so a failed write never leaves half a file.
+  const std::string temporary = path + ".tmp";
+  {
+    std::ofstream out(temporary);
+    out << document.dump(2) << '\n';
+    out.flush();
+    if (!out) {
+      std::remove(temporary.c_str());
+      return false;
+    }
+  }
+  return std::rename(temporary.c_str(), path.c_str()) == 0;
+}
+
+int RunBench(BenchOptions options) {
   std::vector<std::string> names;
   if (options.scene == "all")
     names = {"pyramid", "convex_vs_mesh"};
   else
     names = {options.scene};
+  if (options.job_system != "default" && options.job_system != "pool") {
+    std::cerr << "strata bench: --job-system must be 'default' or 'pool'\n";
+    return 2;
+  }
+  if (options.threads.empty()) options.threads = DefaultThreadCounts();
+  const bench::JobSystemKind job_system =
+      options.job_system == "pool" ? bench::JobSystemKind::kThreadPool : bench::JobSystemKind::kDefault;
+  nlohmann::json document = {{"hardware_threads", std::thread::hardware_concurrency()},
+                             {"job_system", options.job_system},
+                             {"scenes", nlohmann::json::array()}};
   for (const std::string& name : names) {
     bench::BenchScene scene = bench::MakeBenchScene(name);
     if (scene.bodies.empty()) {
@@ -43,28 +141,47 @@ int RunBench(const BenchOptions& options) {
       return 2;
     }
     if (options.steps > 0) scene.steps = options.steps;
-    std::printf(
-        "%s: %zu bodies, %d steps of %.4f s, %d velocity / %d position iterations, sleeping %s, "
-        "threads %s\n",
-        name.c_str(), scene.bodies.size(), scene.steps, scene.dt, scene.velocity_iterations,
-        scene.position_iterations, scene.sleeping ? "on" : "off",
-        options.threads == 0 ? "all" : std::to_string(options.threads).c_str());
-    const bench::EngineResult strata =
-        bench::RunIsolated([&] { return bench::RunStrata(scene, options.threads); });
-    Print("strata", scene, strata);
+    std::printf("%s: %zu bodies, %d steps of %.4f s, %d velocity / %d position iterations, sleeping %s\n",
+                name.c_str(), scene.bodies.size(), scene.steps, scene.dt, scene.velocity_iterations,
+                scene.position_iterations, scene.sleeping ? "on" : "off");
+    std::printf("  %-7s %7s %9s %10s %9s %9s %9s %6s %-12s %s\n", "engine", "threads", "steps/s", "ms median",
+                "ms max", "MiB peak", "speedup", "bodies", "", "state hash");
+    std::vector<bench::EngineResult> runs;
+    nlohmann::json scene_json = {{"name", name}, {"bodies", scene.bodies.size()}, {"steps", scene.steps}};
+    nlohmann::json strata_json = nlohmann::json::array();
+    for (const int threads : options.threads) {
+      runs.push_back(bench::RunIsolated([&] { return bench::RunStrata(scene, threads, job_system); }));
+      const double base = runs.front().StepsPerSecond();
+      const double speedup = base > 0.0 ? runs.back().StepsPerSecond() / base : 0.0;
+      PrintRow("strata", scene, runs.back(), speedup);
+      strata_json.push_back(ToJson(runs.back(), speedup));
+      std::fflush(stdout);
+    }
+    scene_json["strata"] = strata_json;
 #ifdef STRATA_HAVE_BULLET
     if (options.bullet) {
       const bench::EngineResult bullet = bench::RunIsolated([&] { return bench::RunBullet(scene); });
-      Print("bullet", scene, bullet);
-      if (strata.ok && bullet.ok)
-        std::printf("  strata/bullet: %.2fx steps/s, %.2fx peak memory\n",
-                    strata.StepsPerSecond() / bullet.StepsPerSecond(),
-                    static_cast<double>(strata.peak_memory_kb) / static_cast<double>(bullet.peak_memory_kb));
+      PrintRow("bullet", scene, bullet, 1.0);
+      scene_json["bullet"] = ToJson(bullet, 1.0);
+      if (bullet.ok)
+        for (const bench::EngineResult& run : runs)
+          if (run.ok)
+            std::printf("  strata/bullet at %d thread%s: %.2fx steps/s, %.2fx peak memory\n", run.threads,
+                        run.threads == 1 ? "" : "s", run.StepsPerSecond() / bullet.StepsPerSecond(),
+                        static_cast<double>(run.peak_memory_kb) / static_cast<double>(bullet.peak_memory_kb));
     }
 #else
     if (options.bullet) std::printf("  bullet   not built (install libbullet-dev and reconfigure)\n");
 #endif
+    PrintStages(runs);
+    document["scenes"].push_back(scene_json);
     std::fflush(stdout);
+    for (const bench::EngineResult& run : runs)
+      if (!run.ok) return 1;
+  }
+  if (!options.json.empty() && !WriteJson(options.json, document)) {
+    std::cerr << "strata bench: cannot write " << options.json << "\n";
+    return 1;
   }
   return 0;
 }
@@ -73,13 +190,20 @@ int RunBench(const BenchOptions& options) {
 
 std::function<int()> AddBenchCommand(CLI::App& app) {
   auto options = std::make_shared<BenchOptions>();
-  CLI::App* command =
-      app.add_subcommand("bench", "Run the pyramid and convex_vs_mesh benchmarks (Bullet side by side)");
+  CLI::App* command = app.add_subcommand(
+      "bench",
+      "Run the pyramid and convex_vs_mesh benchmarks at several thread counts (Bullet side by side)");
   command->add_option("--scene", options->scene, "pyramid, convex_vs_mesh or all");
   command->add_option("--steps", options->steps, "Steps per scene (default: the scene's 500)")
       ->check(CLI::PositiveNumber);
-  command->add_option("--threads", options->threads, "Strata worker threads (0 = all cores)")
-      ->check(CLI::NonNegativeNumber);
+  command
+      ->add_option("--threads", options->threads,
+                   "Thread counts to run Strata at, comma separated (default: 1, 2, 4, ... up to all cores)")
+      ->delimiter(',')
+      ->check(CLI::Range(1, 1024));
+  command->add_option("--json", options->json, "Also write the figures to this JSON file");
+  command->add_option("--job-system", options->job_system,
+                      "default (oneTBB when built with it) or pool (Strata's std::thread pool)");
   command->add_flag("!--no-bullet", options->bullet, "Skip the Bullet peer");
   return [options] { return RunBench(*options); };
 }

@@ -1,0 +1,89 @@
+#include "physics/narrowphase/BodyPairCache.h"
+
+#include <new>
+
+namespace strata {
+
+BodyPairCache::BodyPairCache(std::uint32_t max_bodies) {
+  for (Generation& generation : generations_) generation.owners.resize(max_bodies);
+}
+
+void BodyPairCache::BeginStep(std::uint32_t job_count) {
+  current_ ^= 1;
+  Generation& generation = generations_[current_];
+  // Owner lists of this buffer's last use stay behind but carry an older step number, so they read as empty.
+  generation.step = ++step_;
+  if (generation.jobs.size() < job_count) generation.jobs.resize(job_count);
+  for (JobSlot& job : generation.jobs) {
+    job.arena.Reset();
+    job.pairs = 0;
+  }
+}
+
+BodyPairCache::PreviousPairs BodyPairCache::Previous(BodyID owner) const {
+  const Generation& previous = generations_[current_ ^ 1];
+  const OwnerList& list = previous.owners[owner.index];
+  // A list is last step's only if it was written then (by this owner, not an earlier body in its slot).
+  if (list.step != previous.step || previous.step + 1 != step_ || list.first == nullptr ||
+      (list.first->a != owner && list.first->b != owner))
+    return PreviousPairs(nullptr);
+  return PreviousPairs(list.first);
+}
+
+void BodyPairCache::BeginOwner(BodyID owner) {
+  Generation& generation = generations_[current_];
+  generation.owners[owner.index] = {nullptr, nullptr, generation.step};
+}
+
+CachedBodyPair* BodyPairCache::Create(std::uint32_t job, BodyID owner, BodyID other, BodyID a, BodyID b,
+                                      const Vec3& delta_position, const Quat& delta_rotation) {
+  Generation& generation = generations_[current_];
+  JobSlot& slot = generation.jobs[job];
+  auto* entry = new (slot.arena.AllocateArray<CachedBodyPair>(1)) CachedBodyPair;
+  entry->other = other;
+  entry->a = a;
+  entry->b = b;
+  entry->delta_position = delta_position;
+  entry->delta_rotation = delta_rotation;
+  ++slot.pairs;
+  OwnerList& list = generation.owners[owner.index];
+  if (list.last == nullptr)
+    list.first = entry;
+  else
+    list.last->next_of_owner = entry;
+  list.last = entry;
+  return entry;
+}
+
+CachedManifold* BodyPairCache::AddManifold(std::uint32_t job, CachedBodyPair& pair, std::uint32_t sub_shape_b,
+                                           const Vec3& normal_a, std::uint32_t point_count) {
+  BlockArena& arena = generations_[current_].jobs[job].arena;
+  void* memory = arena.Allocate(sizeof(CachedManifold) + point_count * sizeof(CachedContactPoint),
+                                alignof(CachedManifold));
+  auto* manifold = new (memory) CachedManifold;
+  manifold->normal_a = normal_a;
+  manifold->sub_shape_b = sub_shape_b;
+  manifold->point_count = point_count;
+  // Appended, not prepended: replaying keeps the order, so constraint order does not flip every step.
+  CachedManifold** tail = &pair.manifolds;
+  while (*tail != nullptr) tail = &(*tail)->next;
+  *tail = manifold;
+  return manifold;
+}
+
+std::size_t BodyPairCache::current_pair_count() const {
+  std::size_t total = 0;
+  for (const JobSlot& job : generations_[current_].jobs) total += job.pairs;
+  return total;
+}
+
+std::size_t BodyPairCache::bytes_reserved() const {
+  std::size_t total = 0;
+  for (const Generation& generation : generations_) {
+    total += generation.owners.size() * sizeof(OwnerList);
+    for (const JobSlot& job : generation.jobs) total += job.arena.bytes_reserved();
+  }
+  return total;
+}
+
+}  // namespace strata

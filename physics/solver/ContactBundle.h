@@ -1,0 +1,76 @@
+// ContactBundle: the contact constraints of one parallel split solved together, one per SIMD lane (as in
+// Box2D v3's wide contact solver). A split never has two constraints that move the same body, so the lanes
+// are independent: each lane runs exactly the sequence ContactSolver runs for its constraint (friction on
+// the circle, then non-penetration, points alternating direction per pass), only a register at a time and
+// with the Jacobian rows stored lane by lane. Bodies are gathered into lanes at the start of a pass and
+// scattered back (dynamic sides only) at its end. A bundle belongs to one job at a time.
+#pragma once
+
+#include <cstdint>
+#include <span>
+
+#include "physics/core/BlockArena.h"
+#include "physics/math/WideFloat.h"
+#include "physics/solver/ContactConstraint.h"
+
+namespace strata {
+
+/// Velocity rows of point j of the bundle's constraints: [0] the normal, [1] and [2] the friction axes.
+struct ContactBundleRows {
+  WideVec3 angular_a[3];
+  WideVec3 angular_b[3];
+  WideVec3 response_a[3];
+  WideVec3 response_b[3];
+  WideFloat normal_mass;
+  WideFloat tangent_mass;
+  WideFloat target_velocity;
+  WideFloat normal_impulse;
+  WideFloat tangent_impulse[2];
+};
+
+/// Position-pass data of point j of the bundle's constraints.
+struct ContactBundlePoints {
+  WideVec3 local_a;
+  WideVec3 local_b;
+  WideFloat present;  ///< mask: the lane's constraint has point j
+};
+
+/// Up to kLanes constraints of one split, laid out lane by lane; rows and points follow it in memory.
+struct alignas(alignof(WideFloat)) ContactBundle {
+  static constexpr int kLanes = WideFloat::kLanes;
+  WideVec3 normal;
+  WideVec3 tangent[2];
+  WideFloat friction;
+  WideFloat inverse_mass_a;
+  WideFloat inverse_mass_b;
+  ContactConstraint* constraints[kLanes];  ///< null in empty lanes
+  std::uint32_t body_a[kLanes];            ///< solver bodies (the fixed body 0 in empty lanes)
+  std::uint32_t body_b[kLanes];
+  bool dynamic_a[kLanes];
+  bool dynamic_b[kLanes];
+  std::uint32_t point_count;  ///< most points of any lane
+
+  ContactBundleRows* rows() { return reinterpret_cast<ContactBundleRows*>(this + 1); }
+  const ContactBundleRows* rows() const { return reinterpret_cast<const ContactBundleRows*>(this + 1); }
+  ContactBundlePoints* points() { return reinterpret_cast<ContactBundlePoints*>(rows() + point_count); }
+  const ContactBundlePoints* points() const {
+    return reinterpret_cast<const ContactBundlePoints*>(rows() + point_count);
+  }
+};
+
+/// Reserves a bundle for `constraints` (at most kLanes, no two moving the same body) in `arena`; SetupBundle
+/// fills it in later, possibly on another thread.
+ContactBundle* AllocateBundle(BlockArena& arena, std::span<ContactConstraint* const> constraints);
+/// Lays the bundle's constraints out lane by lane against the bodies' current inverse masses and inertias.
+void SetupBundle(ContactBundle& bundle, const SolverBody* bodies);
+/// Applies the warm-start impulses to the bodies' velocities.
+void WarmStartBundle(ContactBundle& bundle, SolverBody* bodies);
+/// One Gauss-Seidel pass over each lane's constraint (see SolveContactVelocity).
+void SolveBundleVelocity(ContactBundle& bundle, SolverBody* bodies, bool reverse);
+/// Leaves the accumulated impulses in each constraint's cache entry.
+void StoreBundleImpulses(const ContactBundle& bundle);
+/// One non-linear position pass over each lane's constraint; returns the deepest penetration seen (m, <= 0).
+float SolveBundlePosition(const ContactBundle& bundle, const SolverBody* bodies, SolverPose* poses,
+                          const PhysicsSettings& settings);
+
+}  // namespace strata

@@ -1,0 +1,237 @@
+#include "physics/world/CollisionFinder.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "physics/narrowphase/CollideShapes.h"
+
+namespace strata {
+
+namespace {
+
+// Active bodies per claimed batch: small enough to balance the jobs, large enough that claiming and
+// pinning the broad phase are a small share of the work.
+constexpr std::uint32_t kBodyBatch = 8;
+
+// A pair replays last step's manifolds while, relative to each other, its bodies moved less than this...
+constexpr float kReplayMaxDistanceSquared = 1e-3f * 1e-3f;  // 1 mm
+// ...and turned less than 2 degrees (cos of half the angle, as quaternions measure it).
+const float kReplayMinHalfAngleCosine = std::cos(0.5f * 2.0f * kPi / 180.0f);
+
+}  // namespace
+
+void CollisionFinder::BeginStep(const Input& input, std::uint32_t job_count) {
+  input_ = input;
+  job_count_ = job_count;
+  next_body_.store(0, std::memory_order_relaxed);
+  if (jobs_.size() < job_count) jobs_.resize(job_count);
+  for (Job& job : jobs_) {
+    job.arena.Reset();
+    job.constraints.clear();
+    job.island_body.clear();
+    job.wake_keys.clear();
+    job.stats = {};
+  }
+  body_contacts_.resize(input.active.size());
+}
+
+ContactSide CollisionFinder::ContactInputSide(const Side& side) const {
+  ContactSide contact;
+  contact.solver_index = side.solver_index;
+  contact.dynamic = side.dynamic;
+  contact.body = &input_.solver_bodies[side.solver_index];
+  contact.center_of_mass = ToVec3(side.pose.center_of_mass);
+  contact.rotation = side.pose.rotation;
+  contact.gravity_factor = side.dynamic ? side.body->gravity_factor() : 0.0f;
+  return contact;
+}
+
+CollisionFinder::Side CollisionFinder::MakeSide(const Body& body) const {
+  Side side;
+  side.body = &body;
+  side.solver_index = input_.solver_index[body.id().index];
+  side.dynamic = side.solver_index != 0 && body.IsDynamic();
+  if (side.solver_index != 0) {
+    side.pose = input_.solver_poses[side.solver_index];
+  } else {
+    side.pose.center_of_mass = ToVec4(body.CenterOfMass());
+    side.pose.rotation = body.rotation();
+  }
+  return side;
+}
+
+void CollisionFinder::RunJob(std::uint32_t job_index) {
+  Job& job = jobs_[job_index];
+  const auto active_count = static_cast<std::uint32_t>(input_.active.size());
+  while (true) {
+    const std::uint32_t begin = next_body_.fetch_add(kBodyBatch, std::memory_order_relaxed);
+    if (begin >= active_count) return;
+    const std::uint32_t end = std::min(begin + kBodyBatch, active_count);
+    job.pairs.clear();
+    input_.broad_phase->FindPairs(input_.active.subspan(begin, end - begin), input_.active_flags,
+                                  *input_.layers, job.pairs);
+    // Tree order depends on which generation the query saw; pair order must not.
+    std::sort(job.pairs.begin(), job.pairs.end());
+    std::size_t next_pair = 0;
+    for (std::uint32_t active = begin; active < end; ++active) {
+      const BodyID owner = input_.active[active];
+      BodyContacts& contacts = body_contacts_[active];
+      contacts.job = job_index;
+      contacts.begin = static_cast<std::uint32_t>(job.constraints.size());
+      input_.cache->BeginOwner(owner);
+      BodyPairCache::PreviousPairs previous = input_.cache->Previous(owner);
+      while (next_pair < job.pairs.size() && job.pairs[next_pair].a == owner)
+        CollidePair(job.pairs[next_pair++], previous, job_index);
+      contacts.end = static_cast<std::uint32_t>(job.constraints.size());
+    }
+  }
+}
+
+void CollisionFinder::CollidePair(BodyPair pair, BodyPairCache::PreviousPairs& previous_pairs,
+                                  std::uint32_t job_index) {
+  Job& job = jobs_[job_index];
+  const Body& first = input_.bodies->BodyAt(pair.a.index);
+  const Body& second = input_.bodies->BodyAt(pair.b.index);
+  // The broad phase may briefly hold a body another thread is adding or removing.
+  if (!second.in_world() || second.id() != pair.b) return;
+  if (!first.IsDynamic() && !second.IsDynamic()) return;  // kinematic vs static or kinematic: no contact
+  ++job.stats.pairs;
+  // The narrow phase wants the convex shape first (a mesh is always B).
+  const bool swap = !first.shape()->IsConvex();
+  const Side a = MakeSide(swap ? second : first);
+  const Side b = MakeSide(swap ? first : second);
+
+  const Quat inverse_a = a.pose.rotation.conjugate();
+  const Vec3 delta_position = inverse_a * ToVec3(b.pose.center_of_mass - a.pose.center_of_mass);
+  const Quat delta_rotation = inverse_a * b.pose.rotation;
+  const CachedBodyPair* previous = previous_pairs.Find(pair.b);
+  if (previous != nullptr && previous->a != a.body->id()) previous = nullptr;  // ordered the other way then
+  const bool replay = previous != nullptr &&
+                      (delta_position - previous->delta_position).squaredNorm() < kReplayMaxDistanceSquared &&
+                      std::abs(delta_rotation.dot(previous->delta_rotation)) > kReplayMinHalfAngleCosine;
+  // A replayed pair keeps the pose its manifolds were made at, so slow drift still ends in a fresh test.
+  CachedBodyPair& entry = *input_.cache->Create(job_index, pair.a, pair.b, a.body->id(), b.body->id(),
+                                                replay ? previous->delta_position : delta_position,
+                                                replay ? previous->delta_rotation : delta_rotation);
+  if (replay) {
+    ++job.stats.pairs_replayed;
+    for (const CachedManifold* cached = previous->manifolds; cached != nullptr; cached = cached->next) {
+      ContactManifold manifold;
+      manifold.sub_shape_b = cached->sub_shape_b;
+      manifold.normal = a.pose.rotation * cached->normal_a;
+      manifold.count = static_cast<int>(cached->point_count);
+      for (int i = 0; i < manifold.count; ++i) {
+        const CachedContactPoint& point = cached->points()[i];
+        ContactPoint& contact = manifold.points[i];
+        contact.position_a = ToVec3(a.pose.center_of_mass) + a.pose.rotation * point.local_a;
+        contact.position_b = ToVec3(b.pose.center_of_mass) + b.pose.rotation * point.local_b;
+        contact.separation = (contact.position_b - contact.position_a).dot(manifold.normal);
+      }
+      AddManifold(manifold, a, b, entry, cached, true, job_index);
+    }
+    return;
+  }
+  const float max_separation =
+      input_.settings->speculative_distance + a.body->MotionBound(input_.dt) + b.body->MotionBound(input_.dt);
+  ContactManifold prototype;
+  prototype.body_a = a.body->id();
+  prototype.body_b = b.body->id();
+  job.manifolds.clear();
+  CollideShapes(*a.body->shape(), a.body->pose(), *b.body->shape(), b.body->pose(), max_separation, prototype,
+                job.manifolds);
+  for (const ContactManifold& manifold : job.manifolds) {
+    const CachedManifold* match = nullptr;
+    for (const CachedManifold* cached = previous ? previous->manifolds : nullptr; cached != nullptr && !match;
+         cached = cached->next)
+      if (cached->sub_shape_b == manifold.sub_shape_b) match = cached;
+    AddManifold(manifold, a, b, entry, match, false, job_index);
+  }
+}
+
+void CollisionFinder::AddManifold(const ContactManifold& manifold, const Side& a, const Side& b,
+                                  CachedBodyPair& entry, const CachedManifold* previous, bool replayed,
+                                  std::uint32_t job_index) {
+  Job& job = jobs_[job_index];
+  const PhysicsSettings& settings = *input_.settings;
+  ++job.stats.manifolds;
+  job.stats.contact_points += static_cast<std::size_t>(manifold.count);
+  const Quat inverse_a = a.pose.rotation.conjugate(), inverse_b = b.pose.rotation.conjugate();
+  CachedManifold& cached =
+      *input_.cache->AddManifold(job_index, entry, manifold.sub_shape_b, inverse_a * manifold.normal,
+                                 static_cast<std::uint32_t>(manifold.count));
+  const float match_distance_squared = settings.contact_match_distance * settings.contact_match_distance;
+  for (int i = 0; i < manifold.count; ++i) {
+    CachedContactPoint& point = cached.points()[i];
+    if (replayed) {
+      point = previous->points()[i];
+    } else {
+      point.local_a = inverse_a * (manifold.points[i].position_a - ToVec3(a.pose.center_of_mass));
+      point.local_b = inverse_b * (manifold.points[i].position_b - ToVec3(b.pose.center_of_mass));
+      point.normal_impulse = 0.0f;
+      point.friction_impulse = Vec3::Zero();
+      // Warm start from last step's point at the same place on A, if any.
+      for (std::uint32_t k = 0; previous != nullptr && k < previous->point_count; ++k) {
+        const CachedContactPoint& old = previous->points()[k];
+        if ((old.local_a - point.local_a).squaredNorm() > match_distance_squared) continue;
+        point.normal_impulse = old.normal_impulse;
+        point.friction_impulse = old.friction_impulse;
+        break;
+      }
+    }
+  }
+
+  // A sleeping body stays put (the fixed body) this step and wakes, with its island, for the next one.
+  if (manifold.MinSeparation() <= settings.speculative_distance) {
+    if (a.body->sleeping() && b.body->IsActive()) job.wake_keys.push_back(a.body->sleep_island());
+    if (b.body->sleeping() && a.body->IsActive()) job.wake_keys.push_back(b.body->sleep_island());
+  }
+  if (!a.dynamic && !b.dynamic) return;
+
+  job.constraints.push_back(BuildContactConstraint(
+      job.arena, manifold, ContactInputSide(a), ContactInputSide(b),
+      std::sqrt(a.body->friction() * b.body->friction()),
+      std::max(a.body->restitution(), b.body->restitution()), &cached, input_.dt, settings));
+  ++job.stats.constraints;
+  // The island is that of a body the solver moves; two moving bodies join their islands.
+  const std::uint32_t island_a = a.solver_index - 1, island_b = b.solver_index - 1;
+  job.island_body.push_back(a.dynamic ? island_a : island_b);
+  if (a.dynamic && b.dynamic) {
+    job.stats.link_hops += input_.islands->Link(island_a, island_b);
+    ++job.stats.links;
+  }
+}
+
+void CollisionFinder::Gather(std::vector<ContactConstraint*>& constraints,
+                             std::vector<std::uint32_t>& island_body) const {
+  constraints.clear();
+  island_body.clear();
+  for (const BodyContacts& contacts : body_contacts_) {
+    const Job& job = jobs_[contacts.job];
+    constraints.insert(constraints.end(), job.constraints.begin() + contacts.begin,
+                       job.constraints.begin() + contacts.end);
+    island_body.insert(island_body.end(), job.island_body.begin() + contacts.begin,
+                       job.island_body.begin() + contacts.end);
+  }
+}
+
+void CollisionFinder::CollectWakeKeys(std::vector<std::uint32_t>& out) const {
+  for (std::uint32_t j = 0; j < job_count_; ++j)
+    out.insert(out.end(), jobs_[j].wake_keys.begin(), jobs_[j].wake_keys.end());
+}
+
+CollisionStats CollisionFinder::stats() const {
+  CollisionStats total;
+  for (std::uint32_t j = 0; j < job_count_; ++j) {
+    const CollisionStats& s = jobs_[j].stats;
+    total.pairs += s.pairs;
+    total.pairs_replayed += s.pairs_replayed;
+    total.manifolds += s.manifolds;
+    total.contact_points += s.contact_points;
+    total.constraints += s.constraints;
+    total.link_hops += s.link_hops;
+    total.links += s.links;
+  }
+  return total;
+}
+
+}  // namespace strata

@@ -1,0 +1,100 @@
+// CollisionFinder: the step's "find collisions" stage. Each job claims small batches of active bodies and,
+// for each, asks the broad phase for its pairs and runs the narrow phase on them straight away (no global
+// pair list or sort): a pair that barely moved relative to last step replays its cached manifolds, any other
+// runs the shape test. Every manifold becomes a ContactConstraint in the job's own arena and a body-pair
+// cache entry, and links the two bodies' islands. Runs only inside the step's unlocked window, where nothing
+// else writes bodies; BeginStep and Gather run alone, RunJob from any number of jobs.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "physics/body/BodyManager.h"
+#include "physics/broadphase/BroadPhase.h"
+#include "physics/core/BlockArena.h"
+#include "physics/narrowphase/BodyPairCache.h"
+#include "physics/solver/ContactConstraint.h"
+#include "physics/solver/IslandBuilder.h"
+
+namespace strata {
+
+/// Figures of one step's collision stage.
+struct CollisionStats {
+  std::size_t pairs = 0;           ///< body pairs whose bounds overlap
+  std::size_t pairs_replayed = 0;  ///< of those, how many reused last step's manifolds
+  std::size_t manifolds = 0;
+  std::size_t contact_points = 0;
+  std::size_t constraints = 0;  ///< manifolds with a body the solver moves
+  std::uint64_t link_hops = 0;  ///< union-find links followed by IslandBuilder::Link
+  std::size_t links = 0;
+};
+
+/// Broad phase + narrow phase + contact constraints, in parallel jobs.
+class CollisionFinder {
+ public:
+  /// What one step's collision stage reads and writes (owned by the caller).
+  struct Input {
+    const BodyManager* bodies;
+    const BroadPhase* broad_phase;
+    const LayerSetup* layers;
+    const PhysicsSettings* settings;
+    float dt;
+    std::span<const BodyID> active;               ///< active bodies in index order
+    std::span<const std::uint8_t> active_flags;   ///< by body index
+    std::span<const std::uint32_t> solver_index;  ///< by body index: active index + 1, or 0
+    const SolverBody* solver_bodies;
+    const SolverPose* solver_poses;
+    BodyPairCache* cache;
+    IslandBuilder* islands;
+  };
+
+  /// Starts a step with `job_count` jobs (job indices [0, job_count)).
+  void BeginStep(const Input& input, std::uint32_t job_count);
+  /// Claims batches of active bodies until none is left.
+  void RunJob(std::uint32_t job);
+  /// After every job: the constraints in the order of the active body that found them (the same order for
+  /// any thread count), each with its island body (active index of a body the solver moves).
+  void Gather(std::vector<ContactConstraint*>& constraints, std::vector<std::uint32_t>& island_body) const;
+  /// Island keys of sleeping bodies an active body touched this step, appended to `out`.
+  void CollectWakeKeys(std::vector<std::uint32_t>& out) const;
+  CollisionStats stats() const;
+
+ private:
+  struct BodyContacts {
+    std::uint32_t job;
+    std::uint32_t begin;
+    std::uint32_t end;
+  };
+  struct alignas(64) Job {
+    BlockArena arena{1 << 20};
+    std::vector<ContactConstraint*> constraints;
+    std::vector<std::uint32_t> island_body;
+    std::vector<BodyPair> pairs;
+    std::vector<ContactManifold> manifolds;
+    std::vector<std::uint32_t> wake_keys;
+    CollisionStats stats;
+  };
+  // A posed side of a pair as the narrow phase and the constraint builder need it.
+  struct Side {
+    const Body* body;
+    std::uint32_t solver_index;
+    bool dynamic;
+    SolverPose pose;
+  };
+
+  void CollidePair(BodyPair pair, BodyPairCache::PreviousPairs& previous_pairs, std::uint32_t job_index);
+  void AddManifold(const ContactManifold& manifold, const Side& a, const Side& b, CachedBodyPair& entry,
+                   const CachedManifold* previous, bool replayed, std::uint32_t job_index);
+  Side MakeSide(const Body& body) const;
+  ContactSide ContactInputSide(const Side& side) const;
+
+  Input input_{};
+  std::uint32_t job_count_ = 0;
+  std::atomic<std::uint32_t> next_body_{0};
+  std::vector<Job> jobs_;
+  std::vector<BodyContacts> body_contacts_;  // by active index
+};
+
+}  // namespace strata
