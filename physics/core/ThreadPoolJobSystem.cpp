@@ -1,6 +1,7 @@
 #include "physics/core/ThreadPoolJobSystem.h"
 
 #include <algorithm>
+#include <thread>
 
 #if defined(__x86_64__) || defined(__i386__)
 #include <immintrin.h>
@@ -88,9 +89,18 @@ void ThreadPoolJobSystem::WorkerLoop() {
 void ThreadPoolJobSystem::Run(StartFunction start, void* context) {
   RunQueue run(*this);
   start(context, run);
-  // The caller works until its own jobs are done; it may run other Runs' jobs meanwhile.
-  while (run.unfinished.load(std::memory_order_acquire) > 0)
-    if (!RunOne()) CpuRelax();
+  // The caller works until its own jobs are done; it may run other Runs' jobs meanwhile. Waiting for jobs
+  // another thread runs, it spins briefly, then yields in case that thread is waiting for a core.
+  int idle = 0;
+  while (run.unfinished.load(std::memory_order_acquire) > 0) {
+    if (RunOne()) {
+      idle = 0;
+    } else if (++idle < kSpinsBeforeYield) {
+      CpuRelax();
+    } else {
+      std::this_thread::yield();
+    }
+  }
 }
 
 }  // namespace strata

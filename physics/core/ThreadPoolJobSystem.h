@@ -40,6 +40,8 @@ class ThreadPoolJobSystem final : public JobSystem {
   static constexpr std::size_t kQueueCapacity = 4096;
   // About 20-50 microseconds of polling before a worker sleeps.
   static constexpr int kSpinsBeforeSleep = 2000;
+  // Pauses before a Run caller waiting for other threads' jobs yields its core.
+  static constexpr int kSpinsBeforeYield = 256;
 
   BoundedQueue<Entry> queue_{kQueueCapacity};
   std::vector<std::thread> workers_;

@@ -164,56 +164,57 @@ inline Register MulAdd(Register a, Register b, Register c) {
 #endif
 }  // namespace simd
 
-/// kLanes float lanes; comparisons give masks (all bits set where true) of the same type.
+/// kLanes float lanes in two registers; comparisons give masks (all bits set where true) of the same type.
+/// The registers are two named members, not an array, so the compiler keeps them in registers.
 struct WideFloat {
-  static constexpr int kRegisters = 2;
-  static constexpr int kLanes = kRegisters * simd::kRegisterLanes;
+  static constexpr int kLanes = 2 * simd::kRegisterLanes;
 
-  simd::Register r[kRegisters];
+  simd::Register low, high;
 
   WideFloat() = default;
-  explicit WideFloat(float value) {
-    for (simd::Register& reg : r) reg = simd::Broadcast(value);
-  }
+  WideFloat(simd::Register l, simd::Register h) : low(l), high(h) {}
+  explicit WideFloat(float value) : low(simd::Broadcast(value)), high(simd::Broadcast(value)) {}
   static WideFloat Load(const float* aligned) {
-    WideFloat w;
-    for (int i = 0; i < kRegisters; ++i) w.r[i] = simd::Load(aligned + i * simd::kRegisterLanes);
-    return w;
+    return {simd::Load(aligned), simd::Load(aligned + simd::kRegisterLanes)};
   }
   void Store(float* aligned) const {
-    for (int i = 0; i < kRegisters; ++i) simd::Store(aligned + i * simd::kRegisterLanes, r[i]);
+    simd::Store(aligned, low);
+    simd::Store(aligned + simd::kRegisterLanes, high);
   }
   static WideFloat Zero() { return WideFloat(0.0f); }
   /// A mask with every lane set.
   static WideFloat AllSet() { return WideFloat(std::bit_cast<float>(0xffffffffu)); }
 
-  template <class Op>
-  static WideFloat Map(WideFloat a, WideFloat b, Op op) {
-    WideFloat w;
-    for (int i = 0; i < kRegisters; ++i) w.r[i] = op(a.r[i], b.r[i]);
-    return w;
+  friend WideFloat operator+(WideFloat a, WideFloat b) {
+    return {simd::Add(a.low, b.low), simd::Add(a.high, b.high)};
   }
-  friend WideFloat operator+(WideFloat a, WideFloat b) { return Map(a, b, simd::Add); }
-  friend WideFloat operator-(WideFloat a, WideFloat b) { return Map(a, b, simd::Sub); }
-  friend WideFloat operator*(WideFloat a, WideFloat b) { return Map(a, b, simd::Mul); }
-  friend WideFloat operator/(WideFloat a, WideFloat b) { return Map(a, b, simd::Div); }
-  friend WideFloat Min(WideFloat a, WideFloat b) { return Map(a, b, simd::Min); }
-  friend WideFloat Max(WideFloat a, WideFloat b) { return Map(a, b, simd::Max); }
-  friend WideFloat Greater(WideFloat a, WideFloat b) { return Map(a, b, simd::Greater); }
-  friend WideFloat Sqrt(WideFloat a) {
-    return Map(a, a, [](simd::Register x, simd::Register) { return simd::Sqrt(x); });
+  friend WideFloat operator-(WideFloat a, WideFloat b) {
+    return {simd::Sub(a.low, b.low), simd::Sub(a.high, b.high)};
   }
+  friend WideFloat operator*(WideFloat a, WideFloat b) {
+    return {simd::Mul(a.low, b.low), simd::Mul(a.high, b.high)};
+  }
+  friend WideFloat operator/(WideFloat a, WideFloat b) {
+    return {simd::Div(a.low, b.low), simd::Div(a.high, b.high)};
+  }
+  friend WideFloat Min(WideFloat a, WideFloat b) {
+    return {simd::Min(a.low, b.low), simd::Min(a.high, b.high)};
+  }
+  friend WideFloat Max(WideFloat a, WideFloat b) {
+    return {simd::Max(a.low, b.low), simd::Max(a.high, b.high)};
+  }
+  friend WideFloat Greater(WideFloat a, WideFloat b) {
+    return {simd::Greater(a.low, b.low), simd::Greater(a.high, b.high)};
+  }
+  friend WideFloat Sqrt(WideFloat a) { return {simd::Sqrt(a.low), simd::Sqrt(a.high)}; }
   /// `mask` lanes from `if_true`, the others from `if_false`.
   friend WideFloat Select(WideFloat mask, WideFloat if_true, WideFloat if_false) {
-    WideFloat w;
-    for (int i = 0; i < kRegisters; ++i) w.r[i] = simd::Select(mask.r[i], if_true.r[i], if_false.r[i]);
-    return w;
+    return {simd::Select(mask.low, if_true.low, if_false.low),
+            simd::Select(mask.high, if_true.high, if_false.high)};
   }
   /// a * b + c.
   friend WideFloat MulAdd(WideFloat a, WideFloat b, WideFloat c) {
-    WideFloat w;
-    for (int i = 0; i < kRegisters; ++i) w.r[i] = simd::MulAdd(a.r[i], b.r[i], c.r[i]);
-    return w;
+    return {simd::MulAdd(a.low, b.low, c.low), simd::MulAdd(a.high, b.high, c.high)};
   }
   WideFloat& operator+=(WideFloat other) { return *this = *this + other; }
   WideFloat& operator-=(WideFloat other) { return *this = *this - other; }
@@ -234,6 +235,68 @@ struct WideVec3 {
   WideVec3& operator+=(const WideVec3& other) { return *this = *this + other; }
   WideVec3& operator-=(const WideVec3& other) { return *this = *this - other; }
 };
+
+namespace simd {
+// Four rows of four floats <-> four registers of one component each, for the lanes [first, first + 4).
+#if defined(__AVX__) || defined(__SSE2__)
+inline void Transpose4(const float* const* rows, __m128& x, __m128& y, __m128& z, __m128& w) {
+  x = _mm_load_ps(rows[0]), y = _mm_load_ps(rows[1]), z = _mm_load_ps(rows[2]), w = _mm_load_ps(rows[3]);
+  _MM_TRANSPOSE4_PS(x, y, z, w);
+}
+inline void Untranspose4(float* const* rows, __m128 x, __m128 y, __m128 z, __m128 w) {
+  _MM_TRANSPOSE4_PS(x, y, z, w);
+  if (rows[0] != nullptr) _mm_store_ps(rows[0], x);
+  if (rows[1] != nullptr) _mm_store_ps(rows[1], y);
+  if (rows[2] != nullptr) _mm_store_ps(rows[2], z);
+  if (rows[3] != nullptr) _mm_store_ps(rows[3], w);
+}
+#endif
+#if defined(__AVX__)
+inline void Gather(const float* const* rows, Register& x, Register& y, Register& z, Register& w) {
+  __m128 x0, y0, z0, w0, x1, y1, z1, w1;
+  Transpose4(rows, x0, y0, z0, w0);
+  Transpose4(rows + 4, x1, y1, z1, w1);
+  x = _mm256_set_m128(x1, x0), y = _mm256_set_m128(y1, y0), z = _mm256_set_m128(z1, z0);
+  w = _mm256_set_m128(w1, w0);
+}
+inline void Scatter(float* const* rows, Register x, Register y, Register z, Register w) {
+  Untranspose4(rows, _mm256_castps256_ps128(x), _mm256_castps256_ps128(y), _mm256_castps256_ps128(z),
+               _mm256_castps256_ps128(w));
+  Untranspose4(rows + 4, _mm256_extractf128_ps(x, 1), _mm256_extractf128_ps(y, 1),
+               _mm256_extractf128_ps(z, 1), _mm256_extractf128_ps(w, 1));
+}
+#elif defined(__SSE2__)
+inline void Gather(const float* const* rows, Register& x, Register& y, Register& z, Register& w) {
+  Transpose4(rows, x, y, z, w);
+}
+inline void Scatter(float* const* rows, Register x, Register y, Register z, Register w) {
+  Untranspose4(rows, x, y, z, w);
+}
+#else
+inline void Gather(const float* const* rows, Register& x, Register& y, Register& z, Register& w) {
+  for (int i = 0; i < kRegisterLanes; ++i)
+    x.lane[i] = rows[i][0], y.lane[i] = rows[i][1], z.lane[i] = rows[i][2], w.lane[i] = rows[i][3];
+}
+inline void Scatter(float* const* rows, Register x, Register y, Register z, Register w) {
+  for (int i = 0; i < kRegisterLanes; ++i) {
+    if (rows[i] == nullptr) continue;
+    rows[i][0] = x.lane[i], rows[i][1] = y.lane[i], rows[i][2] = z.lane[i], rows[i][3] = w.lane[i];
+  }
+}
+#endif
+}  // namespace simd
+
+/// Lane i gets the four floats at rows[i] (16-byte aligned) as x, y, z, w: a transpose in registers.
+inline void GatherRows(const float* const* rows, WideFloat& x, WideFloat& y, WideFloat& z, WideFloat& w) {
+  simd::Gather(rows, x.low, y.low, z.low, w.low);
+  simd::Gather(rows + simd::kRegisterLanes, x.high, y.high, z.high, w.high);
+}
+/// The reverse of GatherRows; lanes whose row pointer is null are not written.
+inline void ScatterRows(float* const* rows, const WideFloat& x, const WideFloat& y, const WideFloat& z,
+                        const WideFloat& w) {
+  simd::Scatter(rows, x.low, y.low, z.low, w.low);
+  simd::Scatter(rows + simd::kRegisterLanes, x.high, y.high, z.high, w.high);
+}
 
 inline WideFloat Dot(const WideVec3& a, const WideVec3& b) {
   return MulAdd(a.x, b.x, MulAdd(a.y, b.y, a.z * b.z));

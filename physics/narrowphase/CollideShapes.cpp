@@ -1,5 +1,6 @@
 #include "physics/narrowphase/CollideShapes.h"
 
+#include "physics/narrowphase/ClosestPoints.h"
 #include "physics/narrowphase/Epa.h"
 #include "physics/narrowphase/ManifoldBuilder.h"
 #include "physics/narrowphase/PolyhedronCollider.h"
@@ -161,6 +162,20 @@ Vec3 CorrectTriangleNormal(const TriangleMeshShape& mesh, std::uint32_t triangle
   return -face_normal;
 }
 
+// The core of a sphere (its centre, twice) or a capsule (its axis), in world space; false for other shapes.
+bool SegmentCore(const ConvexShape& shape, const Pose& pose, Vec3 (&segment)[2]) {
+  if (shape.type() == ShapeType::kSphere) {
+    segment[0] = segment[1] = pose.position;
+    return true;
+  }
+  if (shape.type() != ShapeType::kCapsule) return false;
+  const Vec3 half_axis =
+      pose.rotation * Vec3(0.0f, static_cast<const CapsuleShape&>(shape).half_height(), 0.0f);
+  segment[0] = pose.position - half_axis;
+  segment[1] = pose.position + half_axis;
+  return true;
+}
+
 bool IsPolyhedron(const ConvexShape& shape) {
   return shape.type() == ShapeType::kBox || shape.type() == ShapeType::kConvexHull;
 }
@@ -169,13 +184,8 @@ bool IsPolyhedron(const ConvexShape& shape) {
 bool SphereTriangleContact(const Vec3& center, float radius, const TriangleSupport& triangle,
                            const Vec3& face_normal, float max_separation, Vec3& normal,
                            ContactPoint& deepest) {
-  SimplexVertex simplex[4];
-  for (int i = 0; i < 3; ++i)
-    simplex[i] = {triangle.vertex(i) - center, triangle.vertex(i), triangle.vertex(i)};
-  int count = 3;
-  float weights[4];
-  Vec3 offset;  // closest triangle point relative to the centre
-  ClosestPointOnSimplex(simplex, count, weights, offset);
+  const Vec3 offset =  // closest triangle point relative to the centre
+      ClosestPointOnTriangle(center, triangle.vertex(0), triangle.vertex(1), triangle.vertex(2)) - center;
   const float distance = offset.norm();
   if (distance - radius > max_separation) return false;
   normal = distance > 1e-6f ? Vec3(offset / distance) : Vec3(-face_normal);
@@ -221,13 +231,32 @@ bool CollideConvexConvex(const ConvexShape& a, const Pose& pose_a, const ConvexS
     if (MakePolyhedron(a, pose_a, polyhedron_a) && MakePolyhedron(b, pose_b, polyhedron_b))
       return CollidePolyhedra(polyhedron_a, polyhedron_b, max_separation, manifold);
   }
-  const PosedConvex core_a(a, pose_a, true), exact_a(a, pose_a, false);
-  const PosedConvex core_b(b, pose_b, true), exact_b(b, pose_b, false);
   Vec3 normal;
   ContactPoint deepest;
-  if (!FindContact(core_a, exact_a, a.core_radius(), core_b, exact_b, b.core_radius(), max_separation, normal,
-                   deepest))
-    return false;
+  Vec3 segment_a[2], segment_b[2];
+  bool found = false;
+  if (SegmentCore(a, pose_a, segment_a) && SegmentCore(b, pose_b, segment_b)) {
+    // Spheres and capsules are points and segments with a radius: the closest points of the cores give the
+    // normal exactly, unless the cores themselves touch.
+    Vec3 on_a, on_b;
+    ClosestPointsOfSegments(segment_a[0], segment_a[1], segment_b[0], segment_b[1], on_a, on_b);
+    const Vec3 offset = on_b - on_a;
+    const float distance = offset.norm();
+    if (distance > 1e-6f) {
+      const float separation = distance - a.core_radius() - b.core_radius();
+      if (separation > max_separation) return false;
+      normal = offset / distance;
+      deepest = {on_a + a.core_radius() * normal, on_b - b.core_radius() * normal, separation};
+      found = true;
+    }
+  }
+  if (!found) {
+    const PosedConvex core_a(a, pose_a, true), exact_a(a, pose_a, false);
+    const PosedConvex core_b(b, pose_b, true), exact_b(b, pose_b, false);
+    if (!FindContact(core_a, exact_a, a.core_radius(), core_b, exact_b, b.core_radius(), max_separation,
+                     normal, deepest))
+      return false;
+  }
   SupportingFace face_a, face_b;
   WorldFace(a, pose_a, normal, face_a);
   WorldFace(b, pose_b, -normal, face_b);

@@ -16,6 +16,7 @@ constexpr float kEdgeBias = 0.005f;
 struct Axis {
   enum Kind { kFaceA, kFaceB, kEdges } kind = kFaceA;
   int index_a = -1, index_b = -1;
+  int edge_a = -1, edge_b = -1;  // the edges themselves, where the Gauss-map test found them
   float separation = -kLargeFloat;
   Vec3 normal = Vec3::UnitY();  // from A to B
 };
@@ -30,6 +31,44 @@ Axis BestFaceAxis(const Polyhedron& reference, const Polyhedron& other, Axis::Ki
       best.separation = separation;
       best.index_a = f;
       best.normal = kind == Axis::kFaceA ? n : Vec3(-n);
+    }
+  }
+  return best;
+}
+
+// Edge pairs of a closed polyhedron A and a one-sided triangle B. Only pairs whose arcs cross on the Gauss
+// map (Gregorius, "The Separating Axis Test between Convex Polyhedra", GDC 2013) make a face of the Minkowski
+// difference, so only their axes can separate. A triangle edge's arc, negated for the difference, is the
+// half circle through its front and back normals on the side facing away from the edge, which lies in the
+// plane normal to the edge: the test is whether A's edge arc crosses that plane on that side.
+Axis BestTriangleEdgeAxis(const Polyhedron& a, const Polyhedron& triangle) {
+  Axis best;
+  best.kind = Axis::kEdges;
+  const Vec3& front = triangle.face_normals[0];
+  for (int j = 0; j < 3; ++j) {
+    const Vec3& d = triangle.edge_directions[j];
+    const Vec3 outward = d.cross(front);
+    for (int e = 0; e < a.edge_count; ++e) {
+      const Vec3& u = a.face_normals[a.edge_faces[e][0]];
+      const Vec3& v = a.face_normals[a.edge_faces[e][1]];
+      const float ud = u.dot(d), vd = v.dot(d);
+      if (ud * vd >= 0.0f) continue;
+      // Where A's arc crosses the plane, taken between u and v.
+      const float crossing = (ud * v.dot(outward) - vd * u.dot(outward)) * (ud > 0.0f ? 1.0f : -1.0f);
+      if (crossing >= 0.0f) continue;
+      const Vec3 edge_a = a.vertices[a.edges[e][1]] - a.vertices[a.edges[e][0]];
+      Vec3 axis = edge_a.cross(d);
+      const float length = axis.norm();
+      if (length < 1e-4f * edge_a.norm()) continue;  // parallel edges: a face axis covers them
+      axis /= length;
+      if (axis.dot(front) > 0.0f) axis = -axis;  // into a one-sided triangle means against its front
+      const float separation = triangle.Support(-axis).dot(axis) - a.Support(axis).dot(axis);
+      if (separation > best.separation) {
+        best.separation = separation;
+        best.edge_a = e;
+        best.edge_b = j;
+        best.normal = axis;
+      }
     }
   }
   return best;
@@ -123,6 +162,22 @@ constexpr int kBoxFaces[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4},
 constexpr int kBoxEdges[12][2] = {{0, 1}, {2, 3}, {4, 5}, {6, 7}, {0, 2}, {1, 3},
                                   {4, 6}, {5, 7}, {0, 4}, {1, 5}, {2, 6}, {3, 7}};
 
+// The two faces (of kBoxFaces) that share each edge of kBoxEdges.
+constexpr std::array<std::array<int, 2>, 12> BoxEdgeFaces() {
+  std::array<std::array<int, 2>, 12> faces{};
+  for (int e = 0; e < 12; ++e) {
+    int found = 0;
+    for (int f = 0; f < 6 && found < 2; ++f) {
+      bool has_both[2] = {false, false};
+      for (int k = 0; k < 4; ++k)
+        for (int end = 0; end < 2; ++end) has_both[end] |= kBoxFaces[f][k] == kBoxEdges[e][end];
+      if (has_both[0] && has_both[1]) faces[e][found++] = f;
+    }
+  }
+  return faces;
+}
+constexpr std::array<std::array<int, 2>, 12> kBoxEdgeFaces = BoxEdgeFaces();
+
 void MakeBox(const BoxShape& box, const Pose& pose, Polyhedron& out) {
   const Vec3& half = box.half_extents();
   const Mat3 rotation = pose.rotation.toRotationMatrix();
@@ -140,7 +195,10 @@ void MakeBox(const BoxShape& box, const Pose& pose, Polyhedron& out) {
     out.face_start[f + 1] = 4 * (f + 1);
   }
   out.face_count = 6;
-  for (int e = 0; e < 12; ++e) out.edges[e] = {kBoxEdges[e][0], kBoxEdges[e][1]};
+  for (int e = 0; e < 12; ++e) {
+    out.edges[e] = {kBoxEdges[e][0], kBoxEdges[e][1]};
+    out.edge_faces[e] = kBoxEdgeFaces[e];
+  }
   out.edge_count = 12;
   for (int axis = 0; axis < 3; ++axis) out.edge_directions[axis] = rotation.col(axis);
   out.direction_count = 3;
@@ -164,7 +222,10 @@ bool MakeHull(const ConvexHullShape& hull, const Pose& pose, Polyhedron& out) {
     for (int v : face.vertices) out.face_loop[cursor++] = v;
     out.face_start[f + 1] = cursor;
   }
-  for (const auto& edge : hull.edges()) out.edges[out.edge_count++] = edge;
+  for (std::size_t e = 0; e < hull.edges().size(); ++e) {
+    out.edges[out.edge_count] = hull.edges()[e];
+    out.edge_faces[out.edge_count++] = hull.edge_faces()[e];
+  }
   for (const Vec3& direction : hull.edge_directions())
     out.edge_directions[out.direction_count++] = rotation * direction;
   ComputeCentroid(out);
@@ -215,7 +276,8 @@ bool CollidePolyhedra(const Polyhedron& a, const Polyhedron& b, float max_separa
   if (face_a.separation > max_separation) return false;
   const Axis face_b = BestFaceAxis(b, a, Axis::kFaceB);
   if (face_b.separation > max_separation) return false;
-  const Axis edges = BestEdgeAxis(a, b, a.centroid, b.centroid);
+  const Axis edges = b.one_sided && b.vertex_count == 3 ? BestTriangleEdgeAxis(a, b)
+                                                        : BestEdgeAxis(a, b, a.centroid, b.centroid);
   if (edges.separation > max_separation) return false;
 
   // Prefer A's face, then B's, then an edge pair, unless the later one is clearly better.
@@ -223,8 +285,9 @@ bool CollidePolyhedra(const Polyhedron& a, const Polyhedron& b, float max_separa
   manifold.count = 0;
   if (edges.separation > best_face.separation + kEdgeBias) {
     const Vec3 n = edges.normal;
-    const int edge_a = ExtremeEdge(a, a.edge_directions[edges.index_a], n);
-    const int edge_b = ExtremeEdge(b, b.edge_directions[edges.index_b], -n);
+    const int edge_a = edges.edge_a >= 0 ? edges.edge_a : ExtremeEdge(a, a.edge_directions[edges.index_a], n);
+    const int edge_b =
+        edges.edge_b >= 0 ? edges.edge_b : ExtremeEdge(b, b.edge_directions[edges.index_b], -n);
     Vec3 on_a, on_b;
     ClosestPointsOfSegments(a.vertices[a.edges[edge_a][0]], a.vertices[a.edges[edge_a][1]],
                             b.vertices[b.edges[edge_b][0]], b.vertices[b.edges[edge_b][1]], on_a, on_b);

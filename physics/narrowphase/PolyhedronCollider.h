@@ -25,10 +25,11 @@ struct Polyhedron {
   std::array<float, kMaxFaces> face_offsets;  ///< normal . x on the face
   std::array<int, kMaxFaces + 1> face_start;  ///< face f's loop is face_loop[face_start[f], face_start[f+1])
   std::array<int, kMaxFaces * 8> face_loop;
-  std::array<std::array<int, 2>, kMaxEdges> edges;  ///< each undirected edge once
-  bool one_sided = false;                           ///< a mesh triangle: only its front face collides
-  bool is_box = false;                              ///< vertex i has signs (bit 0: x, bit 1: y, bit 2: z)
-  Vec3 centroid = Vec3::Zero();                     ///< average of the vertices
+  std::array<std::array<int, 2>, kMaxEdges> edges;       ///< each undirected edge once
+  std::array<std::array<int, 2>, kMaxEdges> edge_faces;  ///< the two faces each edge joins (closed shapes)
+  bool one_sided = false;                                ///< a mesh triangle: only its front face collides
+  bool is_box = false;           ///< vertex i has signs (bit 0: x, bit 1: y, bit 2: z)
+  Vec3 centroid = Vec3::Zero();  ///< average of the vertices
   int direction_count = 0;
   std::array<Vec3, kMaxEdges> edge_directions;  ///< unit, one per set of parallel edges (SAT axes)
 

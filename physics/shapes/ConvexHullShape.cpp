@@ -1,6 +1,7 @@
 #include "physics/shapes/ConvexHullShape.h"
 
 #include <algorithm>
+#include <map>
 
 namespace strata {
 
@@ -27,11 +28,22 @@ ConvexHullShape::ConvexHullShape(HullData hull, const Vec3& interior_point, floa
       interior_point_(interior_point),
       core_scale_(core_scale) {
   for (const Vec3& v : hull_.vertices) bounds_.Encapsulate(v);
-  for (const HullFace& face : hull_.faces) {
+  // Each directed edge belongs to exactly one face's loop; its reverse to the face across the edge.
+  std::map<std::pair<int, int>, int> face_of_directed_edge;
+  for (std::size_t f = 0; f < hull_.faces.size(); ++f) {
+    const std::vector<int>& loop = hull_.faces[f].vertices;
+    for (std::size_t i = 0; i < loop.size(); ++i)
+      face_of_directed_edge[{loop[i], loop[(i + 1) % loop.size()]}] = static_cast<int>(f);
+  }
+  for (std::size_t f = 0; f < hull_.faces.size(); ++f) {
+    const HullFace& face = hull_.faces[f];
     for (std::size_t i = 0; i < face.vertices.size(); ++i) {
       const int from = face.vertices[i], to = face.vertices[(i + 1) % face.vertices.size()];
       if (from > to) continue;  // a closed hull lists every edge once in each direction
       edges_.push_back({from, to});
+      const auto across = face_of_directed_edge.find({to, from});
+      edge_faces_.push_back(
+          {static_cast<int>(f), across != face_of_directed_edge.end() ? across->second : -1});
       const Vec3 direction = (hull_.vertices[to] - hull_.vertices[from]).normalized();
       const bool known = std::any_of(edge_directions_.begin(), edge_directions_.end(),
                                      [&](const Vec3& d) { return std::abs(d.dot(direction)) > 0.9999f; });

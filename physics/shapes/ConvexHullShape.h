@@ -23,6 +23,8 @@ class ConvexHullShape final : public ConvexShape {
   const std::vector<std::array<int, 2>>& edges() const { return edges_; }
   /// One unit direction per set of parallel edges (the separating-axis candidates).
   const std::vector<Vec3>& edge_directions() const { return edge_directions_; }
+  /// The two faces each edge joins (same order as edges()).
+  const std::vector<std::array<int, 2>>& edge_faces() const { return edge_faces_; }
 
   AABB LocalBounds() const override { return bounds_; }
   MassProperties ComputeMassProperties(float density) const override;
@@ -41,6 +43,7 @@ class ConvexHullShape final : public ConvexShape {
   HullData hull_;
   std::vector<std::array<int, 2>> edges_;
   std::vector<Vec3> edge_directions_;
+  std::vector<std::array<int, 2>> edge_faces_;
   AABB bounds_;
   Vec3 interior_point_;
   float core_scale_;

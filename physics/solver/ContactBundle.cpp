@@ -47,90 +47,66 @@ void Turn(WideQuat& q, const WideVec3& turn) {
   q.v = inverse_length * v;
 }
 
-// The inverse inertia of one body per lane, by matrix entry.
-struct WideInertia {
-  WideFloat m[3][3];
-  WideVec3 Times(const WideVec3& v) const {
-    return {MulAdd(m[0][0], v.x, MulAdd(m[0][1], v.y, m[0][2] * v.z)),
-            MulAdd(m[1][0], v.x, MulAdd(m[1][1], v.y, m[1][2] * v.z)),
-            MulAdd(m[2][0], v.x, MulAdd(m[2][1], v.y, m[2][2] * v.z))};
-  }
-};
-
-WideInertia GatherInertia(const SolverBody* bodies, const std::uint32_t* index) {
-  alignas(alignof(WideFloat)) float entries[3][3][kLanes];
+// The bodies' inverse inertias, one per lane (symmetric: six entries).
+WideSymmetric3 GatherInertia(const SolverBody* bodies, const std::uint32_t* index) {
+  alignas(alignof(WideFloat)) float entries[6][kLanes];
   for (int lane = 0; lane < kLanes; ++lane) {
-    const SolverBody& body = bodies[index[lane]];
-    for (int column = 0; column < 3; ++column)
-      for (int row = 0; row < 3; ++row) entries[row][column][lane] = body.inverse_inertia[column][row];
+    const Vec4* columns = bodies[index[lane]].inverse_inertia;
+    entries[0][lane] = columns[0].x(), entries[1][lane] = columns[1].x(), entries[2][lane] = columns[2].x();
+    entries[3][lane] = columns[1].y(), entries[4][lane] = columns[2].y(), entries[5][lane] = columns[2].z();
   }
-  WideInertia inertia;
-  for (int row = 0; row < 3; ++row)
-    for (int column = 0; column < 3; ++column) inertia.m[row][column] = WideFloat::Load(entries[row][column]);
-  return inertia;
+  return {WideFloat::Load(entries[0]), WideFloat::Load(entries[1]), WideFloat::Load(entries[2]),
+          WideFloat::Load(entries[3]), WideFloat::Load(entries[4]), WideFloat::Load(entries[5])};
 }
 
 void GatherVelocities(const SolverBody* bodies, const std::uint32_t* index, WideVec3& linear,
                       WideVec3& angular) {
-  Lanes3 v, w;
+  const float* linear_rows[kLanes];
+  const float* angular_rows[kLanes];
   for (int lane = 0; lane < kLanes; ++lane) {
-    const SolverBody& body = bodies[index[lane]];
-    v.x[lane] = body.linear_velocity.x();
-    v.y[lane] = body.linear_velocity.y();
-    v.z[lane] = body.linear_velocity.z();
-    w.x[lane] = body.angular_velocity.x();
-    w.y[lane] = body.angular_velocity.y();
-    w.z[lane] = body.angular_velocity.z();
+    linear_rows[lane] = bodies[index[lane]].linear_velocity.data();
+    angular_rows[lane] = bodies[index[lane]].angular_velocity.data();
   }
-  linear = v.Load();
-  angular = w.Load();
+  WideFloat unused;
+  GatherRows(linear_rows, linear.x, linear.y, linear.z, unused);
+  GatherRows(angular_rows, angular.x, angular.y, angular.z, unused);
 }
 
 // Only dynamic sides are written back: the fixed body and kinematic bodies may sit in several lanes.
 void ScatterVelocities(SolverBody* bodies, const std::uint32_t* index, const bool* dynamic,
                        const WideVec3& linear, const WideVec3& angular) {
-  Lanes3 v, w;
-  linear.x.Store(v.x), linear.y.Store(v.y), linear.z.Store(v.z);
-  angular.x.Store(w.x), angular.y.Store(w.y), angular.z.Store(w.z);
+  float* linear_rows[kLanes];
+  float* angular_rows[kLanes];
   for (int lane = 0; lane < kLanes; ++lane) {
-    if (!dynamic[lane]) continue;
-    SolverBody& body = bodies[index[lane]];
-    body.linear_velocity = Vec4(v.x[lane], v.y[lane], v.z[lane], 0.0f);
-    body.angular_velocity = Vec4(w.x[lane], w.y[lane], w.z[lane], 0.0f);
+    linear_rows[lane] = dynamic[lane] ? bodies[index[lane]].linear_velocity.data() : nullptr;
+    angular_rows[lane] = dynamic[lane] ? bodies[index[lane]].angular_velocity.data() : nullptr;
   }
+  ScatterRows(linear_rows, linear.x, linear.y, linear.z, WideFloat::Zero());
+  ScatterRows(angular_rows, angular.x, angular.y, angular.z, WideFloat::Zero());
 }
 
 void GatherPoses(const SolverPose* poses, const std::uint32_t* index, WideVec3& center, WideQuat& rotation) {
-  Lanes3 c, v;
-  alignas(alignof(WideFloat)) Lanes w;
+  const float* center_rows[kLanes];
+  const float* rotation_rows[kLanes];
   for (int lane = 0; lane < kLanes; ++lane) {
-    const SolverPose& pose = poses[index[lane]];
-    c.x[lane] = pose.center_of_mass.x();
-    c.y[lane] = pose.center_of_mass.y();
-    c.z[lane] = pose.center_of_mass.z();
-    w[lane] = pose.rotation.w();
-    v.x[lane] = pose.rotation.x();
-    v.y[lane] = pose.rotation.y();
-    v.z[lane] = pose.rotation.z();
+    center_rows[lane] = poses[index[lane]].center_of_mass.data();
+    rotation_rows[lane] = poses[index[lane]].rotation.coeffs().data();  // x, y, z, w
   }
-  center = c.Load();
-  rotation.w = WideFloat::Load(w);
-  rotation.v = v.Load();
+  WideFloat unused;
+  GatherRows(center_rows, center.x, center.y, center.z, unused);
+  GatherRows(rotation_rows, rotation.v.x, rotation.v.y, rotation.v.z, rotation.w);
 }
 
 void ScatterPoses(SolverPose* poses, const std::uint32_t* index, const bool* dynamic, const WideVec3& center,
                   const WideQuat& rotation) {
-  Lanes3 c, v;
-  alignas(alignof(WideFloat)) Lanes w;
-  center.x.Store(c.x), center.y.Store(c.y), center.z.Store(c.z);
-  rotation.w.Store(w);
-  rotation.v.x.Store(v.x), rotation.v.y.Store(v.y), rotation.v.z.Store(v.z);
+  float* center_rows[kLanes];
+  float* rotation_rows[kLanes];
   for (int lane = 0; lane < kLanes; ++lane) {
-    if (!dynamic[lane]) continue;
-    SolverPose& pose = poses[index[lane]];
-    pose.center_of_mass = Vec4(c.x[lane], c.y[lane], c.z[lane], 0.0f);
-    pose.rotation = Quat(w[lane], v.x[lane], v.y[lane], v.z[lane]);
+    center_rows[lane] = dynamic[lane] ? poses[index[lane]].center_of_mass.data() : nullptr;
+    rotation_rows[lane] = dynamic[lane] ? poses[index[lane]].rotation.coeffs().data() : nullptr;
   }
+  ScatterRows(center_rows, center.x, center.y, center.z, WideFloat::Zero());
+  ScatterRows(rotation_rows, rotation.v.x, rotation.v.y, rotation.v.z, rotation.w);
 }
 
 WideFloat SafeInverse(WideFloat k) {
@@ -179,12 +155,11 @@ void SetupBundle(ContactBundle& bundle, const SolverBody* bodies) {
   bundle.friction = WideFloat::Load(friction);
   bundle.inverse_mass_a = WideFloat::Load(inverse_mass_a);
   bundle.inverse_mass_b = WideFloat::Load(inverse_mass_b);
-  const WideInertia inertia_a = GatherInertia(bodies, bundle.body_a);
-  const WideInertia inertia_b = GatherInertia(bodies, bundle.body_b);
+  bundle.inverse_inertia_a = GatherInertia(bodies, bundle.body_a);
+  bundle.inverse_inertia_b = GatherInertia(bodies, bundle.body_b);
   const WideVec3 axes[3] = {bundle.normal, bundle.tangent[0], bundle.tangent[1]};
   const WideFloat inverse_masses = bundle.inverse_mass_a + bundle.inverse_mass_b;
 
-  const std::uint32_t all_bits = 0xffffffffu;
   for (std::uint32_t j = 0; j < bundle.point_count; ++j) {
     Lanes3 r_a{}, r_b{}, local_a{}, local_b{}, warm_friction{};
     alignas(alignof(WideFloat)) Lanes warm_normal{}, target{}, present{};
@@ -199,19 +174,18 @@ void SetupBundle(ContactBundle& bundle, const SolverBody* bodies) {
       warm_friction.Set(lane, p.warm_friction);
       warm_normal[lane] = p.warm_normal;
       target[lane] = p.target_velocity;
-      present[lane] = std::bit_cast<float>(all_bits);
+      present[lane] = std::bit_cast<float>(0xffffffffu);
     }
     ContactBundleRows& rows = *new (&bundle.rows()[j]) ContactBundleRows;
-    const WideVec3 arm_a = r_a.Load(), arm_b = r_b.Load();
+    rows.arm_a = r_a.Load();
+    rows.arm_b = r_b.Load();
     WideFloat masses[3];
     for (int axis = 0; axis < 3; ++axis) {
-      rows.angular_a[axis] = Cross(arm_a, axes[axis]);
-      rows.angular_b[axis] = Cross(arm_b, axes[axis]);
-      rows.response_a[axis] = inertia_a.Times(rows.angular_a[axis]);
-      rows.response_b[axis] = inertia_b.Times(rows.angular_b[axis]);
-      masses[axis] = SafeInverse(inverse_masses + Dot(rows.angular_a[axis], rows.response_a[axis]) +
-                                 Dot(rows.angular_b[axis], rows.response_b[axis]));
+      const WideVec3 angular_a = Cross(rows.arm_a, axes[axis]), angular_b = Cross(rows.arm_b, axes[axis]);
+      masses[axis] = SafeInverse(inverse_masses + Dot(angular_a, bundle.inverse_inertia_a.Times(angular_a)) +
+                                 Dot(angular_b, bundle.inverse_inertia_b.Times(angular_b)));
     }
+    // An absent point has zero arms and masses, so it changes nothing in its lane.
     rows.normal_mass = masses[kNormal];
     rows.tangent_mass = Min(masses[kFirstTangent], masses[kSecondTangent]);
     rows.target_velocity = WideFloat::Load(target);
@@ -226,48 +200,58 @@ void SetupBundle(ContactBundle& bundle, const SolverBody* bodies) {
   }
 }
 
-void WarmStartBundle(ContactBundle& bundle, SolverBody* bodies) {
+namespace {
+
+// The velocities of the bundle's bodies, one per lane, and how an impulse changes them.
+struct LaneBodies {
   WideVec3 va, wa, vb, wb;
-  GatherVelocities(bodies, bundle.body_a, va, wa);
-  GatherVelocities(bodies, bundle.body_b, vb, wb);
+
+  LaneBodies(const SolverBody* bodies, const ContactBundle& bundle) {
+    GatherVelocities(bodies, bundle.body_a, va, wa);
+    GatherVelocities(bodies, bundle.body_b, vb, wb);
+  }
+  void Scatter(SolverBody* bodies, const ContactBundle& bundle) const {
+    ScatterVelocities(bodies, bundle.body_a, bundle.dynamic_a, va, wa);
+    ScatterVelocities(bodies, bundle.body_b, bundle.dynamic_b, vb, wb);
+  }
+  /// Velocity of the point on B relative to the point on A.
+  WideVec3 Relative(const ContactBundleRows& p) const {
+    return vb - va + Cross(wb, p.arm_b) - Cross(wa, p.arm_a);
+  }
+  /// Applies `impulse` (world) at the point: against A, along it on B.
+  void Apply(const ContactBundle& bundle, const ContactBundleRows& p, const WideVec3& impulse) {
+    va -= bundle.inverse_mass_a * impulse;
+    wa -= bundle.inverse_inertia_a.Times(Cross(p.arm_a, impulse));
+    vb += bundle.inverse_mass_b * impulse;
+    wb += bundle.inverse_inertia_b.Times(Cross(p.arm_b, impulse));
+  }
+};
+
+}  // namespace
+
+void WarmStartBundle(ContactBundle& bundle, SolverBody* bodies) {
+  LaneBodies lanes(bodies, bundle);
   for (std::uint32_t j = 0; j < bundle.point_count; ++j) {
     const ContactBundleRows& p = bundle.rows()[j];
-    const WideVec3 impulse =
+    lanes.Apply(
+        bundle, p,
         MulAdd(p.normal_impulse, bundle.normal,
-               MulAdd(p.tangent_impulse[0], bundle.tangent[0], p.tangent_impulse[1] * bundle.tangent[1]));
-    va -= bundle.inverse_mass_a * impulse;
-    wa -= MulAdd(p.normal_impulse, p.response_a[kNormal],
-                 MulAdd(p.tangent_impulse[0], p.response_a[kFirstTangent],
-                        p.tangent_impulse[1] * p.response_a[kSecondTangent]));
-    vb += bundle.inverse_mass_b * impulse;
-    wb += MulAdd(p.normal_impulse, p.response_b[kNormal],
-                 MulAdd(p.tangent_impulse[0], p.response_b[kFirstTangent],
-                        p.tangent_impulse[1] * p.response_b[kSecondTangent]));
+               MulAdd(p.tangent_impulse[0], bundle.tangent[0], p.tangent_impulse[1] * bundle.tangent[1])));
   }
-  ScatterVelocities(bodies, bundle.body_a, bundle.dynamic_a, va, wa);
-  ScatterVelocities(bodies, bundle.body_b, bundle.dynamic_b, vb, wb);
+  lanes.Scatter(bodies, bundle);
 }
 
 void SolveBundleVelocity(ContactBundle& bundle, SolverBody* bodies, bool reverse) {
-  WideVec3 va, wa, vb, wb;
-  GatherVelocities(bodies, bundle.body_a, va, wa);
-  GatherVelocities(bodies, bundle.body_b, vb, wb);
-  const WideFloat inverse_mass_a = bundle.inverse_mass_a, inverse_mass_b = bundle.inverse_mass_b;
+  LaneBodies lanes(bodies, bundle);
   const int count = static_cast<int>(bundle.point_count);
   ContactBundleRows* rows = bundle.rows();
-  // A lane without point j has zero rows and masses there, so the point changes nothing in that lane.
   for (int k = 0; k < count; ++k) {
     ContactBundleRows& p = rows[reverse ? count - 1 - k : k];
     const WideFloat limit = bundle.friction * p.normal_impulse;
-    const WideVec3 relative = vb - va;
-    const WideFloat first_velocity = Dot(bundle.tangent[0], relative) + Dot(p.angular_b[kFirstTangent], wb) -
-                                     Dot(p.angular_a[kFirstTangent], wa);
-    const WideFloat second_velocity = Dot(bundle.tangent[1], relative) +
-                                      Dot(p.angular_b[kSecondTangent], wb) -
-                                      Dot(p.angular_a[kSecondTangent], wa);
+    const WideVec3 relative = lanes.Relative(p);
     const WideFloat old_first = p.tangent_impulse[0], old_second = p.tangent_impulse[1];
-    WideFloat first = old_first - p.tangent_mass * first_velocity;
-    WideFloat second = old_second - p.tangent_mass * second_velocity;
+    WideFloat first = old_first - p.tangent_mass * Dot(bundle.tangent[0], relative);
+    WideFloat second = old_second - p.tangent_mass * Dot(bundle.tangent[1], relative);
     const WideFloat length2 = MulAdd(first, first, second * second);
     const WideFloat scale = Select(Greater(length2, limit * limit),
                                    limit / Sqrt(Max(length2, WideFloat(1e-30f))), WideFloat(1.0f));
@@ -275,27 +259,17 @@ void SolveBundleVelocity(ContactBundle& bundle, SolverBody* bodies, bool reverse
     second = second * scale;
     p.tangent_impulse[0] = first;
     p.tangent_impulse[1] = second;
-    const WideFloat delta_first = first - old_first, delta_second = second - old_second;
-    const WideVec3 impulse = MulAdd(delta_first, bundle.tangent[0], delta_second * bundle.tangent[1]);
-    va -= inverse_mass_a * impulse;
-    wa -= MulAdd(delta_first, p.response_a[kFirstTangent], delta_second * p.response_a[kSecondTangent]);
-    vb += inverse_mass_b * impulse;
-    wb += MulAdd(delta_first, p.response_b[kFirstTangent], delta_second * p.response_b[kSecondTangent]);
+    lanes.Apply(bundle, p,
+                MulAdd(first - old_first, bundle.tangent[0], (second - old_second) * bundle.tangent[1]));
   }
   for (int k = 0; k < count; ++k) {
     ContactBundleRows& p = rows[reverse ? count - 1 - k : k];
-    const WideFloat velocity =
-        Dot(bundle.normal, vb - va) + Dot(p.angular_b[kNormal], wb) - Dot(p.angular_a[kNormal], wa);
+    const WideFloat velocity = Dot(bundle.normal, lanes.Relative(p));
     const WideFloat old_impulse = p.normal_impulse;
     p.normal_impulse = Max(WideFloat::Zero(), old_impulse - (velocity - p.target_velocity) * p.normal_mass);
-    const WideFloat delta = p.normal_impulse - old_impulse;
-    va -= (inverse_mass_a * delta) * bundle.normal;
-    wa -= delta * p.response_a[kNormal];
-    vb += (inverse_mass_b * delta) * bundle.normal;
-    wb += delta * p.response_b[kNormal];
+    lanes.Apply(bundle, p, (p.normal_impulse - old_impulse) * bundle.normal);
   }
-  ScatterVelocities(bodies, bundle.body_a, bundle.dynamic_a, va, wa);
-  ScatterVelocities(bodies, bundle.body_b, bundle.dynamic_b, vb, wb);
+  lanes.Scatter(bodies, bundle);
 }
 
 void StoreBundleImpulses(const ContactBundle& bundle) {
@@ -317,14 +291,13 @@ void StoreBundleImpulses(const ContactBundle& bundle) {
   }
 }
 
-float SolveBundlePosition(const ContactBundle& bundle, const SolverBody* bodies, SolverPose* poses,
-                          const PhysicsSettings& settings) {
+float SolveBundlePosition(const ContactBundle& bundle, SolverPose* poses, const PhysicsSettings& settings) {
   WideVec3 center_a, center_b;
   WideQuat rotation_a, rotation_b;
   GatherPoses(poses, bundle.body_a, center_a, rotation_a);
   GatherPoses(poses, bundle.body_b, center_b, rotation_b);
-  const WideInertia inertia_a = GatherInertia(bodies, bundle.body_a);
-  const WideInertia inertia_b = GatherInertia(bodies, bundle.body_b);
+  const WideSymmetric3& inertia_a = bundle.inverse_inertia_a;
+  const WideSymmetric3& inertia_b = bundle.inverse_inertia_b;
   const WideFloat baumgarte(settings.baumgarte), slop(settings.penetration_slop);
   const WideFloat max_correction(-settings.max_position_correction);
   const WideFloat inverse_masses = bundle.inverse_mass_a + bundle.inverse_mass_b;

@@ -1,9 +1,13 @@
 // ContactBundle: the contact constraints of one parallel split solved together, one per SIMD lane (as in
 // Box2D v3's wide contact solver). A split never has two constraints that move the same body, so the lanes
-// are independent: each lane runs exactly the sequence ContactSolver runs for its constraint (friction on
-// the circle, then non-penetration, points alternating direction per pass), only a register at a time and
-// with the Jacobian rows stored lane by lane. Bodies are gathered into lanes at the start of a pass and
-// scattered back (dynamic sides only) at its end. A bundle belongs to one job at a time.
+// are independent: each lane runs the sequence ContactSolver runs for its constraint (friction on the
+// circle, then non-penetration, points alternating direction per pass), a register of lanes at a time.
+// The lanes are stored compactly, as Box2D stores its anchors: per point only the lever arms, masses, target
+// and impulses; a row's velocity is the contact point's relative velocity along the axis, and an impulse
+// turns a body by its inverse inertia times (arm x impulse), with the two inverse inertias kept once per
+// bundle. The solve then streams a third of the bytes precomputed Jacobians would need. Bodies are gathered
+// into lanes at the start of a pass and scattered back (dynamic sides only) at its end. A bundle belongs to
+// one job at a time.
 #pragma once
 
 #include <cstdint>
@@ -15,17 +19,24 @@
 
 namespace strata {
 
-/// Velocity rows of point j of the bundle's constraints: [0] the normal, [1] and [2] the friction axes.
+/// Velocity-pass data of point j of the bundle's constraints.
 struct ContactBundleRows {
-  WideVec3 angular_a[3];
-  WideVec3 angular_b[3];
-  WideVec3 response_a[3];
-  WideVec3 response_b[3];
+  WideVec3 arm_a;  ///< from A's centre of mass to the point on A, world, at the start of the step
+  WideVec3 arm_b;
   WideFloat normal_mass;
-  WideFloat tangent_mass;
+  WideFloat tangent_mass;  ///< one mass for both friction axes
   WideFloat target_velocity;
   WideFloat normal_impulse;
   WideFloat tangent_impulse[2];
+};
+
+/// A symmetric 3x3 matrix per lane: an inverse inertia in world space.
+struct WideSymmetric3 {
+  WideFloat xx, xy, xz, yy, yz, zz;
+  WideVec3 Times(const WideVec3& v) const {
+    return {MulAdd(xx, v.x, MulAdd(xy, v.y, xz * v.z)), MulAdd(xy, v.x, MulAdd(yy, v.y, yz * v.z)),
+            MulAdd(xz, v.x, MulAdd(yz, v.y, zz * v.z))};
+  }
 };
 
 /// Position-pass data of point j of the bundle's constraints.
@@ -43,6 +54,8 @@ struct alignas(alignof(WideFloat)) ContactBundle {
   WideFloat friction;
   WideFloat inverse_mass_a;
   WideFloat inverse_mass_b;
+  WideSymmetric3 inverse_inertia_a;  ///< zero for sides the solver does not move
+  WideSymmetric3 inverse_inertia_b;
   ContactConstraint* constraints[kLanes];  ///< null in empty lanes
   std::uint32_t body_a[kLanes];            ///< solver bodies (the fixed body 0 in empty lanes)
   std::uint32_t body_b[kLanes];
@@ -69,8 +82,8 @@ void WarmStartBundle(ContactBundle& bundle, SolverBody* bodies);
 void SolveBundleVelocity(ContactBundle& bundle, SolverBody* bodies, bool reverse);
 /// Leaves the accumulated impulses in each constraint's cache entry.
 void StoreBundleImpulses(const ContactBundle& bundle);
-/// One non-linear position pass over each lane's constraint; returns the deepest penetration seen (m, <= 0).
-float SolveBundlePosition(const ContactBundle& bundle, const SolverBody* bodies, SolverPose* poses,
-                          const PhysicsSettings& settings);
+/// One non-linear position pass over each lane's constraint (against the inverse inertias at setup);
+/// returns the deepest penetration seen (m, <= 0).
+float SolveBundlePosition(const ContactBundle& bundle, SolverPose* poses, const PhysicsSettings& settings);
 
 }  // namespace strata

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 
 #include "physics/core/BlockArena.h"
 #include "physics/narrowphase/BodyPairCache.h"
@@ -47,23 +48,29 @@ struct ContactConstraint {
   }
 };
 
+/// A manifold point as the constraint builder takes it: each body's lever arm to it and the gap there.
+struct ContactArms {
+  Vec3 r_a;          ///< from A's centre of mass to the point on A
+  Vec3 r_b;          ///< from B's centre of mass to the point on B
+  float separation;  ///< along the normal; < 0 where the bodies overlap
+};
+
 /// One side of a manifold as the constraint builder needs it.
 struct ContactSide {
   std::uint32_t solver_index;  ///< 0 = the fixed body (static, sleeping, or not moved by the solver)
   bool dynamic;
   const SolverBody* body;  ///< velocities (after forces) of the solver body
   Vec3 center_of_mass;     ///< world, the body's own even when it stands in as the fixed body
-  Quat rotation;
-  float gravity_factor;  ///< 0 unless dynamic
+  float gravity_factor;    ///< 0 unless dynamic
 };
 
-/// Builds the constraint for `manifold` in `arena`: lever arms, targets (restitution above
-/// min_velocity_for_restitution, or closing the speculative gap), bounce shift, warm-start impulses.
-/// `cache` holds the points in each body's frame and last step's impulses, in manifold order.
-ContactConstraint* BuildContactConstraint(BlockArena& arena, const ContactManifold& manifold,
-                                          const ContactSide& a, const ContactSide& b, float friction,
-                                          float restitution, CachedManifold* cache, float dt,
-                                          const PhysicsSettings& settings);
+/// Builds the constraint for a manifold (unit normal A to B, its points) in `arena`: targets (restitution
+/// above min_velocity_for_restitution, or closing the speculative gap), bounce shift, warm-start impulses.
+/// `cache` holds the points in each body's frame and last step's impulses, in the same order.
+ContactConstraint* BuildContactConstraint(BlockArena& arena, const Vec3& normal,
+                                          std::span<const ContactArms> points, const ContactSide& a,
+                                          const ContactSide& b, float friction, float restitution,
+                                          CachedManifold* cache, float dt, const PhysicsSettings& settings);
 
 /// Moves bouncing bodies back by the travel a mid-step impact would not have made (after integration).
 void ApplyContactBounceShift(const ContactConstraint& constraint, const SolverBody* bodies,

@@ -43,6 +43,15 @@ class IslandBuilder {
   }
   /// Offset of the island's first constraint in the concatenation of all islands' constraint lists.
   std::uint32_t constraint_offset(std::uint32_t island) const { return island_constraint_begin_[island]; }
+  /// The bodies of islands [first, end), island after island.
+  std::span<const std::uint32_t> bodies(std::uint32_t first, std::uint32_t end) const {
+    return std::span(island_bodies_)
+        .subspan(island_body_begin_[first], island_body_begin_[end] - island_body_begin_[first]);
+  }
+  /// How many constraints islands [first, end) have.
+  std::uint32_t constraint_count(std::uint32_t first, std::uint32_t end) const {
+    return island_constraint_begin_[end] - island_constraint_begin_[first];
+  }
 
   /// Lowest body of `body`'s island so far (lock-free; shortens the path it walked). For tests and profiles.
   std::uint32_t FindLowest(std::uint32_t body, std::uint32_t* hops = nullptr);

@@ -1,6 +1,7 @@
 #include "physics/solver/IslandSolver.h"
 
 #include <algorithm>
+#include <thread>
 
 #include "physics/core/Atomics.h"
 
@@ -12,9 +13,10 @@ namespace strata {
 
 namespace {
 
-constexpr std::uint32_t kNotLarge = 0xffffffffu;
 constexpr std::uint32_t kBundleBatch = 16 / ContactBundle::kLanes;  // sixteen constraints
 constexpr std::uint32_t kBodyBatch = 64;
+// Idle laps (a pause each, about a microsecond in all) before a waiting job yields its core.
+constexpr std::uint32_t kSpinsBeforeYield = 64;
 
 void CpuRelax() {
 #if defined(__x86_64__) || defined(__i386__)
@@ -30,21 +32,31 @@ void IslandSolver::BeginStep(const Input& input, std::uint32_t job_count) {
   const std::uint32_t island_count = islands.island_count();
   ordered_.resize(input.constraints.size());
   body_masks_.resize(input.solver_body_count);
-  large_of_island_.assign(island_count, kNotLarge);
-  small_islands_.clear();
-  large_count_ = 0;
-  for (std::uint32_t island = 0; island < island_count; ++island) {
-    if (islands.constraints(island).size() >= LargeIslandSplitter::kMinConstraintsToSplit)
-      large_of_island_[island] = large_count_++;
-    else
-      small_islands_.push_back(island);
+  // Groups: a large island alone, or consecutive small islands until they hold kGroupConstraints.
+  auto form_groups = [&](auto&& add) {
+    std::uint32_t island = 0;
+    while (island < island_count) {
+      const std::uint32_t first = island;
+      if (islands.constraint_count(island, island + 1) >= LargeIslandSplitter::kMinConstraintsToSplit) {
+        add(first, ++island);
+        continue;
+      }
+      std::uint32_t total = 0;
+      while (island < island_count && total < kGroupConstraints &&
+             islands.constraint_count(island, island + 1) < LargeIslandSplitter::kMinConstraintsToSplit)
+        total += islands.constraint_count(island, island + 1), ++island;
+      add(first, island);
+    }
+  };
+  std::uint32_t count = 0;
+  form_groups([&](std::uint32_t, std::uint32_t) { ++count; });
+  if (count > group_capacity_) {
+    group_capacity_ = count;
+    groups_ = std::make_unique<Group[]>(group_capacity_);
   }
-  if (large_count_ > large_capacity_) {
-    large_capacity_ = large_count_;
-    large_ = std::make_unique<SplitIsland[]>(large_capacity_);
-  }
-  next_small_.store(0, std::memory_order_relaxed);
-  large_finished_.store(0, std::memory_order_relaxed);
+  group_count_ = 0;
+  form_groups([&](std::uint32_t first, std::uint32_t end) { AddGroup(first, end); });
+  groups_finished_.store(0, std::memory_order_relaxed);
   if (jobs_.size() < job_count) jobs_.resize(job_count);
   for (JobState& job : jobs_) {
     job.arena.Reset();
@@ -52,57 +64,61 @@ void IslandSolver::BeginStep(const Input& input, std::uint32_t job_count) {
   }
 }
 
-std::span<ContactConstraint*> IslandSolver::OrderedConstraints(std::uint32_t island) {
-  return std::span(ordered_).subspan(input_.islands->constraint_offset(island),
-                                     input_.islands->constraints(island).size());
+void IslandSolver::AddGroup(std::uint32_t first_island, std::uint32_t end_island) {
+  Group& group = groups_[group_count_++];
+  group.first_island = first_island;
+  group.end_island = end_island;
+  group.first_constraint = input_.islands->constraint_offset(first_island);
 }
 
-void IslandSolver::PrepareIsland(std::uint32_t island, std::uint32_t job_index) {
-  const std::span<const std::uint32_t> indices = input_.islands->constraints(island);
-  const std::span<ContactConstraint*> ordered = OrderedConstraints(island);
-  for (std::size_t k = 0; k < indices.size(); ++k) ordered[k] = input_.constraints[indices[k]];
-  const std::uint32_t large_index = large_of_island_[island];
-  if (large_index == kNotLarge) return;
+void IslandSolver::PrepareGroup(std::uint32_t group_index, std::uint32_t job_index) {
+  Group& group = groups_[group_index];
+  const IslandBuilder& islands = *input_.islands;
+  const std::uint32_t constraint_count = islands.constraint_count(group.first_island, group.end_island);
+  const std::span<ContactConstraint*> ordered =
+      std::span(ordered_).subspan(group.first_constraint, constraint_count);
+  std::size_t k = 0;
+  for (std::uint32_t island = group.first_island; island < group.end_island; ++island)
+    for (const std::uint32_t index : islands.constraints(island)) ordered[k++] = input_.constraints[index];
 
   JobState& job = jobs_[job_index];
-  for (const std::uint32_t body : input_.islands->bodies(island)) body_masks_[body + 1] = 0;
-  SplitIsland& split = large_[large_index];
-  split.island = island;
-  split.splits = LargeIslandSplitter::Split(ordered, body_masks_.data(), job.split_of, job.scratch);
-  const std::uint32_t splits = split.splits.split_count;
-  const std::uint32_t parallel_splits = splits - (split.splits.last_is_sequential ? 1 : 0);
+  for (const std::uint32_t body : islands.bodies(group.first_island, group.end_island))
+    body_masks_[body + 1] = 0;
+  group.splits = LargeIslandSplitter::Split(ordered, body_masks_.data(), job.split_of, job.scratch);
+  const std::uint32_t splits = group.splits.split_count;
+  const std::uint32_t parallel_splits = splits - (group.splits.last_is_sequential ? 1 : 0);
   // Bundles of consecutive constraints of a parallel split; set up later, in the setup round.
-  split.bundle_count = 0;
+  group.bundle_count = 0;
   for (std::uint32_t s = 0; s < parallel_splits; ++s)
-    split.bundle_count += (split.splits.begin[s + 1] - split.splits.begin[s] + ContactBundle::kLanes - 1) /
+    group.bundle_count += (group.splits.begin[s + 1] - group.splits.begin[s] + ContactBundle::kLanes - 1) /
                           ContactBundle::kLanes;
-  split.bundles = job.arena.AllocateArray<ContactBundle*>(split.bundle_count);
+  group.bundles = job.arena.AllocateArray<ContactBundle*>(group.bundle_count);
   std::uint32_t bundle = 0;
   for (std::uint32_t s = 0; s < parallel_splits; ++s) {
-    split.bundle_begin[s] = bundle;
-    for (std::uint32_t k = split.splits.begin[s]; k < split.splits.begin[s + 1]; k += ContactBundle::kLanes) {
-      const std::uint32_t end = std::min(k + ContactBundle::kLanes, split.splits.begin[s + 1]);
-      split.bundles[bundle++] = AllocateBundle(job.arena, ordered.subspan(k, end - k));
+    group.bundle_begin[s] = bundle;
+    for (std::uint32_t c = group.splits.begin[s]; c < group.splits.begin[s + 1]; c += ContactBundle::kLanes) {
+      const std::uint32_t end = std::min<std::uint32_t>(c + ContactBundle::kLanes, group.splits.begin[s + 1]);
+      group.bundles[bundle++] = AllocateBundle(job.arena, ordered.subspan(c, end - c));
     }
   }
-  split.bundle_begin[parallel_splits] = bundle;
-  split.sequential_count = 0;
-  if (split.splits.last_is_sequential) {
-    split.sequential = ordered.data() + split.splits.begin[parallel_splits];
-    split.sequential_count = split.splits.begin[splits] - split.splits.begin[parallel_splits];
-    split.sequential_contacts = job.arena.AllocateArray<SolverContact*>(split.sequential_count);
+  group.bundle_begin[parallel_splits] = bundle;
+  group.sequential_count = 0;
+  if (group.splits.last_is_sequential) {
+    group.sequential = ordered.data() + group.splits.begin[parallel_splits];
+    group.sequential_count = group.splits.begin[splits] - group.splits.begin[parallel_splits];
+    group.sequential_contacts = job.arena.AllocateArray<SolverContact*>(group.sequential_count);
   }
-  split.has_bounce = std::any_of(ordered.begin(), ordered.end(),
+  group.has_bounce = std::any_of(ordered.begin(), ordered.end(),
                                  [](const ContactConstraint* c) { return c->bounce_shift > 0.0f; });
   const auto velocity = static_cast<std::uint32_t>(input_.settings->velocity_iterations);
   const auto position = static_cast<std::uint32_t>(input_.settings->position_iterations);
-  split.round_count =
-      1 + splits + velocity * splits + 1 + (split.has_bounce ? splits : 0) + position * splits;
-  split.processed.store(0, std::memory_order_relaxed);
-  split.status.store(0, std::memory_order_release);
+  group.round_count =
+      1 + splits + velocity * splits + 1 + (group.has_bounce ? splits : 0) + position * splits;
+  group.processed.store(0, std::memory_order_relaxed);
+  group.status.store(0, std::memory_order_release);
 }
 
-IslandSolver::Round IslandSolver::Describe(const SplitIsland& split, std::uint32_t round) const {
+IslandSolver::Round IslandSolver::Describe(const Group& split, std::uint32_t round) const {
   const std::uint32_t splits = split.splits.split_count;
   if (round == 0) return {RoundKind::kSetup, 0, 0};
   round -= 1;
@@ -123,12 +139,12 @@ IslandSolver::Round IslandSolver::Describe(const SplitIsland& split, std::uint32
   return {RoundKind::kPosition, round % splits, static_cast<int>(round / splits)};
 }
 
-std::uint32_t IslandSolver::RoundItems(const SplitIsland& split, const Round& round) const {
+std::uint32_t IslandSolver::RoundItems(const Group& split, const Round& round) const {
   switch (round.kind) {
     case RoundKind::kSetup:
       return split.bundle_count + (split.sequential_count > 0 ? 1 : 0);
     case RoundKind::kIntegrate:
-      return static_cast<std::uint32_t>(input_.islands->bodies(split.island).size());
+      return static_cast<std::uint32_t>(input_.islands->bodies(split.first_island, split.end_island).size());
     default:
       // The sequential split is one item: its constraints share bodies, so one thread takes them in order.
       return IsSequential(split, round.split)
@@ -151,29 +167,7 @@ void IslandSolver::Integrate(std::uint32_t island_body) const {
   pose.rotation.normalize();
 }
 
-void IslandSolver::SolveSmallIsland(std::uint32_t island, JobState& job) {
-  const PhysicsSettings& settings = *input_.settings;
-  const std::span<ContactConstraint*> constraints = OrderedConstraints(island);
-  SolverBody* bodies = input_.bodies;
-  SolverContact** contacts = job.arena.AllocateArray<SolverContact*>(constraints.size());
-  for (std::size_t k = 0; k < constraints.size(); ++k)
-    contacts[k] = SetupSolverContact(job.arena, *constraints[k], bodies);
-  const std::span<SolverContact*> set_up(contacts, constraints.size());
-  for (const SolverContact* c : set_up) WarmStartContact(*c, bodies);
-  for (int pass = 0; pass < settings.velocity_iterations; ++pass)
-    for (SolverContact* c : set_up) SolveContactVelocity(*c, bodies, (pass & 1) != 0);
-  for (const SolverContact* c : set_up) StoreContactImpulses(*c);
-  for (const std::uint32_t body : input_.islands->bodies(island)) Integrate(body);
-  for (const ContactConstraint* c : constraints) ApplyContactBounceShift(*c, bodies, input_.poses);
-  for (int pass = 0; pass < settings.position_iterations; ++pass) {
-    float deepest = 0.0f;
-    for (const ContactConstraint* c : constraints)
-      deepest = std::min(deepest, SolveContactPosition(*c, bodies, input_.poses, settings));
-    if (pass + 1 == settings.position_iterations) job.deepest = std::min(job.deepest, deepest);
-  }
-}
-
-void IslandSolver::RunBatch(SplitIsland& split, const Round& round, std::uint32_t begin, std::uint32_t end,
+void IslandSolver::RunBatch(Group& split, const Round& round, std::uint32_t begin, std::uint32_t end,
                             JobState& job) {
   const PhysicsSettings& settings = *input_.settings;
   SolverBody* bodies = input_.bodies;
@@ -190,7 +184,8 @@ void IslandSolver::RunBatch(SplitIsland& split, const Round& round, std::uint32_
     return;
   }
   if (round.kind == RoundKind::kIntegrate) {
-    const std::span<const std::uint32_t> island_bodies = input_.islands->bodies(split.island);
+    const std::span<const std::uint32_t> island_bodies =
+        input_.islands->bodies(split.first_island, split.end_island);
     for (std::uint32_t i = begin; i < end; ++i) Integrate(island_bodies[i]);
     return;
   }
@@ -240,7 +235,7 @@ void IslandSolver::RunBatch(SplitIsland& split, const Round& round, std::uint32_
           if (c != nullptr) ApplyContactBounceShift(*c, bodies, poses);
         break;
       case RoundKind::kPosition:
-        deepest = std::min(deepest, SolveBundlePosition(bundle, bodies, poses, settings));
+        deepest = std::min(deepest, SolveBundlePosition(bundle, poses, settings));
         break;
       default:
         break;
@@ -249,49 +244,65 @@ void IslandSolver::RunBatch(SplitIsland& split, const Round& round, std::uint32_
   if (round.kind == RoundKind::kPosition && last_position_pass) job.deepest = std::min(job.deepest, deepest);
 }
 
-bool IslandSolver::TryRunBatch(SplitIsland& split, JobState& job) {
-  std::uint64_t status = split.status.load(std::memory_order_acquire);
+IslandSolver::BatchResult IslandSolver::TryRunBatch(Group& group, JobState& job) {
+  std::uint64_t status = group.status.load(std::memory_order_acquire);
   while (true) {
     const auto round_index = static_cast<std::uint32_t>(status >> 32);
-    if (round_index >= split.round_count) return false;
-    const Round round = Describe(split, round_index);
-    const std::uint32_t items = RoundItems(split, round);
+    if (round_index >= group.round_count) return BatchResult::kDone;
+    const Round round = Describe(group, round_index);
+    const std::uint32_t items = RoundItems(group, round);
     const auto item = static_cast<std::uint32_t>(status);
-    if (item >= items) return false;  // every batch of this round is taken; wait for the round to end
+    if (items == 0) {
+      // Nothing to do in this round (a group without constraints has no setup): step over it.
+      const std::uint64_t next = static_cast<std::uint64_t>(round_index + 1) << 32;
+      if (group.status.compare_exchange_weak(status, next, std::memory_order_acq_rel,
+                                             std::memory_order_acquire) &&
+          round_index + 1 == group.round_count)
+        groups_finished_.fetch_add(1, std::memory_order_release);
+      continue;
+    }
+    if (item >= items) return BatchResult::kWaiting;  // every batch of this round is taken
     const std::uint32_t batch = round.kind == RoundKind::kIntegrate ? kBodyBatch : kBundleBatch;
     const std::uint32_t take = std::min(batch, items - item);
-    if (!split.status.compare_exchange_weak(status, status + take, std::memory_order_acquire,
+    if (!group.status.compare_exchange_weak(status, status + take, std::memory_order_acquire,
                                             std::memory_order_acquire))
       continue;
-    RunBatch(split, round, item, item + take, job);
+    RunBatch(group, round, item, item + take, job);
     // The last batch of a round opens the next one; the release publishes every batch's writes to it.
-    if (split.processed.fetch_add(take, std::memory_order_acq_rel) + take == items) {
-      split.processed.store(0, std::memory_order_relaxed);
+    if (group.processed.fetch_add(take, std::memory_order_acq_rel) + take == items) {
+      group.processed.store(0, std::memory_order_relaxed);
       const std::uint32_t next = round_index + 1;
-      split.status.store(static_cast<std::uint64_t>(next) << 32, std::memory_order_release);
-      if (next == split.round_count) large_finished_.fetch_add(1, std::memory_order_release);
+      group.status.store(static_cast<std::uint64_t>(next) << 32, std::memory_order_release);
+      if (next == group.round_count) groups_finished_.fetch_add(1, std::memory_order_release);
     }
-    return true;
+    return BatchResult::kRan;
   }
 }
 
 void IslandSolver::SolveJob(std::uint32_t job_index) {
   JobState& job = jobs_[job_index];
-  const auto small_count = static_cast<std::uint32_t>(small_islands_.size());
-  while (true) {
-    bool worked = false;
-    for (std::uint32_t i = 0; i < large_count_ && !worked; ++i) worked = TryRunBatch(large_[i], job);
-    if (worked) continue;
-    const std::uint32_t next = next_small_.load(std::memory_order_relaxed) < small_count
-                                   ? next_small_.fetch_add(1, std::memory_order_relaxed)
-                                   : small_count;
-    if (next < small_count) {
-      SolveSmallIsland(small_islands_[next], job);
+  if (group_count_ == 0) return;
+  // Jobs start spread over the groups and stay on a group while it has work, so they rarely meet.
+  const auto job_count = static_cast<std::uint32_t>(jobs_.size());
+  std::uint32_t cursor = static_cast<std::uint32_t>(static_cast<std::uint64_t>(job_index % job_count) *
+                                                    group_count_ / job_count);
+  std::uint32_t idle_visits = 0;
+  std::uint32_t idle_laps = 0;
+  while (groups_finished_.load(std::memory_order_acquire) < group_count_) {
+    const BatchResult result = TryRunBatch(groups_[cursor], job);
+    if (result == BatchResult::kRan) {
+      idle_visits = idle_laps = 0;
       continue;
     }
-    if (large_finished_.load(std::memory_order_acquire) == large_count_) return;
-    // Only batches other running jobs have claimed are left: their rounds end soon.
-    CpuRelax();
+    cursor = cursor + 1 == group_count_ ? 0 : cursor + 1;
+    if (++idle_visits < group_count_) continue;
+    // A full lap with nothing to take: only rounds other running jobs hold are left, and they end soon,
+    // unless the thread holding one was preempted; then give it the core instead of spinning on.
+    idle_visits = 0;
+    if (++idle_laps < kSpinsBeforeYield)
+      CpuRelax();
+    else
+      std::this_thread::yield();
   }
 }
 
@@ -301,9 +312,16 @@ float IslandSolver::deepest_penetration() const {
   return deepest;
 }
 
+std::uint32_t IslandSolver::merged_group_count() const {
+  std::uint32_t merged = 0;
+  for (std::uint32_t i = 0; i < group_count_; ++i)
+    merged += groups_[i].end_island - groups_[i].first_island > 1;
+  return merged;
+}
+
 std::uint32_t IslandSolver::max_split_count() const {
   std::uint32_t most = 0;
-  for (std::uint32_t i = 0; i < large_count_; ++i) most = std::max(most, large_[i].splits.split_count);
+  for (std::uint32_t i = 0; i < group_count_; ++i) most = std::max(most, groups_[i].splits.split_count);
   return most;
 }
 

@@ -1,11 +1,13 @@
-// IslandSolver: solves the step's islands in parallel. Small islands go whole to one job, one constraint at a
-// time (ContactSolver: setup, warm start, velocity passes, store impulses, integrate, bounce shifts,
-// position passes). Large ones are split (LargeIslandSplitter); a parallel split's constraints are solved
-// a register of lanes at a time (ContactBundle), its sequential split one at a time, and every job helps with
-// them one batch at a time: each stage of the island's solve (setup, one split of one pass, integration) is a
-// round, a round's batches may run on any thread, and the thread finishing a round's last batch opens the
-// next one. The result is the same for any thread count. BeginStep runs alone; PrepareIsland and SolveJob run
-// from the step's jobs.
+// IslandSolver: solves the step's islands in parallel. Islands are solved in groups: a large island is a
+// group of its own, and runs of consecutive small islands form groups of about the same size. A group's
+// constraints are split (LargeIslandSplitter) so that no two in one parallel split move the same body: a
+// parallel split is solved a register of lanes at a time (ContactBundle), the sequential split one
+// constraint at a time (ContactSolver). Each stage of a group's solve (setup, warm start per split, a
+// velocity pass per split, integration, bounce shifts, a position pass per split) is a round; a round's
+// batches may run on any job, and the job finishing a round's last batch opens the next one. Constraints
+// of different small islands share no body, so grouping them changes no island's solve order, only fills
+// the lanes. The result is the same for any thread count.
+// BeginStep runs alone; PrepareGroup and SolveJob run from the step's jobs.
 #pragma once
 
 #include <atomic>
@@ -26,6 +28,9 @@ namespace strata {
 /// Parallel island solve of one step.
 class IslandSolver {
  public:
+  /// A run of small islands closes once it has this many constraints.
+  static constexpr std::uint32_t kGroupConstraints = LargeIslandSplitter::kMinConstraintsToSplit;
+
   /// What a step's solve needs; the arrays stay owned by the caller.
   struct Input {
     const IslandBuilder* islands;
@@ -37,18 +42,20 @@ class IslandSolver {
     const PhysicsSettings* settings;
   };
 
-  /// Starts a step's solve with `job_count` jobs per stage.
+  /// Starts a step's solve with `job_count` jobs per stage and forms the groups.
   void BeginStep(const Input& input, std::uint32_t job_count);
 
-  /// Orders island `island`'s constraints and splits it if it is large (one island per call, any job).
-  void PrepareIsland(std::uint32_t island, std::uint32_t job);
-  /// After every PrepareIsland: solves islands and split-island batches until none is left (one per job).
+  std::uint32_t group_count() const { return group_count_; }
+  /// Orders group `group`'s constraints and splits them (one group per call, any job).
+  void PrepareGroup(std::uint32_t group, std::uint32_t job);
+  /// After every PrepareGroup: solves batches of any group until every group is done (one call per job).
   void SolveJob(std::uint32_t job);
 
   /// Deepest penetration the last position pass saw (m, <= 0), once every SolveJob has returned.
   float deepest_penetration() const;
-  std::uint32_t split_island_count() const { return large_count_; }
-  /// Splits the largest split island used (0 if none), for profiles.
+  /// Groups that hold more than one island.
+  std::uint32_t merged_group_count() const;
+  /// Splits of the most split group (0 if none), for profiles.
   std::uint32_t max_split_count() const;
 
  private:
@@ -58,8 +65,10 @@ class IslandSolver {
     std::uint32_t split;
     int iteration;
   };
-  struct SplitIsland {
-    std::uint32_t island = 0;
+  struct Group {
+    std::uint32_t first_island = 0;
+    std::uint32_t end_island = 0;
+    std::uint32_t first_constraint = 0;  // offset in ordered_
     IslandSplits splits;
     ContactBundle** bundles = nullptr;  // the parallel splits' bundles, split after split
     std::uint32_t bundle_begin[IslandSplits::kMaxSplits + 1] = {};
@@ -78,29 +87,25 @@ class IslandSolver {
     std::vector<ContactConstraint*> scratch;
     float deepest = 0.0f;
   };
+  enum class BatchResult { kRan, kWaiting, kDone };
 
-  void SolveSmallIsland(std::uint32_t island, JobState& job);
-  bool TryRunBatch(SplitIsland& split, JobState& job);
-  Round Describe(const SplitIsland& split, std::uint32_t round) const;
-  std::uint32_t RoundItems(const SplitIsland& split, const Round& round) const;
-  void RunBatch(SplitIsland& split, const Round& round, std::uint32_t begin, std::uint32_t end,
-                JobState& job);
-  bool IsSequential(const SplitIsland& split, std::uint32_t s) const {
-    return split.splits.last_is_sequential && s + 1 == split.splits.split_count;
+  BatchResult TryRunBatch(Group& group, JobState& job);
+  Round Describe(const Group& group, std::uint32_t round) const;
+  std::uint32_t RoundItems(const Group& group, const Round& round) const;
+  void RunBatch(Group& group, const Round& round, std::uint32_t begin, std::uint32_t end, JobState& job);
+  bool IsSequential(const Group& group, std::uint32_t s) const {
+    return group.splits.last_is_sequential && s + 1 == group.splits.split_count;
   }
+  void AddGroup(std::uint32_t first_island, std::uint32_t end_island);
   void Integrate(std::uint32_t island_body) const;
-  std::span<ContactConstraint*> OrderedConstraints(std::uint32_t island);
 
   Input input_{};
   std::vector<ContactConstraint*> ordered_;  // every island's constraints, island after island
   std::vector<std::uint32_t> body_masks_;    // LargeIslandSplitter scratch, by solver body
-  std::unique_ptr<SplitIsland[]> large_;
-  std::uint32_t large_capacity_ = 0;
-  std::uint32_t large_count_ = 0;
-  std::vector<std::uint32_t> large_of_island_;  // island -> index in large_, or kNotLarge
-  std::vector<std::uint32_t> small_islands_;
-  std::atomic<std::uint32_t> next_small_{0};
-  std::atomic<std::uint32_t> large_finished_{0};
+  std::unique_ptr<Group[]> groups_;
+  std::uint32_t group_capacity_ = 0;
+  std::uint32_t group_count_ = 0;
+  std::atomic<std::uint32_t> groups_finished_{0};
   std::vector<JobState> jobs_;
 };
 

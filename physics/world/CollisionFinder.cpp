@@ -40,8 +40,7 @@ ContactSide CollisionFinder::ContactInputSide(const Side& side) const {
   contact.solver_index = side.solver_index;
   contact.dynamic = side.dynamic;
   contact.body = &input_.solver_bodies[side.solver_index];
-  contact.center_of_mass = ToVec3(side.pose.center_of_mass);
-  contact.rotation = side.pose.rotation;
+  contact.center_of_mass = side.center_of_mass;
   contact.gravity_factor = side.dynamic ? side.body->gravity_factor() : 0.0f;
   return contact;
 }
@@ -52,11 +51,14 @@ CollisionFinder::Side CollisionFinder::MakeSide(const Body& body) const {
   side.solver_index = input_.solver_index[body.id().index];
   side.dynamic = side.solver_index != 0 && body.IsDynamic();
   if (side.solver_index != 0) {
-    side.pose = input_.solver_poses[side.solver_index];
+    const SolverPose& pose = input_.solver_poses[side.solver_index];
+    side.center_of_mass = ToVec3(pose.center_of_mass);
+    side.rotation = pose.rotation;
   } else {
-    side.pose.center_of_mass = ToVec4(body.CenterOfMass());
-    side.pose.rotation = body.rotation();
+    side.center_of_mass = body.CenterOfMass();
+    side.rotation = body.rotation();
   }
+  side.rotation_matrix = side.rotation.toRotationMatrix();
   return side;
 }
 
@@ -101,9 +103,9 @@ void CollisionFinder::CollidePair(BodyPair pair, BodyPairCache::PreviousPairs& p
   const Side a = MakeSide(swap ? second : first);
   const Side b = MakeSide(swap ? first : second);
 
-  const Quat inverse_a = a.pose.rotation.conjugate();
-  const Vec3 delta_position = inverse_a * ToVec3(b.pose.center_of_mass - a.pose.center_of_mass);
-  const Quat delta_rotation = inverse_a * b.pose.rotation;
+  const Quat inverse_a = a.rotation.conjugate();
+  const Vec3 delta_position = a.rotation_matrix.transpose() * (b.center_of_mass - a.center_of_mass);
+  const Quat delta_rotation = inverse_a * b.rotation;
   const CachedBodyPair* previous = previous_pairs.Find(pair.b);
   if (previous != nullptr && previous->a != a.body->id()) previous = nullptr;  // ordered the other way then
   const bool replay = previous != nullptr &&
@@ -115,20 +117,7 @@ void CollisionFinder::CollidePair(BodyPair pair, BodyPairCache::PreviousPairs& p
                                                 replay ? previous->delta_rotation : delta_rotation);
   if (replay) {
     ++job.stats.pairs_replayed;
-    for (const CachedManifold* cached = previous->manifolds; cached != nullptr; cached = cached->next) {
-      ContactManifold manifold;
-      manifold.sub_shape_b = cached->sub_shape_b;
-      manifold.normal = a.pose.rotation * cached->normal_a;
-      manifold.count = static_cast<int>(cached->point_count);
-      for (int i = 0; i < manifold.count; ++i) {
-        const CachedContactPoint& point = cached->points()[i];
-        ContactPoint& contact = manifold.points[i];
-        contact.position_a = ToVec3(a.pose.center_of_mass) + a.pose.rotation * point.local_a;
-        contact.position_b = ToVec3(b.pose.center_of_mass) + b.pose.rotation * point.local_b;
-        contact.separation = (contact.position_b - contact.position_a).dot(manifold.normal);
-      }
-      AddManifold(manifold, a, b, entry, cached, true, job_index);
-    }
+    ReplayManifolds(*previous, a, b, entry, job_index);
     return;
   }
   const float max_separation =
@@ -144,51 +133,76 @@ void CollisionFinder::CollidePair(BodyPair pair, BodyPairCache::PreviousPairs& p
     for (const CachedManifold* cached = previous ? previous->manifolds : nullptr; cached != nullptr && !match;
          cached = cached->next)
       if (cached->sub_shape_b == manifold.sub_shape_b) match = cached;
-    AddManifold(manifold, a, b, entry, match, false, job_index);
+    AddComputedManifold(manifold, a, b, entry, match, job_index);
   }
 }
 
-void CollisionFinder::AddManifold(const ContactManifold& manifold, const Side& a, const Side& b,
-                                  CachedBodyPair& entry, const CachedManifold* previous, bool replayed,
-                                  std::uint32_t job_index) {
+void CollisionFinder::ReplayManifolds(const CachedBodyPair& previous, const Side& a, const Side& b,
+                                      CachedBodyPair& entry, std::uint32_t job_index) {
+  for (const CachedManifold* old = previous.manifolds; old != nullptr; old = old->next) {
+    CachedManifold& cached =
+        *input_.cache->AddManifold(job_index, entry, old->sub_shape_b, old->normal_a, old->point_count);
+    std::copy(old->points(), old->points() + old->point_count, cached.points());
+    const Vec3 normal = a.rotation_matrix * old->normal_a;
+    ContactArms arms[ContactManifold::kMaxPoints];
+    for (std::uint32_t i = 0; i < old->point_count; ++i) {
+      const CachedContactPoint& point = old->points()[i];
+      arms[i].r_a = a.rotation_matrix * point.local_a;
+      arms[i].r_b = b.rotation_matrix * point.local_b;
+      arms[i].separation = (b.center_of_mass + arms[i].r_b - a.center_of_mass - arms[i].r_a).dot(normal);
+    }
+    AddConstraint(normal, std::span(arms, old->point_count), a, b, cached, job_index);
+  }
+}
+
+void CollisionFinder::AddComputedManifold(const ContactManifold& manifold, const Side& a, const Side& b,
+                                          CachedBodyPair& entry, const CachedManifold* previous,
+                                          std::uint32_t job_index) {
+  const Mat3 to_a = a.rotation_matrix.transpose(), to_b = b.rotation_matrix.transpose();
+  CachedManifold& cached =
+      *input_.cache->AddManifold(job_index, entry, manifold.sub_shape_b, to_a * manifold.normal,
+                                 static_cast<std::uint32_t>(manifold.count));
+  const float match_distance_squared =
+      input_.settings->contact_match_distance * input_.settings->contact_match_distance;
+  ContactArms arms[ContactManifold::kMaxPoints];
+  for (int i = 0; i < manifold.count; ++i) {
+    arms[i] = {manifold.points[i].position_a - a.center_of_mass,
+               manifold.points[i].position_b - b.center_of_mass, manifold.points[i].separation};
+    CachedContactPoint& point = cached.points()[i];
+    point.local_a = to_a * arms[i].r_a;
+    point.local_b = to_b * arms[i].r_b;
+    point.normal_impulse = 0.0f;
+    point.friction_impulse = Vec3::Zero();
+    // Warm start from last step's point at the same place on A, if any.
+    for (std::uint32_t k = 0; previous != nullptr && k < previous->point_count; ++k) {
+      const CachedContactPoint& old = previous->points()[k];
+      if ((old.local_a - point.local_a).squaredNorm() > match_distance_squared) continue;
+      point.normal_impulse = old.normal_impulse;
+      point.friction_impulse = old.friction_impulse;
+      break;
+    }
+  }
+  AddConstraint(manifold.normal, std::span(arms, static_cast<std::size_t>(manifold.count)), a, b, cached,
+                job_index);
+}
+
+void CollisionFinder::AddConstraint(const Vec3& normal, std::span<const ContactArms> arms, const Side& a,
+                                    const Side& b, CachedManifold& cached, std::uint32_t job_index) {
   Job& job = jobs_[job_index];
   const PhysicsSettings& settings = *input_.settings;
   ++job.stats.manifolds;
-  job.stats.contact_points += static_cast<std::size_t>(manifold.count);
-  const Quat inverse_a = a.pose.rotation.conjugate(), inverse_b = b.pose.rotation.conjugate();
-  CachedManifold& cached =
-      *input_.cache->AddManifold(job_index, entry, manifold.sub_shape_b, inverse_a * manifold.normal,
-                                 static_cast<std::uint32_t>(manifold.count));
-  const float match_distance_squared = settings.contact_match_distance * settings.contact_match_distance;
-  for (int i = 0; i < manifold.count; ++i) {
-    CachedContactPoint& point = cached.points()[i];
-    if (replayed) {
-      point = previous->points()[i];
-    } else {
-      point.local_a = inverse_a * (manifold.points[i].position_a - ToVec3(a.pose.center_of_mass));
-      point.local_b = inverse_b * (manifold.points[i].position_b - ToVec3(b.pose.center_of_mass));
-      point.normal_impulse = 0.0f;
-      point.friction_impulse = Vec3::Zero();
-      // Warm start from last step's point at the same place on A, if any.
-      for (std::uint32_t k = 0; previous != nullptr && k < previous->point_count; ++k) {
-        const CachedContactPoint& old = previous->points()[k];
-        if ((old.local_a - point.local_a).squaredNorm() > match_distance_squared) continue;
-        point.normal_impulse = old.normal_impulse;
-        point.friction_impulse = old.friction_impulse;
-        break;
-      }
-    }
-  }
-
+  job.stats.contact_points += arms.size();
   // A sleeping body stays put (the fixed body) this step and wakes, with its island, for the next one.
-  if (manifold.MinSeparation() <= settings.speculative_distance) {
+  float closest = kLargeFloat;
+  for (const ContactArms& point : arms) closest = std::min(closest, point.separation);
+  if (closest <= settings.speculative_distance) {
     if (a.body->sleeping() && b.body->IsActive()) job.wake_keys.push_back(a.body->sleep_island());
     if (b.body->sleeping() && a.body->IsActive()) job.wake_keys.push_back(b.body->sleep_island());
   }
   if (!a.dynamic && !b.dynamic) return;
 
   job.constraints.push_back(BuildContactConstraint(
-      job.arena, manifold, ContactInputSide(a), ContactInputSide(b),
+      job.arena, normal, arms, ContactInputSide(a), ContactInputSide(b),
       std::sqrt(a.body->friction() * b.body->friction()),
       std::max(a.body->restitution(), b.body->restitution()), &cached, input_.dt, settings));
   ++job.stats.constraints;

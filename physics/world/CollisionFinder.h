@@ -81,12 +81,21 @@ class CollisionFinder {
     const Body* body;
     std::uint32_t solver_index;
     bool dynamic;
-    SolverPose pose;
+    Vec3 center_of_mass;
+    Quat rotation;
+    Mat3 rotation_matrix;
   };
 
   void CollidePair(BodyPair pair, BodyPairCache::PreviousPairs& previous_pairs, std::uint32_t job_index);
-  void AddManifold(const ContactManifold& manifold, const Side& a, const Side& b, CachedBodyPair& entry,
-                   const CachedManifold* previous, bool replayed, std::uint32_t job_index);
+  /// Makes last step's manifolds this step's, moved with the bodies.
+  void ReplayManifolds(const CachedBodyPair& previous, const Side& a, const Side& b, CachedBodyPair& entry,
+                       std::uint32_t job_index);
+  /// Takes a freshly computed manifold, warm-started from last step's manifold of the same sub-shape.
+  void AddComputedManifold(const ContactManifold& manifold, const Side& a, const Side& b,
+                           CachedBodyPair& entry, const CachedManifold* previous, std::uint32_t job_index);
+  /// Wakes the sleepers it touches, then builds the constraint and links the islands.
+  void AddConstraint(const Vec3& normal, std::span<const ContactArms> arms, const Side& a, const Side& b,
+                     CachedManifold& cached, std::uint32_t job_index);
   Side MakeSide(const Body& body) const;
   ContactSide ContactInputSide(const Side& side) const;
 

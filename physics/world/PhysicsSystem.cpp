@@ -335,15 +335,14 @@ void PhysicsSystem::FinalizeIslands() {
   input.settings = &settings_;
   island_solver_.BeginStep(input, job_count_);
   const std::uint32_t island_count = islands_.island_count();
-  middle_graph_.SetWidth(prepare_islands_stage_,
-                         std::min(job_count_, (island_count + kIslandChunk - 1) / kIslandChunk));
+  middle_graph_.SetWidth(prepare_islands_stage_, std::min(job_count_, island_solver_.group_count()));
   sleep_key_base_ = next_island_key_.fetch_add(island_count, std::memory_order_relaxed);
   next_chunk_.store(0, std::memory_order_relaxed);
 }
 
 void PhysicsSystem::PrepareIslands(std::uint32_t job) {
-  ForEachChunk(next_chunk_, islands_.island_count(), kIslandChunk,
-               [&](std::uint32_t island) { island_solver_.PrepareIsland(island, job); });
+  ForEachChunk(next_chunk_, island_solver_.group_count(), 1,
+               [&](std::uint32_t group) { island_solver_.PrepareGroup(group, job); });
 }
 
 void PhysicsSystem::SolveIslands(std::uint32_t job) {
@@ -401,7 +400,7 @@ void PhysicsSystem::FinishStep() {
   stats_.island_links = collision.links;
   stats_.island_link_hops = collision.link_hops;
   stats_.islands = islands_.island_count();
-  stats_.split_islands = island_solver_.split_island_count();
+  stats_.solve_groups = island_solver_.group_count();
   stats_.max_splits = island_solver_.max_split_count();
   stats_.max_penetration = -island_solver_.deepest_penetration();
   for (FinishCounters& counters : finish_counters_) {
