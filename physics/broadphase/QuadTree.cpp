@@ -296,10 +296,11 @@ AABB QuadTree::NodeBounds(std::uint32_t node_index) const {
 }
 
 bool QuadTree::CollectForRebuild(std::uint32_t root, bool full, std::vector<Item>& items,
-                                 std::vector<std::uint32_t>& dropped) const {
+                                 std::vector<std::uint32_t>& dropped,
+                                 std::vector<std::uint32_t>& stack) const {
   if (!full && node(root).changed.load(kRelaxed) == 0) return false;
   // Bodies of changed nodes come with their exact bounds; unchanged subtrees are kept whole.
-  std::vector<std::uint32_t> stack{root};
+  stack.assign(1, root);
   while (!stack.empty()) {
     const std::uint32_t current = stack.back();
     stack.pop_back();

@@ -87,9 +87,9 @@ class QuadTree {
 
   /// First half of a rebuild: the items to rebuild `root` from (bodies of changed nodes with their exact
   /// bounds, unchanged subtrees whole; everything when `full`) and the nodes the new tree drops. False
-  /// (nothing collected) when nothing under `root` changed.
+  /// (nothing collected) when nothing under `root` changed. `stack` is scratch.
   bool CollectForRebuild(std::uint32_t root, bool full, std::vector<Item>& items,
-                         std::vector<std::uint32_t>& dropped) const;
+                         std::vector<std::uint32_t>& dropped, std::vector<std::uint32_t>& stack) const;
   /// Second half: a new root over `items` (an empty root for none), from a reservation of
   /// NodesToBuild(items.size()) nodes.
   std::uint32_t BuildRoot(std::span<Item> items, std::uint32_t& nodes_used);

@@ -287,13 +287,18 @@ void QuadTreeBroadPhase::Rebuild(bool full) {
   }
   std::array<std::uint32_t, TreeGenerations::kMaxTrees> roots;
   roots.fill(TreeGenerations::kNoRoot);
-  std::vector<std::vector<QuadTree::Item>> items(trees_.size());
-  std::vector<std::uint32_t> retired;
-  std::vector<std::uint8_t> rebuild(trees_.size(), 0);
+  // Scratch kept between rebuilds (only one runs at a time: it closes the gate), so a steady world's
+  // rebuild allocates nothing.
+  std::vector<std::vector<QuadTree::Item>>& items = rebuild_items_;
+  std::vector<std::uint32_t>& retired = rebuild_retired_;
+  std::array<bool, TreeGenerations::kMaxTrees> rebuild{};
+  items.resize(trees_.size());
+  retired.clear();
   std::uint32_t needed = 0;
   for (std::size_t t = 0; t < trees_.size(); ++t) {
+    items[t].clear();
     roots[t] = generations_.CurrentRootSlot(static_cast<std::uint32_t>(t)).load(std::memory_order_acquire);
-    rebuild[t] = trees_[t].CollectForRebuild(roots[t], full, items[t], retired);
+    rebuild[t] = trees_[t].CollectForRebuild(roots[t], full, items[t], retired, rebuild_stack_);
     if (rebuild[t]) needed += QuadTree::NodesToBuild(items[t].size());
   }
   if (needed == 0) return;  // nothing changed anywhere: the current generation stays
@@ -310,7 +315,7 @@ void QuadTreeBroadPhase::Rebuild(bool full) {
   for (std::size_t t = 0; t < trees_.size(); ++t)
     if (rebuild[t]) roots[t] = trees_[t].BuildRoot(items[t], used);
   pool_.Unreserve(needed - used);
-  generations_.Publish(roots, std::move(retired));
+  generations_.Publish(roots, retired);
   generations_.Reclaim(free_node);  // frees at once what no reader pinned
 }
 

@@ -76,6 +76,9 @@ class QuadTreeBroadPhase final : public BroadPhase {
   std::vector<std::uint64_t> tree_layer_mask_;       // per tree: object layers it holds (bit 63 = 63 and up)
   std::vector<std::uint64_t> collides_with_layers_;  // per object layer: layers it collides with
   StripedGate modification_gate_;
+  std::vector<std::vector<QuadTree::Item>> rebuild_items_;  // Rebuild's scratch (one rebuild at a time)
+  std::vector<std::uint32_t> rebuild_retired_;
+  std::vector<std::uint32_t> rebuild_stack_;
   std::atomic<std::size_t> body_count_{0};
   std::atomic<std::size_t> rebuilds_skipped_{0};
 };

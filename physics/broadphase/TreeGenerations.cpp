@@ -50,7 +50,7 @@ bool TreeGenerations::CanPublish() const {
 }
 
 void TreeGenerations::Publish(const std::array<std::uint32_t, kMaxTrees>& roots,
-                              std::vector<std::uint32_t> retired) {
+                              std::vector<std::uint32_t>& retired) {
   const std::uint32_t fresh = FindFreeRecord();
   assert(fresh < kRecordCount);
   Record& next = records_[fresh];
@@ -72,7 +72,16 @@ void TreeGenerations::Publish(const std::array<std::uint32_t, kMaxTrees>& roots,
 
   if (!retired.empty()) {
     retired_node_count_.fetch_add(retired.size(), std::memory_order_relaxed);
-    retired_.push_back({old.generation, std::move(retired)});
+    if (retired_size_ == retired_.size()) {
+      std::vector<RetiredNodes> wider(2 * retired_.size());
+      for (std::size_t i = 0; i < retired_size_; ++i) wider[i] = std::move(RetiredAt(i));
+      retired_.swap(wider);
+      retired_first_ = 0;
+    }
+    RetiredNodes& slot = RetiredAt(retired_size_++);
+    slot.generation = old.generation;
+    slot.nodes.swap(retired);
+    retired.clear();
   }
 }
 
@@ -86,10 +95,13 @@ void TreeGenerations::Reclaim(const std::function<void(std::uint32_t)>& free_nod
       oldest_alive = std::min(oldest_alive, record.generation);
     }
   }
-  while (!retired_.empty() && retired_.front().generation < oldest_alive) {
-    for (const std::uint32_t node : retired_.front().nodes) free_node(node);
-    retired_node_count_.fetch_sub(retired_.front().nodes.size(), std::memory_order_relaxed);
-    retired_.pop_front();
+  while (retired_size_ > 0 && RetiredAt(0).generation < oldest_alive) {
+    RetiredNodes& oldest = RetiredAt(0);
+    for (const std::uint32_t node : oldest.nodes) free_node(node);
+    retired_node_count_.fetch_sub(oldest.nodes.size(), std::memory_order_relaxed);
+    oldest.nodes.clear();
+    retired_first_ = (retired_first_ + 1) % retired_.size();
+    --retired_size_;
   }
 }
 

@@ -6,7 +6,6 @@
 #include <array>
 #include <atomic>
 #include <cstdint>
-#include <deque>
 #include <functional>
 #include <vector>
 
@@ -43,8 +42,9 @@ class TreeGenerations {
 
   /// True when a record is free for the next Publish (call Reclaim first).
   bool CanPublish() const;
-  /// Makes `roots` current; `retired` are the nodes only older generations can reach. Single writer.
-  void Publish(const std::array<std::uint32_t, kMaxTrees>& roots, std::vector<std::uint32_t> retired);
+  /// Makes `roots` current; `retired` are the nodes only older generations can reach (taken over; the vector
+  /// comes back empty with some capacity, so a steady rebuild allocates nothing). Single writer.
+  void Publish(const std::array<std::uint32_t, kMaxTrees>& roots, std::vector<std::uint32_t>& retired);
   /// Frees (through `free_node`) every retired node no pinned generation can reach. Single writer.
   void Reclaim(const std::function<void(std::uint32_t)>& free_node);
 
@@ -66,16 +66,21 @@ class TreeGenerations {
     std::array<std::atomic<std::uint32_t>, kMaxTrees> roots;
   };
   struct RetiredNodes {
-    std::uint64_t generation;  // may be freed once every generation <= this one is released
+    std::uint64_t generation = 0;  // may be freed once every generation <= this one is released
     std::vector<std::uint32_t> nodes;
   };
+  RetiredNodes& RetiredAt(std::size_t i) { return retired_[(retired_first_ + i) % retired_.size()]; }
 
   std::uint32_t FindFreeRecord() const;
 
   // Record index in the high 16 bits, pins taken on it in the low 48.
   mutable std::atomic<std::uint64_t> current_;
   mutable std::array<Record, kRecordCount> records_;
-  std::deque<RetiredNodes> retired_;
+  // A ring of retired-node lists, oldest first. Lists keep their capacity, so a steady world's rebuilds
+  // allocate nothing; the ring grows only while a reader pins an old generation across many rebuilds.
+  std::vector<RetiredNodes> retired_ = std::vector<RetiredNodes>(8);
+  std::size_t retired_first_ = 0;
+  std::size_t retired_size_ = 0;
   std::atomic<std::size_t> retired_node_count_{0};
   std::uint64_t next_generation_ = 1;
 };

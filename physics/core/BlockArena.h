@@ -1,35 +1,86 @@
-// BlockArena: a bump allocator over blocks it keeps between uses. Reset rewinds it without freeing, so a
-// step that needs no more than an earlier one allocates nothing; addresses never move (blocks are never
-// reallocated), so pointers into it stay valid until Reset. One owner thread at a time (each step job
-// has its own arena); what it hands out may be read by any thread once the writer's stage has finished.
+// BlockArena and BlockPool: bump allocation over blocks that are kept between uses. Each step job bumps
+// through its own arena (no shared allocator in the hot path); arenas take their blocks from one pool and
+// give them back on Reset, so a steady world allocates nothing however the jobs split the work, and
+// memory follows the total the step needs, not each job's largest share. Addresses never move, so pointers
+// into an arena stay valid until its Reset. An arena has one owner thread at a time; the pool is
+// thread-safe (a mutex, taken once per block).
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <mutex>
 #include <new>
 #include <type_traits>
-#include <vector>
 
 namespace strata {
 
-/// Bump allocator over retained blocks.
+/// Blocks for BlockArenas, shared by any number of them.
+class BlockPool {
+ public:
+  /// A block: its header sits at the start, the usable bytes follow.
+  struct Block {
+    Block* next = nullptr;
+    std::size_t size = 0;  ///< usable bytes
+    std::byte* data() { return reinterpret_cast<std::byte*>(this) + kHeaderBytes; }
+  };
+  static constexpr std::size_t kAlignment = 64;
+  static constexpr std::size_t kHeaderBytes = kAlignment;  // keeps data() aligned
+
+  explicit BlockPool(std::size_t block_bytes = 256 * 1024) : block_bytes_(block_bytes) {}
+  ~BlockPool();
+  BlockPool(const BlockPool&) = delete;
+  BlockPool& operator=(const BlockPool&) = delete;
+
+  /// A block with at least `bytes` usable: a kept one when one is large enough, else a new one (of the
+  /// standard size, or exactly this size when that is larger).
+  Block* Take(std::size_t bytes);
+  /// Gives back a chain of blocks linked through `next`.
+  void Give(Block* chain);
+  /// Makes standard blocks until the pool has made at least `blocks` in all (in use or kept).
+  void EnsureBlocks(std::size_t blocks);
+  std::size_t block_bytes() const { return block_bytes_; }
+  /// Bytes of every block this pool has made, in use or kept.
+  std::size_t bytes_reserved() const;
+
+ private:
+  Block* MakeBlock(std::size_t size);
+
+  const std::size_t block_bytes_;
+  mutable std::mutex mutex_;
+  Block* free_ = nullptr;
+  std::size_t bytes_reserved_ = 0;
+  std::size_t standard_blocks_ = 0;
+};
+
+/// Bump allocator over pool blocks.
 class BlockArena {
  public:
-  explicit BlockArena(std::size_t block_bytes = 256 * 1024) : block_bytes_(block_bytes) {}
-  BlockArena(BlockArena&&) noexcept = default;
-  BlockArena& operator=(BlockArena&&) noexcept = default;
+  /// An arena with a pool of its own.
+  BlockArena() : own_pool_(std::make_unique<BlockPool>()), pool_(own_pool_.get()) {}
+  /// An arena that shares `pool` (which must outlive it).
+  explicit BlockArena(BlockPool& pool) : pool_(&pool) {}
+  ~BlockArena() { Reset(); }
+  BlockArena(BlockArena&& other) noexcept { *this = std::move(other); }
+  BlockArena& operator=(BlockArena&& other) noexcept;
+  BlockArena(const BlockArena&) = delete;
+  BlockArena& operator=(const BlockArena&) = delete;
+
+  /// Uses `pool` from now on (gives its blocks back to the old one first).
+  void SetPool(BlockPool& pool);
 
   /// `bytes` of uninitialised memory aligned to `alignment` (a power of two, at most 64).
   void* Allocate(std::size_t bytes, std::size_t alignment = alignof(std::max_align_t)) {
     std::size_t offset = (used_ + alignment - 1) & ~(alignment - 1);
-    if (current_ >= blocks_.size() || offset + bytes > blocks_[current_].size) {
-      NextBlock(bytes + alignment);
+    if (current_ == nullptr || offset + bytes > current_->size) {
+      BlockPool::Block* block = pool_->Take(bytes);
+      block->next = current_;
+      current_ = block;
       offset = 0;
     }
     used_ = offset + bytes;
     bytes_in_use_ += bytes;
-    return blocks_[current_].data.get() + offset;
+    return current_->data() + offset;
   }
 
   /// Room for `count` objects of trivially destructible T (constructed by the caller).
@@ -39,46 +90,20 @@ class BlockArena {
     return static_cast<T*>(Allocate(sizeof(T) * count, alignof(T)));
   }
 
-  /// Forgets everything allocated; keeps the blocks for the next use.
+  /// Forgets everything allocated and gives the blocks back to the pool.
   void Reset() {
-    current_ = 0;
+    if (current_ != nullptr) pool_->Give(current_);
+    current_ = nullptr;
     used_ = 0;
     bytes_in_use_ = 0;
   }
 
   std::size_t bytes_in_use() const { return bytes_in_use_; }
-  std::size_t bytes_reserved() const {
-    std::size_t total = 0;
-    for (const Block& block : blocks_) total += block.size;
-    return total;
-  }
 
  private:
-  static constexpr std::size_t kBlockAlignment = 64;
-  struct AlignedDelete {
-    void operator()(std::byte* bytes) const { ::operator delete[](bytes, std::align_val_t(kBlockAlignment)); }
-  };
-  struct Block {
-    std::unique_ptr<std::byte[], AlignedDelete> data;
-    std::size_t size = 0;
-  };
-
-  void NextBlock(std::size_t at_least) {
-    if (current_ < blocks_.size() && used_ > 0) ++current_;
-    // Reuse the next kept block if it is big enough; a larger request gets a block of its own size.
-    while (current_ < blocks_.size() && blocks_[current_].size < at_least) ++current_;
-    if (current_ >= blocks_.size()) {
-      const std::size_t size = at_least > block_bytes_ ? at_least : block_bytes_;
-      auto* bytes = static_cast<std::byte*>(::operator new[](size, std::align_val_t(kBlockAlignment)));
-      blocks_.push_back({std::unique_ptr<std::byte[], AlignedDelete>(bytes), size});
-      current_ = blocks_.size() - 1;
-    }
-    used_ = 0;
-  }
-
-  std::size_t block_bytes_;
-  std::vector<Block> blocks_;
-  std::size_t current_ = 0;
+  std::unique_ptr<BlockPool> own_pool_;
+  BlockPool* pool_ = nullptr;
+  BlockPool::Block* current_ = nullptr;  // newest block; older ones follow through next
   std::size_t used_ = 0;
   std::size_t bytes_in_use_ = 0;
 };

@@ -4,7 +4,7 @@
 
 namespace strata {
 
-BodyPairCache::BodyPairCache(std::uint32_t max_bodies) {
+BodyPairCache::BodyPairCache(std::uint32_t max_bodies, BlockPool& pool) : pool_(pool) {
   for (Generation& generation : generations_) generation.owners.resize(max_bodies);
 }
 
@@ -13,7 +13,10 @@ void BodyPairCache::BeginStep(std::uint32_t job_count) {
   Generation& generation = generations_[current_];
   // Owner lists of this buffer's last use stay behind but carry an older step number, so they read as empty.
   generation.step = ++step_;
-  if (generation.jobs.size() < job_count) generation.jobs.resize(job_count);
+  if (generation.jobs.size() < job_count) {
+    generation.jobs.resize(job_count);
+    for (JobSlot& job : generation.jobs) job.arena.SetPool(pool_);
+  }
   for (JobSlot& job : generation.jobs) {
     job.arena.Reset();
     job.pairs = 0;
@@ -77,13 +80,14 @@ std::size_t BodyPairCache::current_pair_count() const {
   return total;
 }
 
-std::size_t BodyPairCache::bytes_reserved() const {
+std::size_t BodyPairCache::arena_bytes() const {
   std::size_t total = 0;
-  for (const Generation& generation : generations_) {
-    total += generation.owners.size() * sizeof(OwnerList);
-    for (const JobSlot& job : generation.jobs) total += job.arena.bytes_reserved();
-  }
+  for (const JobSlot& job : generations_[current_].jobs) total += job.arena.bytes_in_use();
   return total;
+}
+
+std::size_t BodyPairCache::table_bytes() const {
+  return 2 * generations_[0].owners.size() * sizeof(OwnerList);
 }
 
 }  // namespace strata

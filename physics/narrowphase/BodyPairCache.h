@@ -69,8 +69,8 @@ class BodyPairCache {
     const CachedBodyPair* next_;
   };
 
-  /// Room for owners with body index below `max_bodies`.
-  explicit BodyPairCache(std::uint32_t max_bodies);
+  /// Room for owners with body index below `max_bodies`; entries live in blocks from `pool`.
+  BodyPairCache(std::uint32_t max_bodies, BlockPool& pool);
 
   /// Makes this step's entries the previous ones and starts empty ones, with `job_count` arenas to add to.
   void BeginStep(std::uint32_t job_count);
@@ -91,8 +91,10 @@ class BodyPairCache {
 
   /// Entries added this step so far (exact once the narrow phase is over).
   std::size_t current_pair_count() const;
-  /// Bytes held by both steps' arenas and owner tables.
-  std::size_t bytes_reserved() const;
+  /// Bytes of the owner tables (the entries are in the pool's blocks).
+  std::size_t table_bytes() const;
+  /// Bytes this step's entries take in the pool's blocks.
+  std::size_t arena_bytes() const;
 
  private:
   // An owner's list in one step; `step` tells a list from this step from one left over from an older step.
@@ -112,6 +114,7 @@ class BodyPairCache {
     std::uint64_t step = 0;
   };
 
+  BlockPool& pool_;
   Generation generations_[2];
   int current_ = 0;
   std::uint64_t step_ = 0;

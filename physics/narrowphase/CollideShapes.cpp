@@ -17,7 +17,7 @@ namespace {
 // are only used when the cores overlap.
 bool FindContact(const ConvexSupport& core_a, const ConvexSupport& exact_a, float radius_a,
                  const ConvexSupport& core_b, const ConvexSupport& exact_b, float radius_b,
-                 float max_separation, Vec3& normal, ContactPoint& deepest) {
+                 float max_separation, Vec3& normal, ContactPoint& deepest, EpaScratch& scratch) {
   // The rounded core sits inside the exact shape but cuts its corners (by up to (sqrt(3) - 1) r on a box),
   // so the core only supplies the direction; the gap along it is measured on the exact shapes.
   const float corner_slack = 0.75f * (radius_a + radius_b);
@@ -42,7 +42,7 @@ bool FindContact(const ConvexSupport& core_a, const ConvexSupport& exact_a, floa
     return true;
   }
   PenetrationResult penetration;
-  if (!EpaPenetration(exact_a, exact_b, exact, penetration)) {
+  if (!EpaPenetration(exact_a, exact_b, exact, penetration, scratch)) {
     // Touching without measurable overlap: separate along the line between the centres.
     const Vec3 between = exact_b.Center() - exact_a.Center();
     normal = between.squaredNorm() > 1e-12f ? Vec3(between.normalized()) : Vec3::UnitY();
@@ -212,6 +212,12 @@ void MergeManifold(const ContactManifold& manifold, std::size_t first, std::vect
 
 bool CollideConvexConvex(const ConvexShape& a, const Pose& pose_a, const ConvexShape& b, const Pose& pose_b,
                          float max_separation, ContactManifold& manifold) {
+  CollisionScratch scratch;
+  return CollideConvexConvex(a, pose_a, b, pose_b, max_separation, manifold, scratch);
+}
+
+bool CollideConvexConvex(const ConvexShape& a, const Pose& pose_a, const ConvexShape& b, const Pose& pose_b,
+                         float max_separation, ContactManifold& manifold, CollisionScratch& scratch) {
   if (a.type() == ShapeType::kSphere && b.type() == ShapeType::kSphere)
     return CollideSpheres(static_cast<const SphereShape&>(a), pose_a, static_cast<const SphereShape&>(b),
                           pose_b, max_separation, manifold);
@@ -254,7 +260,7 @@ bool CollideConvexConvex(const ConvexShape& a, const Pose& pose_a, const ConvexS
     const PosedConvex core_a(a, pose_a, true), exact_a(a, pose_a, false);
     const PosedConvex core_b(b, pose_b, true), exact_b(b, pose_b, false);
     if (!FindContact(core_a, exact_a, a.core_radius(), core_b, exact_b, b.core_radius(), max_separation,
-                     normal, deepest))
+                     normal, deepest, scratch.epa))
       return false;
   }
   SupportingFace face_a, face_b;
@@ -268,12 +274,19 @@ bool CollideConvexConvex(const ConvexShape& a, const Pose& pose_a, const ConvexS
 void CollideConvexMesh(const ConvexShape& a, const Pose& pose_a, const TriangleMeshShape& mesh,
                        const Pose& pose_mesh, float max_separation, const ContactManifold& prototype,
                        std::vector<ContactManifold>& out) {
+  CollisionScratch scratch;
+  CollideConvexMesh(a, pose_a, mesh, pose_mesh, max_separation, prototype, out, scratch);
+}
+
+void CollideConvexMesh(const ConvexShape& a, const Pose& pose_a, const TriangleMeshShape& mesh,
+                       const Pose& pose_mesh, float max_separation, const ContactManifold& prototype,
+                       std::vector<ContactManifold>& out, CollisionScratch& scratch) {
   // Everything runs in the mesh's frame, so the triangles are used as stored; the convex is posed there
   // once and the manifolds go back to world space at the end.
   const Quat to_mesh = pose_mesh.rotation.conjugate();
   const Pose local_a{to_mesh * (pose_a.position - pose_mesh.position), to_mesh * pose_a.rotation};
   const AABB local_box = a.WorldBounds(local_a).Expanded(max_separation);
-  thread_local std::vector<std::uint32_t> triangles;
+  std::vector<std::uint32_t>& triangles = scratch.triangles;
   triangles.clear();
   // The hierarchy is walked in a fixed order, so the triangles (and the merged manifolds) come out the same
   // on every run.
@@ -326,7 +339,7 @@ void CollideConvexMesh(const ConvexShape& a, const Pose& pose_a, const TriangleM
                                       max_separation, within, normal, deepest)) {
       if (!within) continue;
     } else if (!FindContact(core_a, exact_a, a.core_radius(), triangle, triangle, 0.0f, max_separation,
-                            normal, deepest)) {
+                            normal, deepest, scratch.epa)) {
       continue;
     }
     // A normal along the front face normal would pull the body through the triangle from behind.
@@ -372,16 +385,23 @@ void CollideConvexMesh(const ConvexShape& a, const Pose& pose_a, const TriangleM
 void CollideShapes(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b,
                    float max_separation, const ContactManifold& prototype,
                    std::vector<ContactManifold>& out) {
+  CollisionScratch scratch;
+  CollideShapes(a, pose_a, b, pose_b, max_separation, prototype, out, scratch);
+}
+
+void CollideShapes(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b,
+                   float max_separation, const ContactManifold& prototype, std::vector<ContactManifold>& out,
+                   CollisionScratch& scratch) {
   if (!a.IsConvex()) return;  // mesh vs anything is handled with the mesh as B
   const auto& convex_a = static_cast<const ConvexShape&>(a);
   if (b.type() == ShapeType::kTriangleMesh) {
     CollideConvexMesh(convex_a, pose_a, static_cast<const TriangleMeshShape&>(b), pose_b, max_separation,
-                      prototype, out);
+                      prototype, out, scratch);
     return;
   }
   ContactManifold manifold = prototype;
   if (CollideConvexConvex(convex_a, pose_a, static_cast<const ConvexShape&>(b), pose_b, max_separation,
-                          manifold))
+                          manifold, scratch))
     out.push_back(manifold);
 }
 

@@ -6,12 +6,7 @@ namespace strata {
 
 namespace {
 
-struct Face {
-  int a, b, c;
-  Vec3 normal;
-  float distance;
-  bool alive;
-};
+using Face = EpaFace;
 
 SimplexVertex SupportVertex(const ConvexSupport& a, const ConvexSupport& b, const Vec3& direction) {
   SimplexVertex v;
@@ -56,12 +51,20 @@ bool CompleteTetrahedron(const ConvexSupport& a, const ConvexSupport& b,
 
 bool EpaPenetration(const ConvexSupport& a, const ConvexSupport& b, const GjkResult& gjk,
                     PenetrationResult& out) {
-  std::vector<SimplexVertex> vertices(gjk.simplex, gjk.simplex + gjk.simplex_count);
+  EpaScratch scratch;
+  return EpaPenetration(a, b, gjk, out, scratch);
+}
+
+bool EpaPenetration(const ConvexSupport& a, const ConvexSupport& b, const GjkResult& gjk,
+                    PenetrationResult& out, EpaScratch& scratch) {
+  std::vector<SimplexVertex>& vertices = scratch.vertices;
+  std::vector<Face>& faces = scratch.faces;
+  std::vector<std::pair<int, int>>& horizon = scratch.horizon;
+  vertices.assign(gjk.simplex, gjk.simplex + gjk.simplex_count);
   if (vertices.empty()) vertices.push_back(SupportVertex(a, b, Vec3::UnitX()));
   if (vertices.size() < 4 && !CompleteTetrahedron(a, b, vertices)) return false;
 
-  std::vector<Face> faces;
-  faces.reserve(64);
+  faces.clear();
   const Vec3 interior = (vertices[0].w + vertices[1].w + vertices[2].w + vertices[3].w) * 0.25f;
   auto add_face = [&](int i, int j, int k) {
     Vec3 normal = (vertices[j].w - vertices[i].w).cross(vertices[k].w - vertices[i].w);
@@ -96,7 +99,7 @@ bool EpaPenetration(const ConvexSupport& a, const ConvexSupport& b, const GjkRes
     const int new_index = static_cast<int>(vertices.size());
     vertices.push_back(support);
     // Remove the faces the new point sees and keep the horizon (edges with one removed side).
-    std::vector<std::pair<int, int>> horizon;
+    horizon.clear();
     for (Face& face : faces) {
       if (!face.alive || face.normal.dot(support.w - vertices[face.a].w) <= 0.0f) continue;
       face.alive = false;

@@ -2,6 +2,9 @@
 // (Expanding Polytope Algorithm), seeded by the simplex GJK ended with. Pure; safe from any thread.
 #pragma once
 
+#include <utility>
+#include <vector>
+
 #include "physics/narrowphase/Gjk.h"
 
 namespace strata {
@@ -14,8 +17,26 @@ struct PenetrationResult {
   Vec3 point_b = Vec3::Zero();  ///< deepest point of B inside A
 };
 
+/// One triangle of the expanding polytope.
+struct EpaFace {
+  int a, b, c;
+  Vec3 normal;
+  float distance;
+  bool alive;
+};
+
+/// Buffers EPA grows into; one per thread or job, reused so a warm caller allocates nothing.
+struct EpaScratch {
+  std::vector<SimplexVertex> vertices;
+  std::vector<EpaFace> faces;
+  std::vector<std::pair<int, int>> horizon;
+};
+
 /// Expands the GJK simplex into a polytope around the origin. Returns false when the shapes only touch
 /// (no volume of overlap could be built) or the polytope degenerates.
+bool EpaPenetration(const ConvexSupport& a, const ConvexSupport& b, const GjkResult& gjk,
+                    PenetrationResult& out, EpaScratch& scratch);
+/// The same with buffers of its own.
 bool EpaPenetration(const ConvexSupport& a, const ConvexSupport& b, const GjkResult& gjk,
                     PenetrationResult& out);
 

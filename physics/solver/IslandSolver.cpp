@@ -57,9 +57,18 @@ void IslandSolver::BeginStep(const Input& input, std::uint32_t job_count) {
   group_count_ = 0;
   form_groups([&](std::uint32_t first, std::uint32_t end) { AddGroup(first, end); });
   groups_finished_.store(0, std::memory_order_relaxed);
-  if (jobs_.size() < job_count) jobs_.resize(job_count);
+  if (jobs_.size() < job_count) {
+    jobs_.resize(job_count);
+    for (JobState& job : jobs_) job.arena.SetPool(pool_);
+  }
+  // Any job may prepare any group: size every job's splitting buffers for the largest.
+  std::uint32_t largest = 0;
+  for (std::uint32_t g = 0; g < group_count_; ++g)
+    largest = std::max(largest, islands.constraint_count(groups_[g].first_island, groups_[g].end_island));
   for (JobState& job : jobs_) {
     job.arena.Reset();
+    job.split_of.reserve(largest);
+    job.scratch.reserve(largest);
     job.deepest = 0.0f;
   }
 }
@@ -304,6 +313,12 @@ void IslandSolver::SolveJob(std::uint32_t job_index) {
     else
       std::this_thread::yield();
   }
+}
+
+std::size_t IslandSolver::arena_bytes() const {
+  std::size_t total = 0;
+  for (const JobState& job : jobs_) total += job.arena.bytes_in_use();
+  return total;
 }
 
 float IslandSolver::deepest_penetration() const {

@@ -42,6 +42,9 @@ class IslandSolver {
     const PhysicsSettings* settings;
   };
 
+  /// Set-up contacts and bundles go into blocks from `pool`.
+  explicit IslandSolver(BlockPool& pool) : pool_(pool) {}
+
   /// Starts a step's solve with `job_count` jobs per stage and forms the groups.
   void BeginStep(const Input& input, std::uint32_t job_count);
 
@@ -51,6 +54,8 @@ class IslandSolver {
   /// After every PrepareGroup: solves batches of any group until every group is done (one call per job).
   void SolveJob(std::uint32_t job);
 
+  /// Bytes this step's set-up contacts and bundles take in the pool's blocks.
+  std::size_t arena_bytes() const;
   /// Deepest penetration the last position pass saw (m, <= 0), once every SolveJob has returned.
   float deepest_penetration() const;
   /// Groups that hold more than one island.
@@ -99,6 +104,7 @@ class IslandSolver {
   void AddGroup(std::uint32_t first_island, std::uint32_t end_island);
   void Integrate(std::uint32_t island_body) const;
 
+  BlockPool& pool_;
   Input input_{};
   std::vector<ContactConstraint*> ordered_;  // every island's constraints, island after island
   std::vector<std::uint32_t> body_masks_;    // LargeIslandSplitter scratch, by solver body

@@ -21,15 +21,40 @@ const float kReplayMinHalfAngleCosine = std::cos(0.5f * 2.0f * kPi / 180.0f);
 }  // namespace
 
 void CollisionFinder::BeginStep(const Input& input, std::uint32_t job_count) {
+  // Any job may take any share of the work: size every job's buffers for all of last step's.
+  const CollisionStats last = stats();
+  std::size_t most_pairs = last.pairs, most_manifolds = 0, most_triangles = 0, most_epa_vertices = 0,
+              most_epa_faces = 0, most_horizon = 0, most_wake_keys = 0;
+  for (const Job& job : jobs_) {
+    most_pairs = std::max(most_pairs, job.pairs.capacity());
+    most_manifolds = std::max(most_manifolds, job.manifolds.capacity());
+    most_triangles = std::max(most_triangles, job.scratch.triangles.capacity());
+    most_epa_vertices = std::max(most_epa_vertices, job.scratch.epa.vertices.capacity());
+    most_epa_faces = std::max(most_epa_faces, job.scratch.epa.faces.capacity());
+    most_horizon = std::max(most_horizon, job.scratch.epa.horizon.capacity());
+    most_wake_keys += job.wake_keys.size();
+  }
   input_ = input;
   job_count_ = job_count;
   next_body_.store(0, std::memory_order_relaxed);
-  if (jobs_.size() < job_count) jobs_.resize(job_count);
+  if (jobs_.size() < job_count) {
+    jobs_.resize(job_count);
+    for (Job& job : jobs_) job.arena.SetPool(pool_);
+  }
   for (Job& job : jobs_) {
     job.arena.Reset();
     job.constraints.clear();
     job.island_body.clear();
     job.wake_keys.clear();
+    job.constraints.reserve(last.constraints);
+    job.island_body.reserve(last.constraints);
+    job.pairs.reserve(most_pairs);
+    job.wake_keys.reserve(most_wake_keys);
+    job.manifolds.reserve(most_manifolds);
+    job.scratch.triangles.reserve(most_triangles);
+    job.scratch.epa.vertices.reserve(most_epa_vertices);
+    job.scratch.epa.faces.reserve(most_epa_faces);
+    job.scratch.epa.horizon.reserve(most_horizon);
     job.stats = {};
   }
   body_contacts_.resize(input.active.size());
@@ -127,7 +152,7 @@ void CollisionFinder::CollidePair(BodyPair pair, BodyPairCache::PreviousPairs& p
   prototype.body_b = b.body->id();
   job.manifolds.clear();
   CollideShapes(*a.body->shape(), a.body->pose(), *b.body->shape(), b.body->pose(), max_separation, prototype,
-                job.manifolds);
+                job.manifolds, job.scratch);
   for (const ContactManifold& manifold : job.manifolds) {
     const CachedManifold* match = nullptr;
     for (const CachedManifold* cached = previous ? previous->manifolds : nullptr; cached != nullptr && !match;
@@ -231,6 +256,12 @@ void CollisionFinder::Gather(std::vector<ContactConstraint*>& constraints,
 void CollisionFinder::CollectWakeKeys(std::vector<std::uint32_t>& out) const {
   for (std::uint32_t j = 0; j < job_count_; ++j)
     out.insert(out.end(), jobs_[j].wake_keys.begin(), jobs_[j].wake_keys.end());
+}
+
+std::size_t CollisionFinder::arena_bytes() const {
+  std::size_t total = 0;
+  for (const Job& job : jobs_) total += job.arena.bytes_in_use();
+  return total;
 }
 
 CollisionStats CollisionFinder::stats() const {

@@ -15,6 +15,7 @@
 #include "physics/broadphase/BroadPhase.h"
 #include "physics/core/BlockArena.h"
 #include "physics/narrowphase/BodyPairCache.h"
+#include "physics/narrowphase/CollideShapes.h"
 #include "physics/solver/ContactConstraint.h"
 #include "physics/solver/IslandBuilder.h"
 
@@ -50,7 +51,11 @@ class CollisionFinder {
     IslandBuilder* islands;
   };
 
-  /// Starts a step with `job_count` jobs (job indices [0, job_count)).
+  /// Constraints go into blocks from `pool`.
+  explicit CollisionFinder(BlockPool& pool) : pool_(pool) {}
+
+  /// Starts a step with `job_count` jobs (job indices [0, job_count)). Reserves every job's buffers for the
+  /// whole of last step's work, so how the jobs split the next one never makes them grow.
   void BeginStep(const Input& input, std::uint32_t job_count);
   /// Claims batches of active bodies until none is left.
   void RunJob(std::uint32_t job);
@@ -60,6 +65,8 @@ class CollisionFinder {
   /// Island keys of sleeping bodies an active body touched this step, appended to `out`.
   void CollectWakeKeys(std::vector<std::uint32_t>& out) const;
   CollisionStats stats() const;
+  /// Bytes this step's constraints take in the pool's blocks.
+  std::size_t arena_bytes() const;
 
  private:
   struct BodyContacts {
@@ -68,11 +75,12 @@ class CollisionFinder {
     std::uint32_t end;
   };
   struct alignas(64) Job {
-    BlockArena arena{1 << 20};
+    BlockArena arena;
     std::vector<ContactConstraint*> constraints;
     std::vector<std::uint32_t> island_body;
     std::vector<BodyPair> pairs;
     std::vector<ContactManifold> manifolds;
+    CollisionScratch scratch;
     std::vector<std::uint32_t> wake_keys;
     CollisionStats stats;
   };
@@ -99,6 +107,7 @@ class CollisionFinder {
   Side MakeSide(const Body& body) const;
   ContactSide ContactInputSide(const Side& side) const;
 
+  BlockPool& pool_;
   Input input_{};
   std::uint32_t job_count_ = 0;
   std::atomic<std::uint32_t> next_body_{0};

@@ -102,7 +102,9 @@ PhysicsSystem::PhysicsSystem(const PhysicsSystemConfig& config, const PhysicsSet
       speculative_distance_(settings.speculative_distance),
       active_flags_(config.max_bodies, 0),
       solver_index_(config.max_bodies, 0),
-      pair_cache_(config.max_bodies) {
+      pair_cache_(config.max_bodies, step_blocks_),
+      collisions_(step_blocks_),
+      island_solver_(step_blocks_) {
   job_count_ = static_cast<std::uint32_t>(std::max(1, jobs_->ThreadCount()));
   finish_counters_.resize(job_count_);
   BuildStepGraphs();
@@ -250,6 +252,11 @@ void PhysicsSystem::PrepareStep() {
   solver_bodies_[0] = SolverBody();
   solver_poses_[0] = SolverPose();
   islands_.Reset(active_count);
+  // Enough blocks for any split of last step's work over the jobs: its bytes (the cache holds two steps'),
+  // a margin for what blocks leave unused at their ends, and one partly filled block per arena.
+  const std::size_t step_bytes =
+      2 * pair_cache_.arena_bytes() + collisions_.arena_bytes() + island_solver_.arena_bytes();
+  step_blocks_.EnsureBlocks(step_bytes * 5 / 4 / step_blocks_.block_bytes() + 4 * job_count_ + 1);
   pair_cache_.BeginStep(job_count_);
   CollisionFinder::Input input;
   input.bodies = &body_manager_;

@@ -159,6 +159,7 @@ class PhysicsSystem {
     std::size_t bodies_put_to_sleep = 0;
   };
   std::vector<FinishCounters> finish_counters_;
+  BlockPool step_blocks_;  // every step arena's blocks (declared before its users, so it outlives them)
   BodyPairCache pair_cache_;
   CollisionFinder collisions_;
   IslandBuilder islands_;

@@ -1,0 +1,84 @@
+#include "physics/core/BlockArena.h"
+
+#include <algorithm>
+
+namespace strata {
+
+BlockPool::~BlockPool() {
+  for (Block* block = free_; block != nullptr;) {
+    Block* next = block->next;
+    block->~Block();
+    ::operator delete[](reinterpret_cast<std::byte*>(block), std::align_val_t(kAlignment));
+    block = next;
+  }
+}
+
+BlockPool::Block* BlockPool::Take(std::size_t bytes) {
+  {
+    std::lock_guard lock(mutex_);
+    // First fit; almost every block has the standard size, so this is usually the first one.
+    for (Block** link = &free_; *link != nullptr; link = &(*link)->next) {
+      if ((*link)->size < bytes) continue;
+      Block* block = *link;
+      *link = block->next;
+      block->next = nullptr;
+      return block;
+    }
+  }
+  return MakeBlock(std::max(bytes, block_bytes_));
+}
+
+BlockPool::Block* BlockPool::MakeBlock(std::size_t size) {
+  auto* memory = static_cast<std::byte*>(::operator new[](kHeaderBytes + size, std::align_val_t(kAlignment)));
+  Block* block = new (memory) Block;
+  block->size = size;
+  std::lock_guard lock(mutex_);
+  bytes_reserved_ += kHeaderBytes + size;
+  if (size == block_bytes_) ++standard_blocks_;
+  return block;
+}
+
+void BlockPool::EnsureBlocks(std::size_t blocks) {
+  while (true) {
+    {
+      std::lock_guard lock(mutex_);
+      if (standard_blocks_ >= blocks) return;
+    }
+    Give(MakeBlock(block_bytes_));
+  }
+}
+
+void BlockPool::Give(Block* chain) {
+  if (chain == nullptr) return;
+  Block* last = chain;
+  while (last->next != nullptr) last = last->next;
+  std::lock_guard lock(mutex_);
+  last->next = free_;
+  free_ = chain;
+}
+
+std::size_t BlockPool::bytes_reserved() const {
+  std::lock_guard lock(mutex_);
+  return bytes_reserved_;
+}
+
+BlockArena& BlockArena::operator=(BlockArena&& other) noexcept {
+  if (this == &other) return *this;
+  Reset();
+  own_pool_ = std::move(other.own_pool_);
+  pool_ = other.pool_;
+  current_ = other.current_;
+  used_ = other.used_;
+  bytes_in_use_ = other.bytes_in_use_;
+  other.current_ = nullptr;
+  other.used_ = other.bytes_in_use_ = 0;
+  return *this;
+}
+
+void BlockArena::SetPool(BlockPool& pool) {
+  Reset();
+  own_pool_.reset();
+  pool_ = &pool;
+}
+
+}  // namespace strata

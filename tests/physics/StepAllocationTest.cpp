@@ -1,0 +1,162 @@
+// A warmed-up world steps without touching the heap: every global operator new is counted while a scene
+// with every kind of work the step does (a large split island, runs of small islands, convex vs mesh,
+// replayed and freshly computed pairs, a kinematic body) steps, on each job system Strata ships. Its own
+// executable, because it replaces the global allocation functions. (oneTBB takes its task memory from its
+// own pools, not from operator new; every allocation of Strata's own goes through operator new.)
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cmath>
+#include <cstdlib>
+#include <new>
+
+#include "physics/body/BodyInterface.h"
+#include "physics/core/ThreadPoolJobSystem.h"
+#include "physics/shapes/BoxShape.h"
+#include "physics/shapes/CapsuleShape.h"
+#include "physics/shapes/ConvexHullShape.h"
+#include "physics/shapes/SphereShape.h"
+#include "physics/shapes/TriangleMeshShape.h"
+#include "physics/world/PhysicsSystem.h"
+
+namespace {
+std::atomic<bool> counting{false};
+std::atomic<std::size_t> allocations{0};
+
+void* Allocate(std::size_t size, std::size_t alignment) {
+  if (counting.load(std::memory_order_relaxed)) allocations.fetch_add(1, std::memory_order_relaxed);
+  const std::size_t rounded = (std::max<std::size_t>(size, 1) + alignment - 1) / alignment * alignment;
+  void* memory =
+      alignment <= alignof(std::max_align_t) ? std::malloc(rounded) : std::aligned_alloc(alignment, rounded);
+  if (memory == nullptr) throw std::bad_alloc();
+  return memory;
+}
+}  // namespace
+
+void* operator new(std::size_t size) {
+  return Allocate(size, alignof(std::max_align_t));
+}
+void* operator new[](std::size_t size) {
+  return Allocate(size, alignof(std::max_align_t));
+}
+void* operator new(std::size_t size, std::align_val_t alignment) {
+  return Allocate(size, static_cast<std::size_t>(alignment));
+}
+void* operator new[](std::size_t size, std::align_val_t alignment) {
+  return Allocate(size, static_cast<std::size_t>(alignment));
+}
+void operator delete(void* memory) noexcept {
+  std::free(memory);
+}
+void operator delete[](void* memory) noexcept {
+  std::free(memory);
+}
+void operator delete(void* memory, std::size_t) noexcept {
+  std::free(memory);
+}
+void operator delete[](void* memory, std::size_t) noexcept {
+  std::free(memory);
+}
+void operator delete(void* memory, std::align_val_t) noexcept {
+  std::free(memory);
+}
+void operator delete[](void* memory, std::align_val_t) noexcept {
+  std::free(memory);
+}
+void operator delete(void* memory, std::size_t, std::align_val_t) noexcept {
+  std::free(memory);
+}
+void operator delete[](void* memory, std::size_t, std::align_val_t) noexcept {
+  std::free(memory);
+}
+
+namespace strata {
+namespace {
+
+BodyID Add(PhysicsSystem& world, ShapeRef shape, const Vec3& position, MotionType motion,
+           const Quat& rotation = Quat::Identity()) {
+  BodyCreationSettings settings;
+  settings.shape = std::move(shape);
+  settings.position = position;
+  settings.rotation = rotation;
+  settings.motion_type = motion;
+  settings.object_layer = motion == MotionType::kStatic ? layers::kNonMoving : layers::kMoving;
+  return *world.bodies().CreateAndAddBody(settings);
+}
+
+std::unique_ptr<PhysicsSystem> MakeScene(std::shared_ptr<JobSystem> jobs) {
+  PhysicsSystemConfig config;
+  config.max_bodies = 512;
+  config.job_system = std::move(jobs);
+  PhysicsSettings settings;
+  settings.allow_sleeping = false;  // keep every body in the step
+  auto world = std::move(*PhysicsSystem::Create(config, settings));
+  // A pyramid of boxes on a floor: one large island, split and solved in bundles.
+  Add(*world, *BoxShape::Create(Vec3(30, 1, 30)), Vec3(0, -1, 0), MotionType::kStatic);
+  const ShapeRef box = *BoxShape::Create(Vec3(0.5f, 0.5f, 0.5f));
+  for (int level = 0; level < 6; ++level)
+    for (int x = 0; x < 6 - level; ++x)
+      for (int z = 0; z < 6 - level; ++z)
+        Add(*world, box, Vec3(-3.0f + x + 0.5f * level, 0.5f + level, -3.0f + z + 0.5f * level),
+            MotionType::kDynamic);
+  // A wavy mesh with each convex kind resting on it: small islands, convex vs triangles.
+  std::vector<Vec3> vertices;
+  std::vector<TriangleMeshShape::Indices> triangles;
+  for (int z = 0; z <= 10; ++z)
+    for (int x = 0; x <= 10; ++x)
+      vertices.emplace_back(2.0f * x, 0.3f * std::sin(0.7f * x) * std::cos(0.5f * z), 2.0f * z);
+  for (std::uint32_t z = 0; z < 10; ++z)
+    for (std::uint32_t x = 0; x < 10; ++x) {
+      const std::uint32_t i = z * 11 + x;
+      triangles.push_back({i, i + 11, i + 1});
+      triangles.push_back({i + 1, i + 11, i + 12});
+    }
+  Add(*world, *TriangleMeshShape::Create(vertices, triangles), Vec3(40, 0, 0), MotionType::kStatic);
+  const ShapeRef shapes[] = {*SphereShape::Create(0.4f), *BoxShape::Create(Vec3(0.4f, 0.3f, 0.5f)),
+                             *ConvexHullShape::Create(std::vector<Vec3>{
+                                 {0, 0.8f, 0}, {0.8f, 0, 0}, {-0.8f, 0, 0}, {0, 0, 0.8f}, {0, 0, -0.8f}})};
+  for (int i = 0; i < 9; ++i)
+    Add(*world, shapes[i % 3], Vec3(43.0f + 2.0f * (i % 3), 1.0f, 3.0f + 5.0f * (i / 3)),
+        MotionType::kDynamic);
+  // A ball and a capsule rolling down a long ramp: pairs that never replay.
+  const Quat tilt(Eigen::AngleAxisf(0.15f, Vec3::UnitZ()));
+  Add(*world, *BoxShape::Create(Vec3(150, 0.5f, 3)), Vec3(0, -30, 60), MotionType::kStatic, tilt);
+  Add(*world, *SphereShape::Create(0.5f), tilt * Vec3(120, 1.0f, 0) + Vec3(0, -30, 59), MotionType::kDynamic);
+  Add(*world, *CapsuleShape::Create(0.5f, 0.3f), tilt * Vec3(120, 0.8f, 0) + Vec3(0, -30, 61),
+      MotionType::kDynamic, Quat(Eigen::AngleAxisf(1.5708f, Vec3::UnitX())));
+  // A kinematic body gliding past, touching nothing.
+  BodyCreationSettings glider;
+  glider.shape = box;
+  glider.position = Vec3(-40, 5, -40);
+  glider.motion_type = MotionType::kKinematic;
+  glider.linear_velocity = Vec3(0.5f, 0, 0);
+  (void)world->bodies().CreateAndAddBody(glider);
+  return world;
+}
+
+std::size_t AllocationsWhileStepping(std::shared_ptr<JobSystem> jobs) {
+  auto world = MakeScene(std::move(jobs));
+  for (int i = 0; i < 240; ++i) EXPECT_TRUE(world->Step(1.0f / 60.0f).ok());
+  EXPECT_GT(world->last_step_stats().pairs_replayed, 0u);
+  EXPECT_LT(world->last_step_stats().pairs_replayed, world->last_step_stats().pairs);
+  allocations.store(0);
+  counting.store(true);
+  for (int i = 0; i < 60; ++i) EXPECT_TRUE(world->Step(1.0f / 60.0f).ok());
+  counting.store(false);
+  return allocations.load();
+}
+
+TEST(StepAllocation, SteadyStepsAllocateNothingOnTheSerialJobSystem) {
+  EXPECT_EQ(AllocationsWhileStepping(std::make_shared<SerialJobSystem>()), 0u);
+}
+
+TEST(StepAllocationThreads, SteadyStepsAllocateNothingOnTheThreadPool) {
+  EXPECT_EQ(AllocationsWhileStepping(std::make_shared<ThreadPoolJobSystem>(3)), 0u);
+}
+
+TEST(StepAllocationThreads, SteadyStepsAllocateNothingOnTheDefaultJobSystem) {
+  EXPECT_EQ(AllocationsWhileStepping(MakeDefaultJobSystem(2)), 0u);
+}
+
+}  // namespace
+}  // namespace strata
