@@ -135,6 +135,40 @@ TEST(Cli, DemoBuildsTilesWhileSteppingAndWritesPictures) {
   EXPECT_GT(std::filesystem::file_size(out / "navmesh.obj"), 1000u);
 }
 
+TEST(Cli, BenchSweepsThreadCountsAndWritesJson) {
+  const std::filesystem::path json = TempFile("bench.json");
+  std::string output;
+  ASSERT_EQ(RunCliCapture("bench --steps 12 --threads 1,2 --no-bullet --json " + json.string(), output), 0);
+  EXPECT_NE(output.find("where a step goes"), std::string::npos);
+  EXPECT_NE(output.find("serial stages"), std::string::npos);
+  std::ifstream file(json);
+  const nlohmann::json document = nlohmann::json::parse(file);
+  ASSERT_EQ(document["scenes"].size(), 2u);
+  for (const auto& scene : document["scenes"]) {
+    const auto& runs = scene["strata"];
+    ASSERT_EQ(runs.size(), 2u);
+    EXPECT_EQ(runs[0]["threads"], 1);
+    EXPECT_EQ(runs[1]["threads"], 2);
+    // The same inputs give the same result whatever the thread count.
+    EXPECT_EQ(runs[0]["state_hash"], runs[1]["state_hash"]) << scene["name"];
+    EXPECT_DOUBLE_EQ(runs[0]["speedup"].get<double>(), 1.0);
+    ASSERT_GE(runs[0]["stages"].size(), 6u);
+    double stage_total = 0.0;
+    for (const auto& stage : runs[0]["stages"]) {
+      EXPECT_FALSE(stage["name"].get<std::string>().empty());
+      EXPECT_GE(stage["jobs"].get<int>(), 1);
+      stage_total += stage["wall_ms"].get<double>();
+    }
+    // Stages run one after another on one thread, inside the step.
+    EXPECT_LE(stage_total, runs[0]["mean_step_ms"].get<double>() * 1.01);
+  }
+  std::filesystem::remove(json);
+  // Bad options are refused before anything runs.
+  EXPECT_EQ(RunCli("bench --steps 2 --threads 0"), 2);
+  EXPECT_EQ(RunCli("bench --steps 2 --threads 1,x"), 2);
+  EXPECT_EQ(RunCli("bench --steps 2 --job-system fibers"), 2);
+}
+
 TEST(Cli, BundledLevelsAreWhatTheGeneratorWrites) {
   const auto out = TempFile("levels");
   ASSERT_EQ(RunCli("level generate --out " + out.string()), 0);
