@@ -5,6 +5,8 @@
 #include <mutex>
 #include <string>
 
+#include "physics/math/Overlap4.h"
+
 namespace strata {
 
 namespace {
@@ -20,16 +22,9 @@ std::uint64_t LayerBit(ObjectLayer layer) {
   return layer < 64 ? std::uint64_t{1} << layer : ~std::uint64_t{0};
 }
 
-// The 4-wide child tests. Branch-free loops over the structure-of-arrays bounds, which the compiler turns
-// into packed compares.
+// The 4-wide child tests over the structure-of-arrays bounds.
 int OverlapMask(const ChildBounds& b, const AABB& box) {
-  int mask = 0;
-  for (int i = 0; i < 4; ++i) {
-    const bool hit = (b.min_x[i] <= box.max.x()) & (box.min.x() <= b.max_x[i]) & (b.min_y[i] <= box.max.y()) &
-                     (box.min.y() <= b.max_y[i]) & (b.min_z[i] <= box.max.z()) & (box.min.z() <= b.max_z[i]);
-    mask |= static_cast<int>(hit) << i;
-  }
-  return mask;
+  return OverlapMask4(b.min_x, b.min_y, b.min_z, b.max_x, b.max_y, b.max_z, box);
 }
 
 int SphereMask(const ChildBounds& b, const Vec3& center, float radius_squared) {

@@ -82,6 +82,7 @@ StageTiming JobGraph::timing(StageId id) const {
   StageTiming timing;
   timing.name = stage.name;
   timing.width = stage.last_width;
+  timing.parallel = stage.parallel;
   const std::int64_t start = stage.start_ns.load(std::memory_order_relaxed);
   if (start == INT64_MAX) return timing;
   timing.start_ms = 1e-6 * static_cast<double>(start);

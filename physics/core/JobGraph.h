@@ -21,6 +21,7 @@ struct StageTiming {
   double end_ms = 0.0;    ///< last job finished
   double busy_ms = 0.0;   ///< summed over the stage's jobs
   std::uint32_t width = 0;
+  bool parallel = false;  ///< may run as more than one job (see JobGraph::SetWidth)
 };
 
 /// Stages with dependencies; each stage runs as `width` jobs.
@@ -34,9 +35,11 @@ class JobGraph {
   StageId Add(const char* name, StageFunction function, void* context,
               std::initializer_list<StageId> after = {});
 
-  /// How many jobs `stage` runs as (at least 1). Set it before Run, or from a stage that `stage` waits for:
-  /// the width is read when the stage becomes ready.
+  /// Makes `stage` a parallel stage and sets how many jobs it runs as (at least 1). Set it before Run, or
+  /// from a stage that `stage` waits for: the width is read when the stage becomes ready. A stage that never
+  /// gets a width is serial: one job.
   void SetWidth(StageId stage, std::uint32_t width) {
+    stages_[stage].parallel = true;
     stages_[stage].width.store(width == 0 ? 1 : width, std::memory_order_relaxed);
   }
 
@@ -61,6 +64,7 @@ class JobGraph {
     std::atomic<std::int64_t> end_ns{0};
     std::atomic<std::int64_t> busy_ns{0};
     std::uint32_t last_width = 0;
+    bool parallel = false;
 
     Stage(const char* n, StageFunction f, void* c) : name(n), function(f), context(c) {}
     // Only for building the graph (vector growth); atomics carry no run state yet except the width.
@@ -70,7 +74,8 @@ class JobGraph {
           context(other.context),
           successors(std::move(other.successors)),
           dependency_count(other.dependency_count),
-          width(other.width.load(std::memory_order_relaxed)) {}
+          width(other.width.load(std::memory_order_relaxed)),
+          parallel(other.parallel) {}
   };
 
   static void RunJob(void* graph, std::uint32_t packed);

@@ -5,6 +5,8 @@
 #include <string>
 #include <unordered_map>
 
+#include "physics/math/Overlap4.h"
+
 namespace strata {
 
 namespace {
@@ -93,14 +95,7 @@ void SetLane(float (&min_x)[4], float (&min_y)[4], float (&min_z)[4], float (&ma
 }  // namespace
 
 int TriangleMeshShape::Bounds4::OverlapMask(const AABB& box) const {
-  // Branch-free over the four lanes, which the compiler turns into packed compares.
-  int mask = 0;
-  for (int i = 0; i < 4; ++i) {
-    const bool hit = (min_x[i] <= box.max.x()) & (box.min.x() <= max_x[i]) & (min_y[i] <= box.max.y()) &
-                     (box.min.y() <= max_y[i]) & (min_z[i] <= box.max.z()) & (box.min.z() <= max_z[i]);
-    mask |= static_cast<int>(hit) << i;
-  }
-  return mask;
+  return OverlapMask4(min_x, min_y, min_z, max_x, max_y, max_z, box);
 }
 
 void TriangleMeshShape::Bounds4::RayEntries(const Vec3& origin, const Vec3& inverse_direction,

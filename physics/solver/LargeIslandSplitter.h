@@ -29,7 +29,7 @@ class LargeIslandSplitter {
   /// Islands with at least this many constraints are split.
   static constexpr std::uint32_t kMinConstraintsToSplit = 128;
   /// Parallel splits with fewer constraints than this join the sequential split.
-  static constexpr std::uint32_t kMinSplitSize = 32;
+  static constexpr std::uint32_t kMinSplitSize = 8;
 
   /// Reorders `constraints` split by split and says where each split starts. `body_masks` is scratch indexed
   /// by solver body and must be zero for every dynamic body the constraints name; they are left non-zero.

@@ -13,17 +13,24 @@ namespace {
 // pinning the broad phase are a small share of the work.
 constexpr std::uint32_t kBodyBatch = 8;
 
-// A pair replays last step's manifolds while, relative to each other, its bodies moved less than this...
-constexpr float kReplayMaxDistanceSquared = 1e-3f * 1e-3f;  // 1 mm
-// ...and turned less than 2 degrees (cos of half the angle, as quaternions measure it).
-const float kReplayMinHalfAngleCosine = std::cos(0.5f * 2.0f * kPi / 180.0f);
+// One pair's shape test writes its manifolds into a job buffer that is reused from step to step. A convex
+// on a mesh yields one per distinct triangle normal it touches, and a body that rolls onto a crease for the
+// first time can set a new record; starting every buffer at this size keeps such a step off the heap.
+constexpr std::size_t kMinManifoldsPerJob = 32;
+
+// Reserves for `count` with half again as much to spare, so that a count that creeps up from step to step
+// (a pile settling into more contacts) grows the buffer once in a while instead of every step.
+template <typename T>
+void ReserveWithSlack(std::vector<T>& buffer, std::size_t count) {
+  if (buffer.capacity() < count) buffer.reserve(count + count / 2);
+}
 
 }  // namespace
 
 void CollisionFinder::BeginStep(const Input& input, std::uint32_t job_count) {
   // Any job may take any share of the work: size every job's buffers for all of last step's.
   const CollisionStats last = stats();
-  std::size_t most_pairs = last.pairs, most_manifolds = 0, most_triangles = 0, most_epa_vertices = 0,
+  std::size_t most_pairs = 0, most_manifolds = kMinManifoldsPerJob, most_triangles = 0, most_epa_vertices = 0,
               most_epa_faces = 0, most_horizon = 0, most_wake_keys = 0;
   for (const Job& job : jobs_) {
     most_pairs = std::max(most_pairs, job.pairs.capacity());
@@ -36,6 +43,11 @@ void CollisionFinder::BeginStep(const Input& input, std::uint32_t job_count) {
   }
   input_ = input;
   job_count_ = job_count;
+  const PhysicsSettings& settings = *input.settings;
+  replay_max_distance_squared_ =
+      settings.body_pair_cache_max_distance * settings.body_pair_cache_max_distance;
+  // Quaternions measure half the angle.
+  replay_min_half_angle_cosine_ = std::cos(0.5f * settings.body_pair_cache_max_angle * kPi / 180.0f);
   next_body_.store(0, std::memory_order_relaxed);
   if (jobs_.size() < job_count) {
     jobs_.resize(job_count);
@@ -46,10 +58,13 @@ void CollisionFinder::BeginStep(const Input& input, std::uint32_t job_count) {
     job.constraints.clear();
     job.island_body.clear();
     job.wake_keys.clear();
-    job.constraints.reserve(last.constraints);
-    job.island_body.reserve(last.constraints);
+    // Counts from last step get slack; the largest capacity any job already holds is matched exactly (slack
+    // on it would compound from job to job).
+    ReserveWithSlack(job.constraints, last.constraints);
+    ReserveWithSlack(job.island_body, last.constraints);
+    ReserveWithSlack(job.pairs, last.pairs);
+    ReserveWithSlack(job.wake_keys, most_wake_keys);
     job.pairs.reserve(most_pairs);
-    job.wake_keys.reserve(most_wake_keys);
     job.manifolds.reserve(most_manifolds);
     job.scratch.triangles.reserve(most_triangles);
     job.scratch.epa.vertices.reserve(most_epa_vertices);
@@ -133,9 +148,10 @@ void CollisionFinder::CollidePair(BodyPair pair, BodyPairCache::PreviousPairs& p
   const Quat delta_rotation = inverse_a * b.rotation;
   const CachedBodyPair* previous = previous_pairs.Find(pair.b);
   if (previous != nullptr && previous->a != a.body->id()) previous = nullptr;  // ordered the other way then
-  const bool replay = previous != nullptr &&
-                      (delta_position - previous->delta_position).squaredNorm() < kReplayMaxDistanceSquared &&
-                      std::abs(delta_rotation.dot(previous->delta_rotation)) > kReplayMinHalfAngleCosine;
+  const bool replay =
+      previous != nullptr &&
+      (delta_position - previous->delta_position).squaredNorm() < replay_max_distance_squared_ &&
+      std::abs(delta_rotation.dot(previous->delta_rotation)) > replay_min_half_angle_cosine_;
   // A replayed pair keeps the pose its manifolds were made at, so slow drift still ends in a fresh test.
   CachedBodyPair& entry = *input_.cache->Create(job_index, pair.a, pair.b, a.body->id(), b.body->id(),
                                                 replay ? previous->delta_position : delta_position,

@@ -26,6 +26,9 @@ Status PhysicsSettings::Validate() const {
     return Bad("max_position_correction", "must be > 0");
   if (!NonNegative(min_velocity_for_restitution)) return Bad("min_velocity_for_restitution", "must be >= 0");
   if (!NonNegative(contact_match_distance)) return Bad("contact_match_distance", "must be >= 0");
+  if (!NonNegative(body_pair_cache_max_distance)) return Bad("body_pair_cache_max_distance", "must be >= 0");
+  if (!(body_pair_cache_max_angle >= 0.0f && body_pair_cache_max_angle <= 180.0f))
+    return Bad("body_pair_cache_max_angle", "must be in [0, 180] degrees");
   if (!NonNegative(time_before_sleep)) return Bad("time_before_sleep", "must be >= 0");
   if (!NonNegative(sleep_linear_velocity) || !NonNegative(sleep_angular_velocity))
     return Bad("sleep velocities", "must be >= 0");

@@ -129,6 +129,7 @@ void PhysicsSystem::BuildStepGraphs() {
       "finalize islands", &SerialStage<&PhysicsSystem::FinalizeIslands>, this, {rebuild, collide});
   prepare_islands_stage_ =
       middle_graph_.Add("prepare islands", &ParallelStage<&PhysicsSystem::PrepareIslands>, this, {finalize});
+  middle_graph_.SetWidth(prepare_islands_stage_, job_count_);  // narrowed to the group count every step
   const JobGraph::StageId solve = middle_graph_.Add(
       "solve islands", &ParallelStage<&PhysicsSystem::SolveIslands>, this, {prepare_islands_stage_});
   middle_graph_.SetWidth(solve, job_count_);

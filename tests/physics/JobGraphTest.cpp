@@ -120,6 +120,23 @@ TEST(JobGraphThreads, StagesRunAfterWhatTheyWaitForWithTheirWidth) {
   }
 }
 
+TEST(JobGraph, StagesGivenAWidthReportThemselvesParallel) {
+  JobGraph graph;
+  std::atomic<int> calls{0};
+  auto count = [](void* context, std::uint32_t, std::uint32_t) {
+    static_cast<std::atomic<int>*>(context)->fetch_add(1);
+  };
+  const JobGraph::StageId serial = graph.Add("serial", count, &calls);
+  const JobGraph::StageId narrowed = graph.Add("narrowed", count, &calls, {serial});
+  graph.SetWidth(narrowed, 1);  // parallel by kind even when one job is all it gets
+  SerialJobSystem jobs;
+  graph.Run(jobs);
+  EXPECT_EQ(calls.load(), 2);
+  EXPECT_FALSE(graph.timing(serial).parallel);
+  EXPECT_TRUE(graph.timing(narrowed).parallel);
+  EXPECT_EQ(graph.timing(narrowed).width, 1u);
+}
+
 TEST(JobGraphThreads, GraphsRunFromSeveralThreadsOnOnePoolStayApart) {
   auto pool = std::make_shared<ThreadPoolJobSystem>(3);
   std::atomic<int> failures{0};

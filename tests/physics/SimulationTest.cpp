@@ -242,6 +242,46 @@ TEST(Simulation, RestingPairsReplayTheirManifoldsAndMovedPairsAreTestedAgain) {
   EXPECT_NEAR(Position(*world, box).y(), 0.5f, 0.01f);
 }
 
+TEST(Simulation, PairCacheLimitsOfZeroTestEveryPairEveryStep) {
+  for (const bool zero_distance : {true, false}) {
+    PhysicsSettings settings;
+    settings.allow_sleeping = false;
+    (zero_distance ? settings.body_pair_cache_max_distance : settings.body_pair_cache_max_angle) = 0.0f;
+    auto world = MakeWorld(settings);
+    Floor(*world);
+    const BodyID box = Add(*world, Dynamic(Box(0.5f, 0.5f, 0.5f), Vec3(0, 0.5f, 0)));
+    StepFor(*world, 60);
+    EXPECT_EQ(world->last_step_stats().pairs, 1u);
+    EXPECT_EQ(world->last_step_stats().pairs_replayed, 0u);
+    EXPECT_NEAR(Position(*world, box).y(), 0.5f, 0.01f);
+  }
+}
+
+TEST(Simulation, BadSettingsAreRejectedAndTheOldOnesKept) {
+  auto world = MakeWorld();
+  const PhysicsSettings before = world->settings();
+  auto bad = [&](auto&& spoil, const char* field) {
+    PhysicsSettings settings;
+    spoil(settings);
+    const Status status = world->SetSettings(settings);
+    ASSERT_FALSE(status.ok()) << field;
+    EXPECT_NE(status.message().find(field), std::string::npos) << status.message();
+    PhysicsSystemConfig config;
+    EXPECT_FALSE(PhysicsSystem::Create(config, settings).ok()) << field;
+  };
+  bad([](PhysicsSettings& s) { s.body_pair_cache_max_distance = -1e-3f; }, "body_pair_cache_max_distance");
+  bad([](PhysicsSettings& s) { s.body_pair_cache_max_distance = std::nanf(""); },
+      "body_pair_cache_max_distance");
+  bad([](PhysicsSettings& s) { s.body_pair_cache_max_angle = 181.0f; }, "body_pair_cache_max_angle");
+  bad([](PhysicsSettings& s) { s.body_pair_cache_max_angle = std::nanf(""); }, "body_pair_cache_max_angle");
+  bad([](PhysicsSettings& s) { s.velocity_iterations = 0; }, "velocity_iterations");
+  bad([](PhysicsSettings& s) { s.gravity.x() = INFINITY; }, "gravity");
+  EXPECT_EQ(world->settings().body_pair_cache_max_distance, before.body_pair_cache_max_distance);
+  EXPECT_EQ(world->settings().body_pair_cache_max_angle, before.body_pair_cache_max_angle);
+  EXPECT_EQ(world->settings().velocity_iterations, before.velocity_iterations);
+  EXPECT_EQ(world->settings().gravity, before.gravity);
+}
+
 TEST(Simulation, WarmStartedImpulsesHoldABoxOnASlopeWithOneVelocityPass) {
   // One pass solves friction before non-penetration, bounded by the normal impulse accumulated so far. From
   // a cold start that bound is zero and the box slides; with last step's impulses, carried in the body-pair

@@ -57,6 +57,7 @@ void AddProfile(const StepProfile& profile, EngineResult& result) {
     figures.wall_ms += timing.end_ms - timing.start_ms;
     figures.busy_ms += timing.busy_ms;
     figures.jobs = timing.width;
+    figures.parallel = timing.parallel;
   }
 }
 
@@ -110,6 +111,8 @@ EngineResult RunStrata(const BenchScene& scene, int threads, JobSystemKind job_s
   settings.velocity_iterations = scene.velocity_iterations;
   settings.position_iterations = scene.position_iterations;
   settings.allow_sleeping = scene.sleeping;
+  settings.body_pair_cache_max_distance = scene.pair_cache_max_distance;
+  settings.body_pair_cache_max_angle = scene.pair_cache_max_angle;
   auto system = PhysicsSystem::Create(config, settings);
   if (!system) return result;
   PhysicsSystem& world = **system;

@@ -15,6 +15,7 @@ struct StageFigures {
   double wall_ms = 0.0;    ///< from its first job's start to its last job's end
   double busy_ms = 0.0;    ///< summed over its jobs (spinning for a split island's next round included)
   std::uint32_t jobs = 0;  ///< jobs it ran as in the last step
+  bool parallel = false;   ///< a stage that may run as several jobs
 };
 
 /// Which job system Strata runs on.

@@ -38,6 +38,10 @@ struct BenchScene {
   int position_iterations = 2;
   bool sleeping = false;
   int steps = 500;
+  /// Strata's body-pair cache reuse limits (m, degrees). Jolt's, as its PerformanceTest runs these scenes
+  /// (Strata's own defaults are tighter); the Bullet peer has no such cache.
+  float pair_cache_max_distance = 1e-3f;
+  float pair_cache_max_angle = 2.0f;
 };
 
 /// 1240 boxes in a stepped pyramid on a floor (sleeping off, 10/2 iterations).

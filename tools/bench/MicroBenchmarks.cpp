@@ -2,6 +2,7 @@
 // phase pair tests, hull building. `strata_microbench` prints the figures; nothing here asserts on time.
 #include <benchmark/benchmark.h>
 
+#include <numeric>
 #include <random>
 
 #include "physics/narrowphase/CollideShapes.h"
@@ -10,6 +11,7 @@
 #include "physics/shapes/ConvexHullShape.h"
 #include "physics/shapes/SphereShape.h"
 #include "physics/shapes/TriangleMeshShape.h"
+#include "physics/solver/IslandBuilder.h"
 #include "tools/bench/BenchScenes.h"
 
 namespace strata {
@@ -155,6 +157,95 @@ void BM_CollideConvexOnMesh(benchmark::State& state) {
       static_cast<double>(manifolds) / static_cast<double>(state.iterations() * poses.size());
 }
 BENCHMARK(BM_CollideConvexOnMesh)->DenseRange(0, 3);
+
+// The pyramid benchmark's contact graph: boxes whose centres are closer than 3 m touch (side neighbours at
+// 2 m, the four below at 2.9 m), linked in the order the narrow phase finds them (by the lower body).
+struct ContactGraph {
+  std::uint32_t bodies = 0;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> links;
+};
+
+const ContactGraph& PyramidContactGraph() {
+  static const ContactGraph graph = [] {
+    ContactGraph g;
+    std::vector<Vec3> centres;
+    for (const bench::BenchBody& body : bench::MakePyramid().bodies)
+      if (body.dynamic) centres.push_back(body.position);
+    g.bodies = static_cast<std::uint32_t>(centres.size());
+    for (std::uint32_t a = 0; a < g.bodies; ++a)
+      for (std::uint32_t b = a + 1; b < g.bodies; ++b)
+        if ((centres[a] - centres[b]).norm() < 3.0f) g.links.emplace_back(a, b);
+    return g;
+  }();
+  return graph;
+}
+
+// Lock-free union: time per Link and how many links each find followed (the design: 0.07 us, 0.9 loops).
+void BM_IslandLink(benchmark::State& state) {
+  const ContactGraph& graph = PyramidContactGraph();
+  IslandBuilder islands;
+  std::uint64_t hops = 0;
+  for (auto _ : state) {
+    islands.Reset(graph.bodies);
+    for (const auto& [a, b] : graph.links) hops += islands.Link(a, b);
+  }
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * graph.links.size()));
+  state.counters["links"] = static_cast<double>(graph.links.size());
+  state.counters["ns_per_link"] = benchmark::Counter(
+      static_cast<double>(state.iterations() * graph.links.size()),
+      benchmark::Counter::kIsRate | benchmark::Counter::kInvert, benchmark::Counter::kIs1000);
+  // Two finds per link.
+  state.counters["loops_per_find"] =
+      static_cast<double>(hops) / (2.0 * static_cast<double>(state.iterations() * graph.links.size()));
+}
+BENCHMARK(BM_IslandLink);
+
+// The part of island building left on one thread: Finalize, after the links were made in the narrow phase.
+void BM_IslandFinalizeSerialPart(benchmark::State& state) {
+  const ContactGraph& graph = PyramidContactGraph();
+  IslandBuilder islands;
+  std::vector<std::uint32_t> constraint_body;
+  for (const auto& link : graph.links) constraint_body.push_back(link.first);
+  for (auto _ : state) {
+    state.PauseTiming();
+    islands.Reset(graph.bodies);
+    for (const auto& [a, b] : graph.links) islands.Link(a, b);
+    state.ResumeTiming();
+    islands.Finalize(constraint_body);
+    benchmark::DoNotOptimize(islands.island_count());
+  }
+}
+BENCHMARK(BM_IslandFinalizeSerialPart);
+
+// What the step did on one thread before: union-find over every contact, a find per body, then the
+// bodies and contacts grouped by island.
+void BM_IslandSerialUnionFindBefore(benchmark::State& state) {
+  const ContactGraph& graph = PyramidContactGraph();
+  std::vector<std::uint32_t> parent(graph.bodies), island_of(graph.bodies), counts, order(graph.bodies);
+  std::vector<std::uint32_t> contact_order(graph.links.size());
+  auto find = [&](std::uint32_t x) {
+    while (parent[x] != x) {
+      parent[x] = parent[parent[x]];
+      x = parent[x];
+    }
+    return x;
+  };
+  for (auto _ : state) {
+    std::iota(parent.begin(), parent.end(), 0u);
+    for (const auto& [a, b] : graph.links) {
+      const std::uint32_t ra = find(a), rb = find(b);
+      if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);
+    }
+    counts.assign(graph.bodies + 1, 0);
+    for (std::uint32_t i = 0; i < graph.bodies; ++i) ++counts[(island_of[i] = find(i)) + 1];
+    for (std::uint32_t i = 1; i <= graph.bodies; ++i) counts[i] += counts[i - 1];
+    for (std::uint32_t i = 0; i < graph.bodies; ++i) order[counts[island_of[i]]++] = i;
+    for (std::size_t k = 0; k < graph.links.size(); ++k) contact_order[k] = island_of[graph.links[k].first];
+    benchmark::DoNotOptimize(order.data());
+    benchmark::DoNotOptimize(contact_order.data());
+  }
+}
+BENCHMARK(BM_IslandSerialUnionFindBefore);
 
 void BM_ConvexHullBuild(benchmark::State& state) {
   std::mt19937 random(3);

@@ -1,12 +1,14 @@
 // `strata bench [--scene pyramid|convex_vs_mesh|all] [--steps N] [--threads 1,2,4,8,16] [--json FILE]
-// [--job-system default|pool] [--no-bullet]`: runs the benchmark scenes in Strata at each thread count and,
-// when built with Bullet, in Bullet (one thread) in the same run, each run in its own child process. Prints
-// one table per scene with a speedup column, then where a step's time goes, stage by stage.
+// [--job-system default|pool] [--pair-cache-mm MM] [--pair-cache-degrees DEG] [--no-bullet]`: runs the
+// benchmark scenes in Strata at each thread count and, when built with Bullet, in Bullet (one thread) in the
+// same run, each run in its own child process. Prints one table per scene with a speedup column, then where a
+// step's time goes, stage by stage.
 #include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <thread>
 
 #include "tools/bench/BenchRunner.h"
@@ -23,6 +25,8 @@ struct BenchOptions {
   std::string json;
   std::string job_system = "default";
   bool bullet = true;
+  std::optional<float> pair_cache_distance_mm;  // unset: the scene's own
+  std::optional<float> pair_cache_angle;
 };
 
 // 1, 2, 4, ... up to the machine's cores, and the core count itself.
@@ -64,10 +68,10 @@ void PrintStages(const std::vector<bench::EngineResult>& runs) {
     for (const bench::EngineResult& run : runs)
       std::printf("  %8.3f %8.3f", s < run.stage_count ? run.stages[s].wall_ms : 0.0,
                   s < run.stage_count ? run.stages[s].busy_ms : 0.0);
-    const bool one_job = jobs <= 1;
-    if (one_job) serial += first.stages[s].wall_ms;
+    const bool parallel = first.stages[s].parallel;
+    if (!parallel) serial += first.stages[s].wall_ms;
     std::printf("  %7.1f%%  %s\n", total > 0.0 ? 100.0 * first.stages[s].wall_ms / total : 0.0,
-                one_job ? "serial" : "parallel");
+                parallel ? "parallel" : "serial");
   }
   std::printf("  %-20s %5s", "step (mean)", "");
   for (const bench::EngineResult& run : runs) std::printf("  %8.3f %8s", run.mean_step_ms, "");
@@ -141,13 +145,23 @@ int RunBench(BenchOptions options) {
       return 2;
     }
     if (options.steps > 0) scene.steps = options.steps;
-    std::printf("%s: %zu bodies, %d steps of %.4f s, %d velocity / %d position iterations, sleeping %s\n",
-                name.c_str(), scene.bodies.size(), scene.steps, scene.dt, scene.velocity_iterations,
-                scene.position_iterations, scene.sleeping ? "on" : "off");
+    if (options.pair_cache_distance_mm)
+      scene.pair_cache_max_distance = *options.pair_cache_distance_mm / 1000.0f;
+    if (options.pair_cache_angle) scene.pair_cache_max_angle = *options.pair_cache_angle;
+    std::printf(
+        "%s: %zu bodies, %d steps of %.4f s, %d velocity / %d position iterations, sleeping %s, pair cache "
+        "%.2f mm / %.1f deg\n",
+        name.c_str(), scene.bodies.size(), scene.steps, scene.dt, scene.velocity_iterations,
+        scene.position_iterations, scene.sleeping ? "on" : "off", scene.pair_cache_max_distance * 1000.0f,
+        scene.pair_cache_max_angle);
     std::printf("  %-7s %7s %9s %10s %9s %9s %9s %6s %-12s %s\n", "engine", "threads", "steps/s", "ms median",
                 "ms max", "MiB peak", "speedup", "bodies", "", "state hash");
     std::vector<bench::EngineResult> runs;
-    nlohmann::json scene_json = {{"name", name}, {"bodies", scene.bodies.size()}, {"steps", scene.steps}};
+    nlohmann::json scene_json = {{"name", name},
+                                 {"bodies", scene.bodies.size()},
+                                 {"steps", scene.steps},
+                                 {"pair_cache_mm", scene.pair_cache_max_distance * 1000.0f},
+                                 {"pair_cache_degrees", scene.pair_cache_max_angle}};
     nlohmann::json strata_json = nlohmann::json::array();
     for (const int threads : options.threads) {
       runs.push_back(bench::RunIsolated([&] { return bench::RunStrata(scene, threads, job_system); }));
@@ -204,6 +218,15 @@ std::function<int()> AddBenchCommand(CLI::App& app) {
   command->add_option("--json", options->json, "Also write the figures to this JSON file");
   command->add_option("--job-system", options->job_system,
                       "default (oneTBB when built with it) or pool (Strata's std::thread pool)");
+  command
+      ->add_option("--pair-cache-mm", options->pair_cache_distance_mm,
+                   "Body-pair cache: reuse a pair's contacts while it moved less than this (mm; 0 = off; "
+                   "default 1, as Jolt)")
+      ->check(CLI::Range(0.0f, 1000.0f));
+  command
+      ->add_option("--pair-cache-degrees", options->pair_cache_angle,
+                   "Body-pair cache: ...and turned less than this (degrees; default 2, as Jolt)")
+      ->check(CLI::Range(0.0f, 180.0f));
   command->add_flag("!--no-bullet", options->bullet, "Skip the Bullet peer");
   return [options] { return RunBench(*options); };
 }
