@@ -3,10 +3,6 @@
 #include <algorithm>
 #include <cassert>
 
-#if defined(__SSE2__)
-#include <xmmintrin.h>
-#endif
-
 #include "physics/core/Atomics.h"
 
 namespace strata {
@@ -61,31 +57,6 @@ void BodyLocation::SetBounds(const AABB& box) {
     bounds[axis].store(box.min[axis], kRelaxed);
     bounds[3 + axis].store(box.max[axis], kRelaxed);
   }
-}
-
-QuadTree::ChildBounds LoadChildBounds(const QuadTreeNode& node) {
-  QuadTree::ChildBounds b;
-#if defined(__SSE2__) && !defined(__SANITIZE_THREAD__)
-  // An atomic float has a float's layout, and the four of a bound sit side by side, 16-byte aligned: one
-  // load each (on x86 each float in it is still read whole, as by a relaxed load). The ThreadSanitizer build
-  // keeps the atomic loads it can see.
-  static_assert(sizeof(std::atomic<float>) == sizeof(float) && alignof(QuadTreeNode) % 16 == 0);
-  auto load = [](const std::array<std::atomic<float>, 4>& values, float* out) {
-    _mm_store_ps(out, _mm_load_ps(reinterpret_cast<const float*>(values.data())));
-  };
-  load(node.min_x, b.min_x), load(node.min_y, b.min_y), load(node.min_z, b.min_z);
-  load(node.max_x, b.max_x), load(node.max_y, b.max_y), load(node.max_z, b.max_z);
-#else
-  for (int i = 0; i < 4; ++i) {
-    b.min_x[i] = node.min_x[i].load(kRelaxed);
-    b.min_y[i] = node.min_y[i].load(kRelaxed);
-    b.min_z[i] = node.min_z[i].load(kRelaxed);
-    b.max_x[i] = node.max_x[i].load(kRelaxed);
-    b.max_y[i] = node.max_y[i].load(kRelaxed);
-    b.max_z[i] = node.max_z[i].load(kRelaxed);
-  }
-#endif
-  return b;
 }
 
 std::uint32_t QuadTree::MakeEmptyNode(std::uint32_t parent) {

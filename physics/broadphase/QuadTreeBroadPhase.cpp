@@ -408,6 +408,7 @@ void QuadTreeBroadPhase::FindPairs(std::span<const BodyID> active, std::span<con
                                    const LayerSetup& layers, std::vector<BodyPair>& out) const {
   const BroadPhasePin pin = Pin();
   const bool own_layers = &layers == layers_.get();
+  const bool layer_mask_exact = own_layers && layers_->ObjectLayerCount() <= 64;
   for (const BodyID a : active) {
     const BodyLocation& location = locations_[a.index];
     if (location.claimed.load(std::memory_order_acquire) != 1) continue;
@@ -424,8 +425,9 @@ void QuadTreeBroadPhase::FindPairs(std::span<const BodyID> active, std::span<con
         },
         [&](BodyID b, const BodyLocation& other, float) {
           if (active_flags[b.index] && b.index < a.index) return true;  // reported from b's side
-          if (!other.Bounds().Overlaps(box) || !layers.ShouldCollide(layer_a, other.layer.load(kRelaxed)))
-            return true;
+          if (!other.Bounds().Overlaps(box)) return true;
+          // The filter's layer mask already said yes, and it is exact for our own table of up to 64 layers.
+          if (!layer_mask_exact && !layers.ShouldCollide(layer_a, other.layer.load(kRelaxed))) return true;
           out.push_back({a, b});
           return true;
         });

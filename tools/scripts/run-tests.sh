@@ -7,20 +7,22 @@ root="$(cd "$(dirname "$0")/../.." && pwd)"
 jobs="$(nproc)"
 bash "$root/tools/scripts/install-deps.sh"
 
-build_and_test() {  # build dir, build target ("all" for everything), ctest label regex, cmake args...
-  local dir="$1" target="$2" labels="$3"
+build_and_test() {  # build dir, build targets ("all" for everything), ctest label regex, cmake args...
+  local dir="$1" targets="$2" labels="$3"
   shift 3
   cmake -S "$root" -B "$dir" -DSTRATA_WERROR=ON "$@" > /dev/null
-  cmake --build "$dir" --target "$target" -j "$jobs"
+  # shellcheck disable=SC2086 # the targets are a word list
+  cmake --build "$dir" --target $targets -j "$jobs"
   ctest --test-dir "$dir" -L "$labels" --output-on-failure -j "$jobs"
 }
 
+test_targets="strata_tests strata_allocation_tests"
 echo "== release build: unit tests and benchmark smoke runs"
 build_and_test "$root/build" all '^(unit|bench-smoke)$' -DCMAKE_BUILD_TYPE=Release
 echo "== ASan + UBSan build: unit tests"
-build_and_test "$root/build-asan" strata_tests '^unit$' -DCMAKE_BUILD_TYPE=Debug -DSTRATA_ASAN=ON \
+build_and_test "$root/build-asan" "$test_targets" '^unit$' -DCMAKE_BUILD_TYPE=Debug -DSTRATA_ASAN=ON \
   -DSTRATA_WITH_BULLET=OFF
 echo "== ThreadSanitizer build: concurrency tests"
 # oneTBB's shared library is not instrumented, so this build uses the std::thread job system instead.
-TSAN_OPTIONS="halt_on_error=1" build_and_test "$root/build-tsan" strata_tests '^tsan$' -DCMAKE_BUILD_TYPE=Debug \
+TSAN_OPTIONS="halt_on_error=1" build_and_test "$root/build-tsan" "$test_targets" '^tsan$' -DCMAKE_BUILD_TYPE=Debug \
   -DSTRATA_TSAN=ON -DSTRATA_WITH_TBB=OFF -DSTRATA_WITH_BULLET=OFF
