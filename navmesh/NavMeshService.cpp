@@ -355,6 +355,7 @@ void NavMeshService::ScannerLoop() {
       SetState(ready[i].first, record, TileState::kStale);
       record.stale_since = Clock::now();
     }
+    ++counters_.scans;
   }
 }
 

@@ -70,6 +70,7 @@ struct NavMeshServiceStats {
   std::size_t building = 0;
   std::size_t ready = 0;
   std::size_t stale = 0;
+  std::size_t scans = 0;  ///< finished scans, each of which compared every ready tile with the world
 };
 
 /// The background navmesh builder for one physics world (which must outlive it).

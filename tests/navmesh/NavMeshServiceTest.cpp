@@ -77,8 +77,11 @@ TEST(NavMeshService, SmallMovesAndDebrisLeaveTilesReady) {
   const auto service = BuildArea(*world, TileArea(1));
   ASSERT_TRUE(world->bodies().SetPosition(crate, Vec3(6.1f, 1.0f, 6.0f)).ok());  // below the 0.25 m threshold
   Add(*world, Dynamic(Box(0.2f, 0.2f, 0.2f), Vec3(3, 0.2f, 3)));                 // debris does not count
-  std::this_thread::sleep_for(10 * service->config().scan_interval);
+  // Two whole scans after the changes compared the tile with the world and left it alone.
+  const std::size_t scans = service->stats().scans;
+  ASSERT_TRUE(WaitForScans(*service, scans + 2, std::chrono::steady_clock::now() + std::chrono::seconds(30)));
   EXPECT_EQ(service->GetTileState({0, 0}), TileState::kReady);
+  EXPECT_EQ(service->stats().builds, 1u);
   ASSERT_TRUE(world->bodies().SetPosition(crate, Vec3(8.0f, 1.0f, 6.0f)).ok());
   ASSERT_TRUE(WaitForRebuilds(*service, 1));
   EXPECT_EQ(service->GetTileState({0, 0}), TileState::kReady);

@@ -61,19 +61,41 @@ inline std::unique_ptr<navmesh::NavMeshQuery> MakeQuery(const navmesh::NavMesh& 
   return std::move(*query);
 }
 
-/// Waits until the service has finished at least `rebuilds` rebuilds and is idle, then lets a few more
-/// scans pass (a change can be seen by one scan for one tile and the next scan for another) and waits again.
+/// Waits until the scanner has finished `scans` scans in all.
+inline bool WaitForScans(const navmesh::NavMeshService& service, std::size_t scans,
+                         std::chrono::steady_clock::time_point deadline) {
+  while (service.stats().scans < scans) {
+    if (std::chrono::steady_clock::now() >= deadline) return false;
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  return true;
+}
+
+/// Waits until the service is idle and stays so over two whole scans that began after it was idle (the
+/// first may have started earlier): then every change made before this call has been seen and rebuilt,
+/// however slow the machine (sanitizer builds), with no sleep tuned to it.
+inline bool WaitUntilSettled(const navmesh::NavMeshService& service,
+                             std::chrono::seconds timeout = std::chrono::seconds(60)) {
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  while (std::chrono::steady_clock::now() < deadline) {
+    if (!service.WaitUntilIdle(std::chrono::milliseconds(100))) continue;
+    const navmesh::NavMeshServiceStats before = service.stats();
+    if (!WaitForScans(service, before.scans + 2, deadline)) return false;
+    const navmesh::NavMeshServiceStats after = service.stats();
+    if (after.builds == before.builds && after.queued + after.building + after.stale == 0) return true;
+  }
+  return false;
+}
+
+/// Waits until the service has finished at least `rebuilds` rebuilds, then until it has settled.
 inline bool WaitForRebuilds(const navmesh::NavMeshService& service, std::size_t rebuilds,
                             std::chrono::seconds timeout = std::chrono::seconds(60)) {
   const auto deadline = std::chrono::steady_clock::now() + timeout;
-  while (std::chrono::steady_clock::now() < deadline) {
-    if (service.stats().rebuilds >= rebuilds && service.WaitUntilIdle(std::chrono::milliseconds(50))) {
-      std::this_thread::sleep_for(4 * service.config().scan_interval + service.config().rebuild_delay);
-      return service.WaitUntilIdle(std::chrono::seconds(30));
-    }
+  while (service.stats().rebuilds < rebuilds) {
+    if (std::chrono::steady_clock::now() >= deadline) return false;
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
   }
-  return false;
+  return WaitUntilSettled(service, timeout);
 }
 
 }  // namespace strata::test

@@ -7,6 +7,7 @@
 #include <thread>
 #include <vector>
 
+#include "physics/core/Atomics.h"
 #include "physics/core/JobGraph.h"
 #include "physics/core/ThreadPoolJobSystem.h"
 
@@ -75,7 +76,7 @@ struct Diamond {
     if (kStage == 1 || kStage == 2) expected_before(0, 3);
     if (kStage == 3) expected_before(1, 5), expected_before(2, 2);
     if (kStage == 2 && job == 0) self.graph.SetWidth(self.stages[3], self.width_for_d);  // d waits for c
-    if (kStage == 3) self.widest_job.store(std::max(self.widest_job.load(), job + 1));
+    if (kStage == 3) AtomicMax(self.widest_job, job + 1);  // d's jobs may run side by side
     if (job >= width) self.violations.fetch_add(1);
     self.ran[kStage].fetch_add(1);
     self.finished[kStage].fetch_add(1, std::memory_order_release);
