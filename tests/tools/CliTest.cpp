@@ -167,6 +167,15 @@ TEST(Cli, BenchSweepsThreadCountsAndWritesJson) {
   EXPECT_EQ(RunCli("bench --steps 2 --threads 0"), 2);
   EXPECT_EQ(RunCli("bench --steps 2 --threads 1,x"), 2);
   EXPECT_EQ(RunCli("bench --steps 2 --job-system fibers"), 2);
+  EXPECT_EQ(RunCli("bench --steps 2 --json " + (TempFile("no-such-dir") / "bench.json").string()), 2);
+}
+
+TEST(Cli, BenchReportsAFailedJsonWriteAndLeavesDevicesAlone) {
+  // A full device: the write fails, the exit code says so, and /dev/full is still the device.
+  if (!std::filesystem::is_character_file("/dev/full")) GTEST_SKIP() << "no /dev/full here";
+  EXPECT_EQ(RunCli("bench --steps 2 --threads 1 --scene pyramid --no-bullet --json /dev/full"), 1);
+  EXPECT_TRUE(std::filesystem::is_character_file("/dev/full"));
+  EXPECT_FALSE(std::filesystem::exists("/dev/full.tmp"));
 }
 
 TEST(Cli, BundledLevelsAreWhatTheGeneratorWrites) {

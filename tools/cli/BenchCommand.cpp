@@ -5,6 +5,7 @@
 // step's time goes, stage by stage.
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <nlohmann/json.hpp>
@@ -108,18 +109,29 @@ nlohmann::json ToJson(const bench::EngineResult& r, double speedup) {
 }
 
 bool WriteJson(const std::string& path, const nlohmann::json& document) {
-  // Written beside the target and renamed over it, so a failed write never leaves half a file.
-  const std::string temporary = path + ".tmp";
+  // A regular file is written beside the target and renamed over it, so a failed write never leaves half a
+  // file; anything else that exists (/dev/stdout, a pipe) is written in place, never replaced.
+  std::error_code error;
+  const std::filesystem::file_status status = std::filesystem::status(path, error);
+  const bool in_place = std::filesystem::exists(status) && !std::filesystem::is_regular_file(status);
+  const std::string target = in_place ? path : path + ".tmp";
   {
-    std::ofstream out(temporary);
+    std::ofstream out(target);
     out << document.dump(2) << '\n';
     out.flush();
     if (!out) {
-      std::remove(temporary.c_str());
+      if (!in_place) std::remove(target.c_str());
       return false;
     }
   }
-  return std::rename(temporary.c_str(), path.c_str()) == 0;
+  return in_place || std::rename(target.c_str(), path.c_str()) == 0;
+}
+
+/// Whether the JSON file can go where it was asked to, checked before minutes of benchmarking.
+bool JsonDestinationExists(const std::string& path) {
+  const std::filesystem::path parent = std::filesystem::path(path).parent_path();
+  std::error_code error;
+  return parent.empty() || std::filesystem::is_directory(parent, error);
 }
 
 int RunBench(BenchOptions options) {
@@ -130,6 +142,10 @@ int RunBench(BenchOptions options) {
     names = {options.scene};
   if (options.job_system != "default" && options.job_system != "pool") {
     std::cerr << "strata bench: --job-system must be 'default' or 'pool'\n";
+    return 2;
+  }
+  if (!options.json.empty() && !JsonDestinationExists(options.json)) {
+    std::cerr << "strata bench: --json " << options.json << ": no such directory\n";
     return 2;
   }
   if (options.threads.empty()) options.threads = DefaultThreadCounts();
