@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <set>
 #include <string>
 
 namespace strata::test {
@@ -153,14 +154,13 @@ TEST(Cli, BenchSweepsThreadCountsAndWritesJson) {
     EXPECT_EQ(runs[0]["state_hash"], runs[1]["state_hash"]) << scene["name"];
     EXPECT_DOUBLE_EQ(runs[0]["speedup"].get<double>(), 1.0);
     ASSERT_GE(runs[0]["stages"].size(), 6u);
-    double stage_total = 0.0;
+    std::set<std::string> names;
     for (const auto& stage : runs[0]["stages"]) {
-      EXPECT_FALSE(stage["name"].get<std::string>().empty());
+      EXPECT_TRUE(names.insert(stage["name"].get<std::string>()).second) << "stage listed twice";
       EXPECT_GE(stage["jobs"].get<int>(), 1);
-      stage_total += stage["wall_ms"].get<double>();
+      EXPECT_TRUE(stage["wall_ms"].is_number());
     }
-    // Stages run one after another on one thread, inside the step.
-    EXPECT_LE(stage_total, runs[0]["mean_step_ms"].get<double>() * 1.01);
+    EXPECT_FALSE(names.count(""));
   }
   std::filesystem::remove(json);
   // Bad options are refused before anything runs.
