@@ -1,6 +1,9 @@
 #include "assets/scene/SceneLoader.h"
 
+#include <cmath>
+#include <cstdint>
 #include <fstream>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <set>
 #include <sstream>
@@ -39,13 +42,21 @@ class Reader {
     if (!value.is_number()) return Fail(key, "must be a number");
     const double number = value.get<double>();
     if (!std::isfinite(number)) return Fail(key, "must be finite");
+    if (std::abs(number) > static_cast<double>(std::numeric_limits<float>::max()))
+      return Fail(key, "does not fit a 32-bit float (|x| <= 3.4e38)");
     out = static_cast<float>(number);
     return Status::Ok();
   }
   Status Integer(const Json& object, const std::string& key, int& out) const {
     if (!object.contains(key)) return Status::Ok();
     if (!object[key].is_number_integer()) return Fail(key, "must be an integer");
-    out = object[key].get<int>();
+    // Read wide and range-check: get<int>() would wrap 4294967297 to 1.
+    const bool negative = object[key].is_number_unsigned() ? false : object[key].get<std::int64_t>() < 0;
+    const double wide = negative ? static_cast<double>(object[key].get<std::int64_t>())
+                                 : static_cast<double>(object[key].get<std::uint64_t>());
+    if (wide < std::numeric_limits<int>::min() || wide > std::numeric_limits<int>::max())
+      return Fail(key, "is out of range for an integer setting");
+    out = static_cast<int>(wide);
     return Status::Ok();
   }
   Status Boolean(const Json& object, const std::string& key, bool& out) const {
@@ -69,6 +80,8 @@ class Reader {
     for (int i = 0; i < 3; ++i) {
       if (!value[i].is_number() || !std::isfinite(value[i].get<double>()))
         return Fail(key + "/" + std::to_string(i), "must be a finite number");
+      if (std::abs(value[i].get<double>()) > static_cast<double>(std::numeric_limits<float>::max()))
+        return Fail(key + "/" + std::to_string(i), "does not fit a 32-bit float (|x| <= 3.4e38)");
       out[i] = value[i].get<float>();
     }
     return Status::Ok();
@@ -79,7 +92,8 @@ class Reader {
     if (!value.is_array() || value.size() != 4) return Fail(key, "must be a quaternion [w, x, y, z]");
     float q[4];
     for (int i = 0; i < 4; ++i) {
-      if (!value[i].is_number() || !std::isfinite(value[i].get<double>()))
+      if (!value[i].is_number() || !std::isfinite(value[i].get<double>()) ||
+          std::abs(value[i].get<double>()) > 1e6)
         return Fail(key + "/" + std::to_string(i), "must be a finite number");
       q[i] = value[i].get<float>();
     }
@@ -193,7 +207,8 @@ Result<SceneBody> ParseBody(const Reader& reader, const Json& body, const std::f
   STRATA_TRY(
       reader.OnlyKeys(body, {"name", "shape", "position", "rotation", "motion", "mass", "density", "friction",
                              "restitution", "linear_velocity", "angular_velocity", "linear_damping",
-                             "angular_damping", "gravity_factor", "allow_sleeping"}));
+                             "angular_damping", "gravity_factor", "allow_sleeping", "max_linear_velocity",
+                             "max_angular_velocity"}));
   SceneBody out;
   STRATA_TRY(reader.String(body, "name", out.name));
   if (!body.contains("shape")) return reader.Fail("shape", "is required");
@@ -231,21 +246,33 @@ Result<SceneBody> ParseBody(const Reader& reader, const Json& body, const std::f
   STRATA_TRY(reader.Number(body, "angular_damping", settings.angular_damping));
   STRATA_TRY(reader.Number(body, "gravity_factor", settings.gravity_factor));
   STRATA_TRY(reader.Boolean(body, "allow_sleeping", settings.allow_sleeping));
+  STRATA_TRY(reader.Number(body, "max_linear_velocity", settings.max_linear_velocity));
+  STRATA_TRY(reader.Number(body, "max_angular_velocity", settings.max_angular_velocity));
   if (Status valid = settings.Validate(); !valid) return reader.Fail("", valid.message());
   return out;
 }
 
 Status ParseSettings(const Reader& reader, const Json& json, Scene& scene) {
   if (!json.is_object()) return reader.Fail("", "must be an object");
-  STRATA_TRY(
-      reader.OnlyKeys(json, {"gravity", "dt", "velocity_iterations", "position_iterations", "sleeping"}));
-  STRATA_TRY(reader.Vector(json, "gravity", scene.physics.gravity));
+  if (json.contains("position_iterations"))
+    return reader.Fail("position_iterations",
+                       "was replaced by substeps and relax_iterations (see assets/scenes/README.md)");
+  STRATA_TRY(reader.OnlyKeys(
+      json, {"gravity", "dt", "substeps", "velocity_iterations", "relax_iterations", "contact_hertz",
+             "contact_damping_ratio", "contact_push_max_velocity", "gyroscopic_torque", "sleeping"}));
+  PhysicsSettings& physics = scene.physics;
+  STRATA_TRY(reader.Vector(json, "gravity", physics.gravity));
   STRATA_TRY(reader.Number(json, "dt", scene.dt));
   if (!(scene.dt > 0.0f) || scene.dt > 1.0f) return reader.Fail("dt", "must be in (0, 1] seconds");
-  STRATA_TRY(reader.Integer(json, "velocity_iterations", scene.physics.velocity_iterations));
-  STRATA_TRY(reader.Integer(json, "position_iterations", scene.physics.position_iterations));
-  STRATA_TRY(reader.Boolean(json, "sleeping", scene.physics.allow_sleeping));
-  if (Status valid = scene.physics.Validate(); !valid) return reader.Fail("", valid.message());
+  STRATA_TRY(reader.Integer(json, "substeps", physics.substeps));
+  STRATA_TRY(reader.Integer(json, "velocity_iterations", physics.velocity_iterations));
+  STRATA_TRY(reader.Integer(json, "relax_iterations", physics.relax_iterations));
+  STRATA_TRY(reader.Number(json, "contact_hertz", physics.contact_hertz));
+  STRATA_TRY(reader.Number(json, "contact_damping_ratio", physics.contact_damping_ratio));
+  STRATA_TRY(reader.Number(json, "contact_push_max_velocity", physics.contact_push_max_velocity));
+  STRATA_TRY(reader.Boolean(json, "gyroscopic_torque", physics.gyroscopic_torque));
+  STRATA_TRY(reader.Boolean(json, "sleeping", physics.allow_sleeping));
+  if (Status valid = physics.Validate(); !valid) return reader.Fail("", valid.message());
   return Status::Ok();
 }
 
@@ -258,7 +285,8 @@ Result<Scene> ParseScene(const std::string& text, const std::string& source,
   Json json;
   try {
     json = Json::parse(text);
-  } catch (const Json::parse_error& error) {
+  } catch (const Json::exception& error) {
+    // parse_error, and out_of_range for numbers beyond a double (1e400).
     return MakeError(ErrorCode::kParseError, source + ": invalid JSON: " + error.what());
   }
   const Reader root(source, "");

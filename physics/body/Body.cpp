@@ -1,5 +1,7 @@
 #include "physics/body/Body.h"
 
+#include "physics/body/GyroscopicTorque.h"
+
 namespace strata {
 
 void Body::Reset(const BodyCreationSettings& settings, BodyID id) {
@@ -29,6 +31,8 @@ void Body::Reset(const BodyCreationSettings& settings, BodyID id) {
     if (motion_type_ == MotionType::kDynamic) {
       inverse_mass_ = 1.0f / properties.mass;
       inverse_inertia_local_ = properties.inertia.inverse();
+      inertia_local_ = properties.inertia;
+      gyroscopic_ = HasGyroscopicTorque(properties.inertia);
     }
   }
   UpdateWorldBounds();

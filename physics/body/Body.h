@@ -43,6 +43,8 @@ class Body {
     return rotation * inverse_inertia_local_ * rotation.transpose();
   }
   const Mat3& inverse_inertia_local() const { return inverse_inertia_local_; }
+  /// Inertia about the centre of mass in the shape's axes (zero unless dynamic).
+  const Mat3& inertia_local() const { return inertia_local_; }
 
   float friction() const { return friction_; }
   float restitution() const { return restitution_; }
@@ -82,6 +84,7 @@ class Body {
   Vec3 force_ = Vec3::Zero();
   Vec3 torque_ = Vec3::Zero();
   Mat3 inverse_inertia_local_ = Mat3::Zero();
+  Mat3 inertia_local_ = Mat3::Zero();
   AABB world_bounds_;
   float inverse_mass_ = 0.0f;
   float friction_ = 0.2f;
@@ -99,6 +102,7 @@ class Body {
   bool in_world_ = false;
   RelaxedAtomic<bool> sleeping_ = false;
   bool allow_sleeping_ = true;
+  bool gyroscopic_ = false;  // the inertia is not a multiple of the identity, so spin can precess
 };
 
 }  // namespace strata

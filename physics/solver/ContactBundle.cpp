@@ -26,27 +26,6 @@ struct alignas(alignof(WideFloat)) Lanes3 {
   WideVec3 Load() const { return {WideFloat::Load(x), WideFloat::Load(y), WideFloat::Load(z)}; }
 };
 
-struct WideQuat {
-  WideFloat w;
-  WideVec3 v;
-};
-
-// v rotated by q: v + w t + v_q x t with t = 2 v_q x v.
-WideVec3 Rotate(const WideQuat& q, const WideVec3& v) {
-  const WideVec3 twice_cross = WideFloat(2.0f) * Cross(q.v, v);
-  return v + q.w * twice_cross + Cross(q.v, twice_cross);
-}
-
-// Turns q by the small rotation vector `turn` (first order, renormalised), as ContactSolver does.
-void Turn(WideQuat& q, const WideVec3& turn) {
-  const WideVec3 half = WideFloat(0.5f) * turn;
-  const WideFloat w = q.w - Dot(half, q.v);
-  const WideVec3 v = q.v + q.w * half + Cross(half, q.v);
-  const WideFloat inverse_length = WideFloat(1.0f) / Sqrt(MulAdd(w, w, Dot(v, v)));
-  q.w = w * inverse_length;
-  q.v = inverse_length * v;
-}
-
 // The bodies' inverse inertias, one per lane (symmetric: six entries).
 WideSymmetric3 GatherInertia(const SolverBody* bodies, const std::uint32_t* index) {
   alignas(alignof(WideFloat)) float entries[6][kLanes];
@@ -85,28 +64,25 @@ void ScatterVelocities(SolverBody* bodies, const std::uint32_t* index, const boo
   ScatterRows(angular_rows, angular.x, angular.y, angular.z, WideFloat::Zero());
 }
 
-void GatherPoses(const SolverPose* poses, const std::uint32_t* index, WideVec3& center, WideQuat& rotation) {
-  const float* center_rows[kLanes];
+// Each lane's motion since the step began: the solver body's deltas where the solver moves it, else its
+// velocity times `elapsed` (kinematic bodies move at their velocity; the fixed body has none).
+void GatherMotion(const SolverBody* bodies, const std::uint32_t* index, WideFloat moving,
+                  const WideVec3& velocity, const WideVec3& spin, WideFloat elapsed, WideVec3& moved,
+                  WideVec3& turned) {
+  const float* position_rows[kLanes];
   const float* rotation_rows[kLanes];
   for (int lane = 0; lane < kLanes; ++lane) {
-    center_rows[lane] = poses[index[lane]].center_of_mass.data();
-    rotation_rows[lane] = poses[index[lane]].rotation.coeffs().data();  // x, y, z, w
+    position_rows[lane] = bodies[index[lane]].delta_position.data();
+    rotation_rows[lane] = bodies[index[lane]].delta_rotation.data();
   }
   WideFloat unused;
-  GatherRows(center_rows, center.x, center.y, center.z, unused);
-  GatherRows(rotation_rows, rotation.v.x, rotation.v.y, rotation.v.z, rotation.w);
-}
-
-void ScatterPoses(SolverPose* poses, const std::uint32_t* index, const bool* dynamic, const WideVec3& center,
-                  const WideQuat& rotation) {
-  float* center_rows[kLanes];
-  float* rotation_rows[kLanes];
-  for (int lane = 0; lane < kLanes; ++lane) {
-    center_rows[lane] = dynamic[lane] ? poses[index[lane]].center_of_mass.data() : nullptr;
-    rotation_rows[lane] = dynamic[lane] ? poses[index[lane]].rotation.coeffs().data() : nullptr;
-  }
-  ScatterRows(center_rows, center.x, center.y, center.z, WideFloat::Zero());
-  ScatterRows(rotation_rows, rotation.v.x, rotation.v.y, rotation.v.z, rotation.w);
+  GatherRows(position_rows, moved.x, moved.y, moved.z, unused);
+  GatherRows(rotation_rows, turned.x, turned.y, turned.z, unused);
+  const WideVec3 carried = elapsed * velocity, carried_turn = elapsed * spin;
+  moved = {Select(moving, moved.x, carried.x), Select(moving, moved.y, carried.y),
+           Select(moving, moved.z, carried.z)};
+  turned = {Select(moving, turned.x, carried_turn.x), Select(moving, turned.y, carried_turn.y),
+            Select(moving, turned.z, carried_turn.z)};
 }
 
 WideFloat SafeInverse(WideFloat k) {
@@ -119,8 +95,7 @@ WideFloat SafeInverse(WideFloat k) {
 ContactBundle* AllocateBundle(BlockArena& arena, std::span<ContactConstraint* const> constraints) {
   std::uint32_t points = 0;
   for (const ContactConstraint* c : constraints) points = std::max<std::uint32_t>(points, c->point_count);
-  const std::size_t bytes =
-      sizeof(ContactBundle) + points * (sizeof(ContactBundleRows) + sizeof(ContactBundlePoints));
+  const std::size_t bytes = sizeof(ContactBundle) + points * sizeof(ContactBundleRows);
   auto* bundle = new (arena.Allocate(bytes, alignof(ContactBundle))) ContactBundle;
   bundle->point_count = points;
   for (int lane = 0; lane < kLanes; ++lane) {
@@ -135,9 +110,11 @@ ContactBundle* AllocateBundle(BlockArena& arena, std::span<ContactConstraint* co
   return bundle;
 }
 
-void SetupBundle(ContactBundle& bundle, const SolverBody* bodies) {
+void SetupBundle(ContactBundle& bundle, const SolverBody* bodies, const SubstepContext& context) {
   Lanes3 normal{}, first_tangent{}, second_tangent{};
-  alignas(alignof(WideFloat)) Lanes friction{}, inverse_mass_a{}, inverse_mass_b{};
+  alignas(alignof(WideFloat)) Lanes friction{}, restitution{}, inverse_mass_a{}, inverse_mass_b{};
+  alignas(alignof(WideFloat)) Lanes bias_rate{}, mass_scale{}, impulse_scale{}, moving_a{}, moving_b{};
+  constexpr float kAllSet = std::bit_cast<float>(0xffffffffu);
   for (int lane = 0; lane < kLanes; ++lane) {
     const ContactConstraint* c = bundle.constraints[lane];
     if (c == nullptr) continue;
@@ -146,35 +123,47 @@ void SetupBundle(ContactBundle& bundle, const SolverBody* bodies) {
     first_tangent.Set(lane, tangent);
     second_tangent.Set(lane, c->normal.cross(tangent));
     friction[lane] = c->friction;
+    restitution[lane] = c->restitution;
     inverse_mass_a[lane] = bodies[c->body_a].inverse_mass;
     inverse_mass_b[lane] = bodies[c->body_b].inverse_mass;
+    const Softness& soft = c->dynamic_a && c->dynamic_b ? context.between_moving : context.against_fixed;
+    bias_rate[lane] = soft.bias_rate;
+    mass_scale[lane] = soft.mass_scale;
+    impulse_scale[lane] = soft.impulse_scale;
+    moving_a[lane] = c->dynamic_a ? kAllSet : 0.0f;
+    moving_b[lane] = c->dynamic_b ? kAllSet : 0.0f;
   }
   bundle.normal = normal.Load();
   bundle.tangent[0] = first_tangent.Load();
   bundle.tangent[1] = second_tangent.Load();
   bundle.friction = WideFloat::Load(friction);
+  bundle.restitution = WideFloat::Load(restitution);
   bundle.inverse_mass_a = WideFloat::Load(inverse_mass_a);
   bundle.inverse_mass_b = WideFloat::Load(inverse_mass_b);
   bundle.inverse_inertia_a = GatherInertia(bodies, bundle.body_a);
   bundle.inverse_inertia_b = GatherInertia(bodies, bundle.body_b);
+  bundle.bias_rate = WideFloat::Load(bias_rate);
+  bundle.mass_scale = WideFloat::Load(mass_scale);
+  bundle.impulse_scale = WideFloat::Load(impulse_scale);
+  bundle.moving_a = WideFloat::Load(moving_a);
+  bundle.moving_b = WideFloat::Load(moving_b);
   const WideVec3 axes[3] = {bundle.normal, bundle.tangent[0], bundle.tangent[1]};
   const WideFloat inverse_masses = bundle.inverse_mass_a + bundle.inverse_mass_b;
 
   for (std::uint32_t j = 0; j < bundle.point_count; ++j) {
-    Lanes3 r_a{}, r_b{}, local_a{}, local_b{}, warm_friction{};
-    alignas(alignof(WideFloat)) Lanes warm_normal{}, target{}, present{};
+    Lanes3 r_a{}, r_b{}, warm_friction{};
+    alignas(alignof(WideFloat)) Lanes warm_normal{}, separation{}, normal_velocity{};
     for (int lane = 0; lane < kLanes; ++lane) {
       const ContactConstraint* c = bundle.constraints[lane];
+      separation[lane] = kLargeFloat;  // an absent point never pushes
       if (c == nullptr || j >= c->point_count) continue;
       const ContactConstraintPoint& p = c->points()[j];
       r_a.Set(lane, p.r_a);
       r_b.Set(lane, p.r_b);
-      local_a.Set(lane, p.local_a);
-      local_b.Set(lane, p.local_b);
       warm_friction.Set(lane, p.warm_friction);
       warm_normal[lane] = p.warm_normal;
-      target[lane] = p.target_velocity;
-      present[lane] = std::bit_cast<float>(0xffffffffu);
+      separation[lane] = p.separation;
+      normal_velocity[lane] = p.normal_velocity;
     }
     ContactBundleRows& rows = *new (&bundle.rows()[j]) ContactBundleRows;
     rows.arm_a = r_a.Load();
@@ -188,15 +177,13 @@ void SetupBundle(ContactBundle& bundle, const SolverBody* bodies) {
     // An absent point has zero arms and masses, so it changes nothing in its lane.
     rows.normal_mass = masses[kNormal];
     rows.tangent_mass = Min(masses[kFirstTangent], masses[kSecondTangent]);
-    rows.target_velocity = WideFloat::Load(target);
+    rows.separation = WideFloat::Load(separation);
+    rows.normal_velocity = WideFloat::Load(normal_velocity);
     rows.normal_impulse = WideFloat::Load(warm_normal);
     const WideVec3 warm = warm_friction.Load();
     rows.tangent_impulse[0] = Dot(warm, bundle.tangent[0]);
     rows.tangent_impulse[1] = Dot(warm, bundle.tangent[1]);
-    ContactBundlePoints& points = *new (&bundle.points()[j]) ContactBundlePoints;
-    points.local_a = local_a.Load();
-    points.local_b = local_b.Load();
-    points.present = WideFloat::Load(present);
+    rows.max_normal_impulse = WideFloat::Zero();
   }
 }
 
@@ -227,9 +214,18 @@ struct LaneBodies {
   }
 };
 
+// Accumulates `impulse` into the point's normal impulse (never pulling) and applies the change.
+void PushNormal(const ContactBundle& bundle, ContactBundleRows& p, LaneBodies& lanes, WideFloat impulse) {
+  const WideFloat old_impulse = p.normal_impulse;
+  p.normal_impulse = Max(WideFloat::Zero(), old_impulse + impulse);
+  const WideFloat applied = p.normal_impulse - old_impulse;
+  p.max_normal_impulse = Max(p.max_normal_impulse, applied);
+  lanes.Apply(bundle, p, applied * bundle.normal);
+}
+
 }  // namespace
 
-void WarmStartBundle(ContactBundle& bundle, SolverBody* bodies) {
+void WarmStartBundle(const ContactBundle& bundle, SolverBody* bodies) {
   LaneBodies lanes(bodies, bundle);
   for (std::uint32_t j = 0; j < bundle.point_count; ++j) {
     const ContactBundleRows& p = bundle.rows()[j];
@@ -241,10 +237,40 @@ void WarmStartBundle(ContactBundle& bundle, SolverBody* bodies) {
   lanes.Scatter(bodies, bundle);
 }
 
-void SolveBundleVelocity(ContactBundle& bundle, SolverBody* bodies, bool reverse) {
+void SolveBundleVelocity(ContactBundle& bundle, SolverBody* bodies, const SubstepContext& context,
+                         bool use_bias, bool reverse, float* deepest) {
   LaneBodies lanes(bodies, bundle);
+  const WideFloat elapsed(context.elapsed);
+  WideVec3 moved_a, turned_a, moved_b, turned_b;
+  GatherMotion(bodies, bundle.body_a, bundle.moving_a, lanes.va, lanes.wa, elapsed, moved_a, turned_a);
+  GatherMotion(bodies, bundle.body_b, bundle.moving_b, lanes.vb, lanes.wb, elapsed, moved_b, turned_b);
+  const WideFloat moved_apart = Dot(bundle.normal, moved_b - moved_a);
   const int count = static_cast<int>(bundle.point_count);
   ContactBundleRows* rows = bundle.rows();
+  const WideFloat inverse_h(context.inverse_h);
+  const WideFloat max_push(-context.max_push_velocity);
+  WideFloat lowest(kLargeFloat);
+  for (int k = 0; k < count; ++k) {
+    ContactBundleRows& p = rows[reverse ? count - 1 - k : k];
+    // Separation now: at the start of the step plus how the bodies moved and turned since (first order).
+    const WideFloat separation = p.separation + moved_apart +
+                                 Dot(turned_b, Cross(p.arm_b, bundle.normal)) -
+                                 Dot(turned_a, Cross(p.arm_a, bundle.normal));
+    lowest = Min(lowest, separation);
+    const WideFloat gap = Greater(separation, WideFloat::Zero());
+    // A gap may close within this substep and no further; overlap is pushed out softly.
+    WideFloat bias = Max(separation, WideFloat::Zero()) * inverse_h;
+    WideFloat mass_scale(1.0f), impulse_scale = WideFloat::Zero();
+    if (use_bias) {
+      bias = Select(gap, bias, Max(bundle.bias_rate * separation, max_push));
+      mass_scale = Select(gap, mass_scale, bundle.mass_scale);
+      impulse_scale = Select(gap, impulse_scale, bundle.impulse_scale);
+    }
+    const WideFloat velocity = Dot(bundle.normal, lanes.Relative(p));
+    PushNormal(bundle, p, lanes,
+               WideFloat::Zero() - p.normal_mass * mass_scale * (velocity + bias) - impulse_scale * p.normal_impulse);
+  }
+  // Friction after non-penetration, bounded by the normal impulse just solved (see ContactSolver).
   for (int k = 0; k < count; ++k) {
     ContactBundleRows& p = rows[reverse ? count - 1 - k : k];
     const WideFloat limit = bundle.friction * p.normal_impulse;
@@ -262,12 +288,28 @@ void SolveBundleVelocity(ContactBundle& bundle, SolverBody* bodies, bool reverse
     lanes.Apply(bundle, p,
                 MulAdd(first - old_first, bundle.tangent[0], (second - old_second) * bundle.tangent[1]));
   }
-  for (int k = 0; k < count; ++k) {
-    ContactBundleRows& p = rows[reverse ? count - 1 - k : k];
+  lanes.Scatter(bodies, bundle);
+  if (deepest == nullptr) return;
+  alignas(alignof(WideFloat)) Lanes lanes_lowest;
+  lowest.Store(lanes_lowest);
+  *deepest = std::min(*deepest, *std::min_element(lanes_lowest, lanes_lowest + kLanes));
+}
+
+void ApplyBundleRestitution(ContactBundle& bundle, SolverBody* bodies, const SubstepContext& context) {
+  LaneBodies lanes(bodies, bundle);
+  const WideFloat threshold(-context.restitution_threshold);
+  for (std::uint32_t j = 0; j < bundle.point_count; ++j) {
+    ContactBundleRows& p = bundle.rows()[j];
+    // Bounce only where the approach was fast and the contact did push (a speculative gap that stayed open
+    // must not bounce).
+    const WideFloat pushed = Greater(p.max_normal_impulse, WideFloat::Zero());
+    const WideFloat fast = Greater(threshold, p.normal_velocity);
+    const WideFloat bounces =
+        Select(pushed, Select(fast, Greater(bundle.restitution, WideFloat::Zero()), WideFloat::Zero()),
+               WideFloat::Zero());
     const WideFloat velocity = Dot(bundle.normal, lanes.Relative(p));
-    const WideFloat old_impulse = p.normal_impulse;
-    p.normal_impulse = Max(WideFloat::Zero(), old_impulse - (velocity - p.target_velocity) * p.normal_mass);
-    lanes.Apply(bundle, p, (p.normal_impulse - old_impulse) * bundle.normal);
+    const WideFloat impulse = WideFloat::Zero() - p.normal_mass * MulAdd(bundle.restitution, p.normal_velocity, velocity);
+    PushNormal(bundle, p, lanes, Select(bounces, impulse, WideFloat::Zero()));
   }
   lanes.Scatter(bodies, bundle);
 }
@@ -289,44 +331,6 @@ void StoreBundleImpulses(const ContactBundle& bundle) {
       cached.friction_impulse = Vec3(staged.x[lane], staged.y[lane], staged.z[lane]);
     }
   }
-}
-
-float SolveBundlePosition(const ContactBundle& bundle, SolverPose* poses, const PhysicsSettings& settings) {
-  WideVec3 center_a, center_b;
-  WideQuat rotation_a, rotation_b;
-  GatherPoses(poses, bundle.body_a, center_a, rotation_a);
-  GatherPoses(poses, bundle.body_b, center_b, rotation_b);
-  const WideSymmetric3& inertia_a = bundle.inverse_inertia_a;
-  const WideSymmetric3& inertia_b = bundle.inverse_inertia_b;
-  const WideFloat baumgarte(settings.baumgarte), slop(settings.penetration_slop);
-  const WideFloat max_correction(-settings.max_position_correction);
-  const WideFloat inverse_masses = bundle.inverse_mass_a + bundle.inverse_mass_b;
-  WideFloat deepest = WideFloat::Zero();
-  for (std::uint32_t j = 0; j < bundle.point_count; ++j) {
-    const ContactBundlePoints& p = bundle.points()[j];
-    const WideVec3 r_a = Rotate(rotation_a, p.local_a);
-    const WideVec3 r_b = Rotate(rotation_b, p.local_b);
-    const WideFloat separation = Dot(center_b + r_b - center_a - r_a, bundle.normal);
-    deepest = Select(p.present, Min(deepest, separation), deepest);
-    const WideFloat correction =
-        Select(p.present, Min(Max(baumgarte * (separation + slop), max_correction), WideFloat::Zero()),
-               WideFloat::Zero());
-    const WideVec3 angular_a = Cross(r_a, bundle.normal), angular_b = Cross(r_b, bundle.normal);
-    const WideVec3 response_a = inertia_a.Times(angular_a), response_b = inertia_b.Times(angular_b);
-    // A pseudo-impulse along the normal moves and turns the bodies apart by the correction (0 where none).
-    const WideFloat impulse =
-        (WideFloat::Zero() - correction) *
-        SafeInverse(inverse_masses + Dot(angular_a, response_a) + Dot(angular_b, response_b));
-    center_a -= (bundle.inverse_mass_a * impulse) * bundle.normal;
-    Turn(rotation_a, (WideFloat::Zero() - impulse) * response_a);
-    center_b += (bundle.inverse_mass_b * impulse) * bundle.normal;
-    Turn(rotation_b, impulse * response_b);
-  }
-  ScatterPoses(poses, bundle.body_a, bundle.dynamic_a, center_a, rotation_a);
-  ScatterPoses(poses, bundle.body_b, bundle.dynamic_b, center_b, rotation_b);
-  alignas(alignof(WideFloat)) Lanes lanes;
-  deepest.Store(lanes);
-  return *std::min_element(lanes, lanes + kLanes);
 }
 
 }  // namespace strata

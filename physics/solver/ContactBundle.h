@@ -1,8 +1,10 @@
 // ContactBundle: the contact constraints of one parallel split solved together, one per SIMD lane (as in
 // Box2D v3's wide contact solver). A split never has two constraints that move the same body, so the lanes
 // are independent: each lane runs the sequence ContactSolver runs for its constraint (friction on the
-// circle, then non-penetration, points alternating direction per pass), a register of lanes at a time.
-// The lanes are stored compactly, as Box2D stores its anchors: per point only the lever arms, masses, target
+// circle, then soft non-penetration, points alternating direction per pass), a register of lanes at a time.
+// A point's separation is tracked through the substeps from the bodies' motion since the step began, not
+// from their poses.
+// The lanes are stored compactly, as Box2D stores its anchors: per point only the lever arms, masses, separation
 // and impulses; a row's velocity is the contact point's relative velocity along the axis, and an impulse
 // turns a body by its inverse inertia times (arm x impulse), with the two inverse inertias kept once per
 // bundle. The solve then streams a third of the bytes precomputed Jacobians would need. Bodies are gathered
@@ -19,15 +21,17 @@
 
 namespace strata {
 
-/// Velocity-pass data of point j of the bundle's constraints.
+/// Data of point j of the bundle's constraints.
 struct ContactBundleRows {
   WideVec3 arm_a;  ///< from A's centre of mass to the point on A, world, at the start of the step
   WideVec3 arm_b;
   WideFloat normal_mass;
-  WideFloat tangent_mass;  ///< one mass for both friction axes
-  WideFloat target_velocity;
+  WideFloat tangent_mass;     ///< one mass for both friction axes
+  WideFloat separation;       ///< at the start of the step (huge in lanes without point j)
+  WideFloat normal_velocity;  ///< before the solve: what a bounce reverses
   WideFloat normal_impulse;
   WideFloat tangent_impulse[2];
+  WideFloat max_normal_impulse;  ///< largest single push this step: a bounce needs the contact to have acted
 };
 
 /// A symmetric 3x3 matrix per lane: an inverse inertia in world space.
@@ -39,23 +43,22 @@ struct WideSymmetric3 {
   }
 };
 
-/// Position-pass data of point j of the bundle's constraints.
-struct ContactBundlePoints {
-  WideVec3 local_a;
-  WideVec3 local_b;
-  WideFloat present;  ///< mask: the lane's constraint has point j
-};
-
-/// Up to kLanes constraints of one split, laid out lane by lane; rows and points follow it in memory.
+/// Up to kLanes constraints of one split, laid out lane by lane; the rows follow it in memory.
 struct alignas(alignof(WideFloat)) ContactBundle {
   static constexpr int kLanes = WideFloat::kLanes;
   WideVec3 normal;
   WideVec3 tangent[2];
   WideFloat friction;
+  WideFloat restitution;
   WideFloat inverse_mass_a;
   WideFloat inverse_mass_b;
   WideSymmetric3 inverse_inertia_a;  ///< zero for sides the solver does not move
   WideSymmetric3 inverse_inertia_b;
+  WideFloat bias_rate;  ///< the lane's Softness: against a fixed body or between moving ones
+  WideFloat mass_scale;
+  WideFloat impulse_scale;
+  WideFloat moving_a;  ///< mask: the solver moves A (its motion this step is in its delta; else v * t)
+  WideFloat moving_b;
   ContactConstraint* constraints[kLanes];  ///< null in empty lanes
   std::uint32_t body_a[kLanes];            ///< solver bodies (the fixed body 0 in empty lanes)
   std::uint32_t body_b[kLanes];
@@ -65,25 +68,24 @@ struct alignas(alignof(WideFloat)) ContactBundle {
 
   ContactBundleRows* rows() { return reinterpret_cast<ContactBundleRows*>(this + 1); }
   const ContactBundleRows* rows() const { return reinterpret_cast<const ContactBundleRows*>(this + 1); }
-  ContactBundlePoints* points() { return reinterpret_cast<ContactBundlePoints*>(rows() + point_count); }
-  const ContactBundlePoints* points() const {
-    return reinterpret_cast<const ContactBundlePoints*>(rows() + point_count);
-  }
 };
 
 /// Reserves a bundle for `constraints` (at most kLanes, no two moving the same body) in `arena`; SetupBundle
 /// fills it in later, possibly on another thread.
 ContactBundle* AllocateBundle(BlockArena& arena, std::span<ContactConstraint* const> constraints);
 /// Lays the bundle's constraints out lane by lane against the bodies' current inverse masses and inertias.
-void SetupBundle(ContactBundle& bundle, const SolverBody* bodies);
-/// Applies the warm-start impulses to the bodies' velocities.
-void WarmStartBundle(ContactBundle& bundle, SolverBody* bodies);
-/// One Gauss-Seidel pass over each lane's constraint (see SolveContactVelocity).
-void SolveBundleVelocity(ContactBundle& bundle, SolverBody* bodies, bool reverse);
+void SetupBundle(ContactBundle& bundle, const SolverBody* bodies, const SubstepContext& context);
+/// Applies the accumulated impulses to the bodies' velocities (every substep: they are per-substep impulses).
+void WarmStartBundle(const ContactBundle& bundle, SolverBody* bodies);
+/// One Gauss-Seidel pass over each lane's constraint (see SolveContactVelocity); with `use_bias` overlap is
+/// pushed out softly, without it (relax) only speculative gaps are closed. If `deepest` is set it is lowered
+/// to the smallest separation seen (m).
+void SolveBundleVelocity(ContactBundle& bundle, SolverBody* bodies, const SubstepContext& context,
+                         bool use_bias, bool reverse, float* deepest);
+/// After the last substep: points that approached faster than the threshold and pushed bounce back with
+/// the restitution times their approach speed.
+void ApplyBundleRestitution(ContactBundle& bundle, SolverBody* bodies, const SubstepContext& context);
 /// Leaves the accumulated impulses in each constraint's cache entry.
 void StoreBundleImpulses(const ContactBundle& bundle);
-/// One non-linear position pass over each lane's constraint (against the inverse inertias at setup);
-/// returns the deepest penetration seen (m, <= 0).
-float SolveBundlePosition(const ContactBundle& bundle, SolverPose* poses, const PhysicsSettings& settings);
 
 }  // namespace strata

@@ -1,6 +1,6 @@
 // ContactConstraint: one contact manifold as the narrow phase hands it to the solver: the two solver bodies,
-// the normal, the material, and per point the lever arms, the points in each body's frame, the normal
-// velocity to aim for (a bounce or closing a speculative gap) and last step's impulses. Built by a
+// the normal, the material, and per point the lever arms, the separation when the step began, the normal
+// velocity then (what a bounce reverses) and last step's impulses. Built by a
 // narrow-phase job into its own arena with exactly as many points as the manifold has; the solver then lays
 // it out for its loops (ContactSolver for one constraint at a time, ContactBundle for eight at once).
 #pragma once
@@ -20,11 +20,10 @@ namespace strata {
 struct ContactConstraintPoint {
   Vec3 r_a;            ///< from A's centre of mass to the point on A, world axes, at the start of the step
   Vec3 r_b;            ///< from B's centre of mass to the point on B
-  Vec3 local_a;        ///< r_a in A's frame (the position passes); the world point when A is the fixed body
-  Vec3 local_b;        ///< r_b in B's frame; the world point when B is the fixed body
   Vec3 warm_friction;  ///< last step's friction impulse, world (0 if the point is new)
   float warm_normal;   ///< last step's normal impulse
-  float target_velocity;  ///< normal velocity to aim for
+  float separation;    ///< along the normal at the start of the step; < 0 where the bodies overlap
+  float normal_velocity;  ///< of B relative to A along the normal, before the solve (< 0: approaching)
 };
 
 /// A manifold ready for the solver; its points follow it in memory.
@@ -33,7 +32,7 @@ struct ContactConstraint {
   std::uint32_t body_a;  ///< solver body index (0 = the fixed body)
   std::uint32_t body_b;
   float friction;
-  float bounce_shift;     ///< metres to pull the bodies together after integration (a speculative bounce)
+  float restitution;
   CachedManifold* cache;  ///< where the solver leaves this step's impulses for the next one
   std::uint8_t point_count;
   bool dynamic_a;  ///< the solver moves A
@@ -55,25 +54,40 @@ struct ContactArms {
   float separation;  ///< along the normal; < 0 where the bodies overlap
 };
 
+/// A soft constraint (Catto, "Solver2D", and Box2D v3): a spring of some stiffness and damping ratio,
+/// stepped implicitly at the substep. The biased passes aim for `bias_rate` times the overlap, scale the
+/// impulse that would remove the velocity error by `mass_scale` and relax the accumulated one by
+/// `impulse_scale`; a rigid constraint is {0, 1, 0}.
+struct Softness {
+  float bias_rate = 0.0f;
+  float mass_scale = 1.0f;
+  float impulse_scale = 0.0f;
+};
+/// Softness of a spring of `hertz` and `damping_ratio` stepped at `h` seconds.
+Softness MakeSoftness(float hertz, float damping_ratio, float h);
+
+/// What the passes of one substep need besides the constraints and bodies.
+struct SubstepContext {
+  Softness between_moving;  ///< contacts between two bodies the solver moves
+  Softness against_fixed;   ///< contacts with a static, kinematic or sleeping body (twice as stiff)
+  float inverse_h = 0.0f;   ///< 1 / substep
+  float max_push_velocity = 0.0f;
+  float elapsed = 0.0f;  ///< seconds since the step began at the poses the pass sees (kinematic motion)
+  float restitution_threshold = 0.0f;
+};
+
 /// One side of a manifold as the constraint builder needs it.
 struct ContactSide {
   std::uint32_t solver_index;  ///< 0 = the fixed body (static, sleeping, or not moved by the solver)
   bool dynamic;
   const SolverBody* body;  ///< velocities (after forces) of the solver body
-  Vec3 center_of_mass;     ///< world, the body's own even when it stands in as the fixed body
-  float gravity_factor;    ///< 0 unless dynamic
 };
 
-/// Builds the constraint for a manifold (unit normal A to B, its points) in `arena`: targets (restitution
-/// above min_velocity_for_restitution, or closing the speculative gap), bounce shift, warm-start impulses.
-/// `cache` holds the points in each body's frame and last step's impulses, in the same order.
+/// Builds the constraint for a manifold (unit normal A to B, its points) in `arena`, with warm-start impulses
+/// from `cache`, which holds last step's impulses for the same points in the same order.
 ContactConstraint* BuildContactConstraint(BlockArena& arena, const Vec3& normal,
                                           std::span<const ContactArms> points, const ContactSide& a,
                                           const ContactSide& b, float friction, float restitution,
-                                          CachedManifold* cache, float dt, const PhysicsSettings& settings);
-
-/// Moves bouncing bodies back by the travel a mid-step impact would not have made (after integration).
-void ApplyContactBounceShift(const ContactConstraint& constraint, const SolverBody* bodies,
-                             SolverPose* poses);
+                                          CachedManifold* cache);
 
 }  // namespace strata

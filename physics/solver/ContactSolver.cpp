@@ -19,13 +19,6 @@ inline float RowVelocity(const Vec4& axis, const Vec4& angular_a, const Vec4& an
   return (axis.cwiseProduct(vb - va) + angular_b.cwiseProduct(wb) - angular_a.cwiseProduct(wa)).sum();
 }
 
-// Turns `rotation` by the small rotation vector `turn` (first order, renormalised).
-inline void Turn(Quat& rotation, const Vec4& turn) {
-  const Quat delta(0.0f, 0.5f * turn.x(), 0.5f * turn.y(), 0.5f * turn.z());
-  rotation.coeffs() += (delta * rotation).coeffs();
-  rotation.normalize();
-}
-
 inline float InverseEffectiveMass(const SolverBody& a, const SolverBody& b, const Vec4& angular_a,
                                   const Vec4& angular_b, Vec4& response_a, Vec4& response_b) {
   response_a = a.InverseInertiaTimes(angular_a);
@@ -33,18 +26,68 @@ inline float InverseEffectiveMass(const SolverBody& a, const SolverBody& b, cons
   return a.inverse_mass + b.inverse_mass + angular_a.dot(response_a) + angular_b.dot(response_b);
 }
 
+// How a side moved and turned since the step began: its deltas if the solver moves it, else its velocity
+// times the elapsed time (kinematic bodies; the fixed body does not move).
+inline void SideMotion(const SolverBody& body, bool dynamic, float elapsed, Vec4& moved, Vec4& turned) {
+  moved = dynamic ? body.delta_position : body.linear_velocity * elapsed;
+  turned = dynamic ? body.delta_rotation : body.angular_velocity * elapsed;
+}
+
 template <bool kDynamicA, bool kDynamicB>
-void SolveVelocity(SolverContact& c, SolverBody* bodies, bool reverse) {
+void ApplyNormal(const SolverContact& c, const SolverContactPoint& p, float delta, float inverse_mass_a,
+                 float inverse_mass_b, Vec4& va, Vec4& wa, Vec4& vb, Vec4& wb) {
+  if constexpr (kDynamicA) {
+    va -= (inverse_mass_a * delta) * c.normal;
+    wa -= delta * p.response_a[kNormal];
+  }
+  if constexpr (kDynamicB) {
+    vb += (inverse_mass_b * delta) * c.normal;
+    wb += delta * p.response_b[kNormal];
+  }
+}
+
+template <bool kDynamicA, bool kDynamicB>
+void SolveVelocity(SolverContact& c, SolverBody* bodies, const SubstepContext& context, bool use_bias,
+                   bool reverse, float* deepest) {
   SolverBody& a = bodies[c.constraint->body_a];
   SolverBody& b = bodies[c.constraint->body_b];
   Vec4 va = a.linear_velocity, wa = a.angular_velocity;
   Vec4 vb = b.linear_velocity, wb = b.angular_velocity;
+  Vec4 moved_a, turned_a, moved_b, turned_b;
+  SideMotion(a, kDynamicA, context.elapsed, moved_a, turned_a);
+  SideMotion(b, kDynamicB, context.elapsed, moved_b, turned_b);
+  const float moved_apart = c.normal.dot(moved_b - moved_a);
   const float inverse_mass_a = a.inverse_mass, inverse_mass_b = b.inverse_mass;
-  const Vec4 normal = c.normal, first_axis = c.tangent[0], second_axis = c.tangent[1];
+  const Vec4 first_axis = c.tangent[0], second_axis = c.tangent[1];
   const int count = c.point_count;
   SolverContactPoint* points = c.points();
-  // Friction first, bounded by the current normal impulse, then non-penetration, which must hold best at
-  // the end of the pass. Both friction axes share one mass and are clamped to the friction circle together.
+  float lowest = kLargeFloat;
+  for (int k = 0; k < count; ++k) {
+    SolverContactPoint& p = points[reverse ? count - 1 - k : k];
+    // Separation now: at the start of the step plus how the bodies moved and turned since (first order).
+    const float separation = p.separation + moved_apart + p.angular_b[kNormal].dot(turned_b) -
+                             p.angular_a[kNormal].dot(turned_a);
+    lowest = std::min(lowest, separation);
+    // A gap may close within this substep and no further; overlap is pushed out softly.
+    float bias = 0.0f, mass_scale = 1.0f, impulse_scale = 0.0f;
+    if (separation > 0.0f) {
+      bias = separation * context.inverse_h;
+    } else if (use_bias) {
+      bias = std::max(c.softness.bias_rate * separation, -context.max_push_velocity);
+      mass_scale = c.softness.mass_scale;
+      impulse_scale = c.softness.impulse_scale;
+    }
+    const float velocity = RowVelocity(c.normal, p.angular_a[kNormal], p.angular_b[kNormal], va, wa, vb, wb);
+    const float old_impulse = p.normal_impulse;
+    p.normal_impulse = std::max(
+        0.0f, old_impulse - p.normal_mass * mass_scale * (velocity + bias) - impulse_scale * old_impulse);
+    const float delta = p.normal_impulse - old_impulse;
+    p.max_normal_impulse = std::max(p.max_normal_impulse, delta);
+    ApplyNormal<kDynamicA, kDynamicB>(c, p, delta, inverse_mass_a, inverse_mass_b, va, wa, vb, wb);
+  }
+  // Friction, bounded by the normal impulse just solved (as Box2D v3 orders them: a limit from before this
+  // substep's gravity lets a box on a slope creep). Both friction axes share one mass and are clamped to the
+  // friction circle together.
   for (int k = 0; k < count; ++k) {
     SolverContactPoint& p = points[reverse ? count - 1 - k : k];
     const float limit = c.friction * p.normal_impulse;
@@ -72,20 +115,33 @@ void SolveVelocity(SolverContact& c, SolverBody* bodies, bool reverse) {
       wb += delta_first * p.response_b[kFirstTangent] + delta_second * p.response_b[kSecondTangent];
     }
   }
-  for (int k = 0; k < count; ++k) {
-    SolverContactPoint& p = points[reverse ? count - 1 - k : k];
-    const float velocity = RowVelocity(normal, p.angular_a[kNormal], p.angular_b[kNormal], va, wa, vb, wb);
+  if (deepest != nullptr) *deepest = std::min(*deepest, lowest);
+  if constexpr (kDynamicA) {
+    a.linear_velocity = va;
+    a.angular_velocity = wa;
+  }
+  if constexpr (kDynamicB) {
+    b.linear_velocity = vb;
+    b.angular_velocity = wb;
+  }
+}
+
+template <bool kDynamicA, bool kDynamicB>
+void Restitution(SolverContact& c, SolverBody* bodies, const SubstepContext& context) {
+  SolverBody& a = bodies[c.constraint->body_a];
+  SolverBody& b = bodies[c.constraint->body_b];
+  Vec4 va = a.linear_velocity, wa = a.angular_velocity;
+  Vec4 vb = b.linear_velocity, wb = b.angular_velocity;
+  for (int i = 0; i < c.point_count; ++i) {
+    SolverContactPoint& p = c.points()[i];
+    // Only where the approach was fast and the contact did push (a gap that stayed open must not bounce).
+    if (p.normal_velocity > -context.restitution_threshold || p.max_normal_impulse <= 0.0f) continue;
+    const float velocity = RowVelocity(c.normal, p.angular_a[kNormal], p.angular_b[kNormal], va, wa, vb, wb);
     const float old_impulse = p.normal_impulse;
-    p.normal_impulse = std::max(0.0f, old_impulse - (velocity - p.target_velocity) * p.normal_mass);
-    const float delta = p.normal_impulse - old_impulse;
-    if constexpr (kDynamicA) {
-      va -= (inverse_mass_a * delta) * normal;
-      wa -= delta * p.response_a[kNormal];
-    }
-    if constexpr (kDynamicB) {
-      vb += (inverse_mass_b * delta) * normal;
-      wb += delta * p.response_b[kNormal];
-    }
+    p.normal_impulse =
+        std::max(0.0f, old_impulse - p.normal_mass * (velocity + c.restitution * p.normal_velocity));
+    ApplyNormal<kDynamicA, kDynamicB>(c, p, p.normal_impulse - old_impulse, a.inverse_mass, b.inverse_mass,
+                                      va, wa, vb, wb);
   }
   if constexpr (kDynamicA) {
     a.linear_velocity = va;
@@ -99,8 +155,8 @@ void SolveVelocity(SolverContact& c, SolverBody* bodies, bool reverse) {
 
 }  // namespace
 
-SolverContact* SetupSolverContact(BlockArena& arena, ContactConstraint& constraint,
-                                  const SolverBody* bodies) {
+SolverContact* SetupSolverContact(BlockArena& arena, ContactConstraint& constraint, const SolverBody* bodies,
+                                  const SubstepContext& context) {
   const int count = constraint.point_count;
   void* memory =
       arena.Allocate(sizeof(SolverContact) + count * sizeof(SolverContactPoint), alignof(SolverContact));
@@ -110,7 +166,9 @@ SolverContact* SetupSolverContact(BlockArena& arena, ContactConstraint& constrai
   c->tangent[0] = ToVec4(first_tangent);
   c->tangent[1] = ToVec4(constraint.normal.cross(first_tangent));
   c->constraint = &constraint;
+  c->softness = constraint.dynamic_a && constraint.dynamic_b ? context.between_moving : context.against_fixed;
   c->friction = constraint.friction;
+  c->restitution = constraint.restitution;
   c->point_count = constraint.point_count;
   const SolverBody& a = bodies[constraint.body_a];
   const SolverBody& b = bodies[constraint.body_b];
@@ -129,7 +187,9 @@ SolverContact* SetupSolverContact(BlockArena& arena, ContactConstraint& constrai
     }
     p.normal_mass = masses[kNormal];
     p.tangent_mass = std::min(masses[kFirstTangent], masses[kSecondTangent]);
-    p.target_velocity = point.target_velocity;
+    p.separation = point.separation;
+    p.normal_velocity = point.normal_velocity;
+    p.max_normal_impulse = 0.0f;
     p.normal_impulse = point.warm_normal;
     p.tangent_impulse[0] = point.warm_friction.dot(first_tangent);
     p.tangent_impulse[1] = point.warm_friction.dot(ToVec3(c->tangent[1]));
@@ -160,15 +220,26 @@ void WarmStartContact(const SolverContact& c, SolverBody* bodies) {
   }
 }
 
-void SolveContactVelocity(SolverContact& c, SolverBody* bodies, bool reverse) {
+void SolveContactVelocity(SolverContact& c, SolverBody* bodies, const SubstepContext& context, bool use_bias,
+                          bool reverse, float* deepest) {
   const ContactConstraint& constraint = *c.constraint;
-  if (constraint.dynamic_a && constraint.dynamic_b) {
-    SolveVelocity<true, true>(c, bodies, reverse);
-  } else if (constraint.dynamic_a) {
-    SolveVelocity<true, false>(c, bodies, reverse);
-  } else if (constraint.dynamic_b) {
-    SolveVelocity<false, true>(c, bodies, reverse);
-  }
+  if (constraint.dynamic_a && constraint.dynamic_b)
+    SolveVelocity<true, true>(c, bodies, context, use_bias, reverse, deepest);
+  else if (constraint.dynamic_a)
+    SolveVelocity<true, false>(c, bodies, context, use_bias, reverse, deepest);
+  else if (constraint.dynamic_b)
+    SolveVelocity<false, true>(c, bodies, context, use_bias, reverse, deepest);
+}
+
+void ApplyContactRestitution(SolverContact& c, SolverBody* bodies, const SubstepContext& context) {
+  const ContactConstraint& constraint = *c.constraint;
+  if (c.restitution <= 0.0f) return;
+  if (constraint.dynamic_a && constraint.dynamic_b)
+    Restitution<true, true>(c, bodies, context);
+  else if (constraint.dynamic_a)
+    Restitution<true, false>(c, bodies, context);
+  else if (constraint.dynamic_b)
+    Restitution<false, true>(c, bodies, context);
 }
 
 void StoreContactImpulses(const SolverContact& c) {
@@ -179,41 +250,6 @@ void StoreContactImpulses(const SolverContact& c) {
     cached[i].friction_impulse =
         ToVec3(p.tangent_impulse[0] * c.tangent[0] + p.tangent_impulse[1] * c.tangent[1]);
   }
-}
-
-float SolveContactPosition(const ContactConstraint& c, const SolverBody* bodies, SolverPose* poses,
-                           const PhysicsSettings& settings) {
-  const SolverBody& a = bodies[c.body_a];
-  const SolverBody& b = bodies[c.body_b];
-  SolverPose& pose_a = poses[c.body_a];
-  SolverPose& pose_b = poses[c.body_b];
-  const Vec4 normal = ToVec4(c.normal);
-  float deepest = 0.0f;
-  for (int i = 0; i < c.point_count; ++i) {
-    const ContactConstraintPoint& p = c.points()[i];
-    const Vec4 r_a = ToVec4(pose_a.rotation * p.local_a);
-    const Vec4 r_b = ToVec4(pose_b.rotation * p.local_b);
-    const float separation = (pose_b.center_of_mass + r_b - pose_a.center_of_mass - r_a).dot(normal);
-    deepest = std::min(deepest, separation);
-    const float correction = std::clamp(settings.baumgarte * (separation + settings.penetration_slop),
-                                        -settings.max_position_correction, 0.0f);
-    if (correction >= 0.0f) continue;
-    const Vec4 angular_a = Cross(r_a, normal), angular_b = Cross(r_b, normal);
-    Vec4 response_a, response_b;
-    const float k = InverseEffectiveMass(a, b, angular_a, angular_b, response_a, response_b);
-    if (k <= 0.0f) continue;
-    // A pseudo-impulse along the normal: moves and turns the bodies apart by the correction.
-    const float impulse = -correction / k;
-    if (c.dynamic_a) {
-      pose_a.center_of_mass -= (a.inverse_mass * impulse) * normal;
-      Turn(pose_a.rotation, -impulse * response_a);
-    }
-    if (c.dynamic_b) {
-      pose_b.center_of_mass += (b.inverse_mass * impulse) * normal;
-      Turn(pose_b.rotation, impulse * response_b);
-    }
-  }
-  return deepest;
 }
 
 }  // namespace strata

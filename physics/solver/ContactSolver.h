@@ -1,4 +1,5 @@
-// ContactSolver: sequential impulses (Catto, GDC 2009) one contact constraint at a time, for the islands and
+// ContactSolver: sequential impulses (Catto, GDC 2009) with soft contacts (Box2D v3) one contact constraint
+// at a time, for the islands and
 // splits whose constraints share bodies: small islands and the sequential split of a large one. Setup lays a
 // ContactConstraint out as a SolverContact: per point, the Jacobian rows of the normal and both friction
 // axes and their images under each body's inverse inertia, so the passes are dot products and multiply-adds
@@ -19,9 +20,11 @@ struct alignas(16) SolverContactPoint {
   Vec4 response_b[3];  ///< inverse inertia of B times angular_b
   float normal_mass;   ///< 1 / effective mass along the normal
   float tangent_mass;  ///< one mass for both friction axes, so friction opposes sliding in every direction
-  float target_velocity;
-  float normal_impulse;  ///< accumulated
+  float separation;       ///< at the start of the step
+  float normal_velocity;  ///< before the solve: what a bounce reverses
+  float normal_impulse;   ///< accumulated
   float tangent_impulse[2];
+  float max_normal_impulse;  ///< largest single push this step
 };
 
 /// A ContactConstraint set up for the sequential solver; its points follow it in memory.
@@ -29,7 +32,9 @@ struct alignas(16) SolverContact {
   Vec4 normal;
   Vec4 tangent[2];
   ContactConstraint* constraint;
+  Softness softness;
   float friction;
+  float restitution;
   std::uint8_t point_count;
 
   SolverContactPoint* points() { return reinterpret_cast<SolverContactPoint*>(this + 1); }
@@ -37,16 +42,19 @@ struct alignas(16) SolverContact {
 };
 
 /// Sets `constraint` up in `arena` against the bodies' current inverse masses and inertias.
-SolverContact* SetupSolverContact(BlockArena& arena, ContactConstraint& constraint, const SolverBody* bodies);
-/// Applies the warm-start impulses to the bodies' velocities.
+SolverContact* SetupSolverContact(BlockArena& arena, ContactConstraint& constraint, const SolverBody* bodies,
+                                  const SubstepContext& context);
+/// Applies the accumulated impulses to the bodies' velocities (every substep).
 void WarmStartContact(const SolverContact& contact, SolverBody* bodies);
-/// One Gauss-Seidel pass: friction (clamped to the circle), then non-penetration. `reverse` visits the points
-/// backwards (alternate it per pass so stacks do not lean).
-void SolveContactVelocity(SolverContact& contact, SolverBody* bodies, bool reverse);
+/// One Gauss-Seidel pass: friction (clamped to the circle), then non-penetration, softly pushing overlap
+/// out with `use_bias`, else (relax) only closing speculative gaps. `reverse` visits the points backwards
+/// (alternate it per pass so stacks do not lean). If `deepest` is set it is lowered to the smallest
+/// separation seen (m).
+void SolveContactVelocity(SolverContact& contact, SolverBody* bodies, const SubstepContext& context,
+                          bool use_bias, bool reverse, float* deepest);
+/// After the last substep: points that approached faster than the threshold and pushed bounce back.
+void ApplyContactRestitution(SolverContact& contact, SolverBody* bodies, const SubstepContext& context);
 /// Leaves the accumulated impulses in the constraint's cache entry for next step's warm start.
 void StoreContactImpulses(const SolverContact& contact);
-/// One non-linear position pass over the constraint's points; returns the deepest penetration seen (m, <= 0).
-float SolveContactPosition(const ContactConstraint& constraint, const SolverBody* bodies, SolverPose* poses,
-                           const PhysicsSettings& settings);
 
 }  // namespace strata

@@ -28,6 +28,17 @@ void CpuRelax() {
 
 void IslandSolver::BeginStep(const Input& input, std::uint32_t job_count) {
   input_ = input;
+  const PhysicsSettings& settings = *input.settings;
+  substep_dt_ = input.dt / static_cast<float>(settings.substeps);
+  // Contacts stiffer than a quarter of the substep rate would ring; contacts with a fixed body may be twice
+  // as stiff, since only one side moves.
+  const float hertz = std::min(settings.contact_hertz, 0.25f / substep_dt_);
+  context_.between_moving = MakeSoftness(hertz, settings.contact_damping_ratio, substep_dt_);
+  context_.against_fixed = MakeSoftness(2.0f * hertz, settings.contact_damping_ratio, substep_dt_);
+  context_.inverse_h = 1.0f / substep_dt_;
+  context_.max_push_velocity = settings.contact_push_max_velocity;
+  context_.restitution_threshold = settings.min_velocity_for_restitution;
+  context_.elapsed = 0.0f;
   const IslandBuilder& islands = *input.islands;
   const std::uint32_t island_count = islands.island_count();
   ordered_.resize(input.constraints.size());
@@ -117,41 +128,65 @@ void IslandSolver::PrepareGroup(std::uint32_t group_index, std::uint32_t job_ind
     group.sequential_count = group.splits.begin[splits] - group.splits.begin[parallel_splits];
     group.sequential_contacts = job.arena.AllocateArray<SolverContact*>(group.sequential_count);
   }
-  group.has_bounce = std::any_of(ordered.begin(), ordered.end(),
-                                 [](const ContactConstraint* c) { return c->bounce_shift > 0.0f; });
-  const auto velocity = static_cast<std::uint32_t>(input_.settings->velocity_iterations);
-  const auto position = static_cast<std::uint32_t>(input_.settings->position_iterations);
-  group.round_count =
-      1 + splits + velocity * splits + 1 + (group.has_bounce ? splits : 0) + position * splits;
+  const float threshold = -input_.settings->min_velocity_for_restitution;
+  group.has_restitution = std::any_of(ordered.begin(), ordered.end(), [&](const ContactConstraint* c) {
+    if (c->restitution <= 0.0f) return false;
+    const auto points = std::span(c->points(), c->point_count);
+    return std::any_of(points.begin(), points.end(),
+                       [&](const ContactConstraintPoint& p) { return p.normal_velocity < threshold; });
+  });
+  const PhysicsSettings& settings = *input_.settings;
+  const auto per_substep = splits * static_cast<std::uint32_t>(1 + settings.velocity_iterations +
+                                                                settings.relax_iterations) +
+                           2;
+  group.round_count = 1 + static_cast<std::uint32_t>(settings.substeps) * per_substep +
+                      (group.has_restitution ? splits : 0);
   group.processed.store(0, std::memory_order_relaxed);
   group.status.store(0, std::memory_order_release);
 }
 
-IslandSolver::Round IslandSolver::Describe(const Group& split, std::uint32_t round) const {
-  const std::uint32_t splits = split.splits.split_count;
-  if (round == 0) return {RoundKind::kSetup, 0, 0};
+IslandSolver::Round IslandSolver::Describe(const Group& group, std::uint32_t round) const {
+  const std::uint32_t splits = group.splits.split_count;
+  if (round == 0) return {RoundKind::kSetup};
+  round -= 1;
+  const PhysicsSettings& settings = *input_.settings;
+  const auto velocity = static_cast<std::uint32_t>(settings.velocity_iterations);
+  const auto relax = static_cast<std::uint32_t>(settings.relax_iterations);
+  const std::uint32_t per_substep = splits * (1 + velocity + relax) + 2;
+  const auto substeps = static_cast<std::uint32_t>(settings.substeps);
+  if (round >= substeps * per_substep) return {RoundKind::kRestitution, round - substeps * per_substep};
+  const auto substep = static_cast<int>(round / per_substep);
+  round %= per_substep;
+  if (round == 0) return {RoundKind::kAddForces, 0, 0, substep};
   round -= 1;
   // Warm starting is a pass of its own (as in Jolt): folding it into each split's first velocity pass lets
   // the first splits solve against velocities that lack the later splits' warm impulses, and stacks sag.
-  if (round < splits) return {RoundKind::kWarmStart, round, 0};
+  if (round < splits) return {RoundKind::kWarmStart, round, 0, substep};
   round -= splits;
-  const auto velocity = static_cast<std::uint32_t>(input_.settings->velocity_iterations);
   if (round < velocity * splits)
-    return {RoundKind::kVelocity, round % splits, static_cast<int>(round / splits)};
+    return {RoundKind::kVelocity, round % splits, static_cast<int>(round / splits), substep};
   round -= velocity * splits;
-  if (round == 0) return {RoundKind::kIntegrate, 0, 0};
+  if (round == 0) return {RoundKind::kIntegrate, 0, 0, substep};
   round -= 1;
-  if (split.has_bounce) {
-    if (round < splits) return {RoundKind::kBounce, round, 0};
-    round -= splits;
-  }
-  return {RoundKind::kPosition, round % splits, static_cast<int>(round / splits)};
+  return {RoundKind::kRelax, round % splits, static_cast<int>(round / splits), substep};
+}
+
+bool IslandSolver::IsLastSolvePass(const Round& round) const {
+  const PhysicsSettings& settings = *input_.settings;
+  if (round.substep + 1 != settings.substeps) return false;
+  if (settings.relax_iterations > 0)
+    return round.kind == RoundKind::kRelax && round.iteration + 1 == settings.relax_iterations;
+  return round.kind == RoundKind::kVelocity && round.iteration + 1 == settings.velocity_iterations;
 }
 
 std::uint32_t IslandSolver::RoundItems(const Group& split, const Round& round) const {
   switch (round.kind) {
     case RoundKind::kSetup:
       return split.bundle_count + (split.sequential_count > 0 ? 1 : 0);
+    case RoundKind::kAddForces:
+      // The first substep's share was added before the solve.
+      if (round.substep == 0) return 0;
+      [[fallthrough]];
     case RoundKind::kIntegrate:
       return static_cast<std::uint32_t>(input_.islands->bodies(split.first_island, split.end_island).size());
     default:
@@ -164,93 +199,104 @@ std::uint32_t IslandSolver::RoundItems(const Group& split, const Round& round) c
 
 void IslandSolver::Integrate(std::uint32_t island_body) const {
   const std::uint32_t index = island_body + 1;
-  const SolverBody& body = input_.bodies[index];
-  // Kinematic bodies were moved before the solve began (position passes read their final pose).
+  SolverBody& body = input_.bodies[index];
+  // Kinematic bodies were moved before the solve began; contacts follow them by their velocity.
   if (body.inverse_mass <= 0.0f) return;
   SolverPose& pose = input_.poses[index];
-  const float dt = input_.dt;
-  pose.center_of_mass += body.linear_velocity * dt;
-  const Vec4 turn = body.angular_velocity * dt;
+  const float h = substep_dt_;
+  const Vec4 moved = body.linear_velocity * h;
+  const Vec4 turn = body.angular_velocity * h;
+  pose.center_of_mass += moved;
   const Quat delta(0.0f, 0.5f * turn.x(), 0.5f * turn.y(), 0.5f * turn.z());
   pose.rotation.coeffs() += (delta * pose.rotation).coeffs();
   pose.rotation.normalize();
+  body.delta_position += moved;
+  body.delta_rotation += turn;
+}
+
+void IslandSolver::AddForces(std::uint32_t island_body) const {
+  const std::uint32_t index = island_body + 1;
+  SolverBody& body = input_.bodies[index];
+  const SolverVelocityStep& step = input_.velocity_steps[index];
+  body.linear_velocity += step.linear;
+  body.angular_velocity += step.angular;
 }
 
 void IslandSolver::RunBatch(Group& split, const Round& round, std::uint32_t begin, std::uint32_t end,
                             JobState& job) {
-  const PhysicsSettings& settings = *input_.settings;
   SolverBody* bodies = input_.bodies;
-  SolverPose* poses = input_.poses;
   if (round.kind == RoundKind::kSetup) {
     for (std::uint32_t i = begin; i < end; ++i) {
       if (i < split.bundle_count) {
-        SetupBundle(*split.bundles[i], bodies);
+        SetupBundle(*split.bundles[i], bodies, context_);
         continue;
       }
       for (std::uint32_t k = 0; k < split.sequential_count; ++k)
-        split.sequential_contacts[k] = SetupSolverContact(job.arena, *split.sequential[k], bodies);
+        split.sequential_contacts[k] = SetupSolverContact(job.arena, *split.sequential[k], bodies, context_);
     }
     return;
   }
-  if (round.kind == RoundKind::kIntegrate) {
+  if (round.kind == RoundKind::kIntegrate || round.kind == RoundKind::kAddForces) {
     const std::span<const std::uint32_t> island_bodies =
         input_.islands->bodies(split.first_island, split.end_island);
-    for (std::uint32_t i = begin; i < end; ++i) Integrate(island_bodies[i]);
+    if (round.kind == RoundKind::kIntegrate)
+      for (std::uint32_t i = begin; i < end; ++i) Integrate(island_bodies[i]);
+    else
+      for (std::uint32_t i = begin; i < end; ++i) AddForces(island_bodies[i]);
     return;
   }
-  const bool last_velocity_pass = round.iteration + 1 == settings.velocity_iterations;
-  const bool last_position_pass = round.iteration + 1 == settings.position_iterations;
+  SubstepContext context = context_;
+  // Velocity passes see the poses at the substep's start, relax passes those after its integration.
+  context.elapsed = substep_dt_ * static_cast<float>(round.substep + (round.kind == RoundKind::kRelax ? 1 : 0));
+  const bool last_solve_pass = IsLastSolvePass(round);
+  // The impulses a next step warm-starts from are those after restitution, where there is one.
+  const bool last_pass =
+      split.has_restitution ? round.kind == RoundKind::kRestitution : last_solve_pass;
   const bool reverse = (round.iteration & 1) != 0;
+  float deepest = 0.0f;
+  float* const measure = last_solve_pass ? &deepest : nullptr;
+  const bool use_bias = round.kind == RoundKind::kVelocity;
   if (IsSequential(split, round.split)) {
     const std::span<SolverContact*> contacts(split.sequential_contacts, split.sequential_count);
-    const std::span<ContactConstraint* const> constraints(split.sequential, split.sequential_count);
-    float deepest = 0.0f;
-    switch (round.kind) {
-      case RoundKind::kWarmStart:
-        for (const SolverContact* c : contacts) WarmStartContact(*c, bodies);
-        break;
-      case RoundKind::kVelocity:
-        for (SolverContact* c : contacts) SolveContactVelocity(*c, bodies, reverse);
-        if (last_velocity_pass)
-          for (const SolverContact* c : contacts) StoreContactImpulses(*c);
-        break;
-      case RoundKind::kBounce:
-        for (const ContactConstraint* c : constraints) ApplyContactBounceShift(*c, bodies, poses);
-        break;
-      case RoundKind::kPosition:
-        for (const ContactConstraint* c : constraints)
-          deepest = std::min(deepest, SolveContactPosition(*c, bodies, poses, settings));
-        if (last_position_pass) job.deepest = std::min(job.deepest, deepest);
-        break;
-      default:
-        break;
+    for (SolverContact* c : contacts) {
+      switch (round.kind) {
+        case RoundKind::kWarmStart:
+          WarmStartContact(*c, bodies);
+          break;
+        case RoundKind::kVelocity:
+        case RoundKind::kRelax:
+          SolveContactVelocity(*c, bodies, context, use_bias, reverse, measure);
+          break;
+        case RoundKind::kRestitution:
+          ApplyContactRestitution(*c, bodies, context);
+          break;
+        default:
+          break;
+      }
+      if (last_pass) StoreContactImpulses(*c);
     }
-    return;
-  }
-  ContactBundle* const* bundles = split.bundles + split.bundle_begin[round.split];
-  float deepest = 0.0f;
-  for (std::uint32_t i = begin; i < end; ++i) {
-    ContactBundle& bundle = *bundles[i];
-    switch (round.kind) {
-      case RoundKind::kWarmStart:
-        WarmStartBundle(bundle, bodies);
-        break;
-      case RoundKind::kVelocity:
-        SolveBundleVelocity(bundle, bodies, reverse);
-        if (last_velocity_pass) StoreBundleImpulses(bundle);
-        break;
-      case RoundKind::kBounce:
-        for (const ContactConstraint* c : bundle.constraints)
-          if (c != nullptr) ApplyContactBounceShift(*c, bodies, poses);
-        break;
-      case RoundKind::kPosition:
-        deepest = std::min(deepest, SolveBundlePosition(bundle, poses, settings));
-        break;
-      default:
-        break;
+  } else {
+    ContactBundle* const* bundles = split.bundles + split.bundle_begin[round.split];
+    for (std::uint32_t i = begin; i < end; ++i) {
+      ContactBundle& bundle = *bundles[i];
+      switch (round.kind) {
+        case RoundKind::kWarmStart:
+          WarmStartBundle(bundle, bodies);
+          break;
+        case RoundKind::kVelocity:
+        case RoundKind::kRelax:
+          SolveBundleVelocity(bundle, bodies, context, use_bias, reverse, measure);
+          break;
+        case RoundKind::kRestitution:
+          ApplyBundleRestitution(bundle, bodies, context);
+          break;
+        default:
+          break;
+      }
+      if (last_pass) StoreBundleImpulses(bundle);
     }
   }
-  if (round.kind == RoundKind::kPosition && last_position_pass) job.deepest = std::min(job.deepest, deepest);
+  if (measure != nullptr) job.deepest = std::min(job.deepest, deepest);
 }
 
 IslandSolver::BatchResult IslandSolver::TryRunBatch(Group& group, JobState& job) {
@@ -271,7 +317,8 @@ IslandSolver::BatchResult IslandSolver::TryRunBatch(Group& group, JobState& job)
       continue;
     }
     if (item >= items) return BatchResult::kWaiting;  // every batch of this round is taken
-    const std::uint32_t batch = round.kind == RoundKind::kIntegrate ? kBodyBatch : kBundleBatch;
+    const bool per_body = round.kind == RoundKind::kIntegrate || round.kind == RoundKind::kAddForces;
+    const std::uint32_t batch = per_body ? kBodyBatch : kBundleBatch;
     const std::uint32_t take = std::min(batch, items - item);
     if (!group.status.compare_exchange_weak(status, status + take, std::memory_order_acquire,
                                             std::memory_order_acquire))

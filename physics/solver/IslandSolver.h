@@ -2,9 +2,11 @@
 // group of its own, and runs of consecutive small islands form groups of about the same size. A group's
 // constraints are split (LargeIslandSplitter) so that no two in one parallel split move the same body: a
 // parallel split is solved a register of lanes at a time (ContactBundle), the sequential split one
-// constraint at a time (ContactSolver). Each stage of a group's solve (setup, warm start per split, a
-// velocity pass per split, integration, bounce shifts, a position pass per split) is a round; a round's
-// batches may run on any job, and the job finishing a round's last batch opens the next one. Constraints
+// constraint at a time (ContactSolver). The step is solved in substeps (Box2D v3's soft step): per substep
+// gravity and forces (the first substep's before the solve), a warm start per split, biased velocity passes
+// per split, integration, relax passes per split; after the last substep a restitution pass per split where
+// something bounces. Each of these is a round; a round's batches may run on any job, and the job finishing a
+// round's last batch opens the next one. Constraints
 // of different small islands share no body, so grouping them changes no island's solve order, only fills
 // the lanes. The result is the same for any thread count.
 // BeginStep runs alone; PrepareGroup and SolveJob run from the step's jobs.
@@ -37,6 +39,7 @@ class IslandSolver {
     std::span<ContactConstraint* const> constraints;  ///< indexed as in IslandBuilder::Finalize
     SolverBody* bodies;                               ///< solver index = island body index + 1
     SolverPose* poses;
+    const SolverVelocityStep* velocity_steps;  ///< what gravity and forces add per substep, by solver body
     std::uint32_t solver_body_count;
     float dt;
     const PhysicsSettings* settings;
@@ -56,7 +59,7 @@ class IslandSolver {
 
   /// Bytes this step's set-up contacts and bundles take in the pool's blocks.
   std::size_t arena_bytes() const;
-  /// Deepest penetration the last position pass saw (m, <= 0), once every SolveJob has returned.
+  /// Deepest penetration the last pass saw (m, <= 0), once every SolveJob has returned.
   float deepest_penetration() const;
   /// Groups that hold more than one island.
   std::uint32_t merged_group_count() const;
@@ -64,11 +67,12 @@ class IslandSolver {
   std::uint32_t max_split_count() const;
 
  private:
-  enum class RoundKind { kSetup, kWarmStart, kVelocity, kIntegrate, kBounce, kPosition };
+  enum class RoundKind { kSetup, kAddForces, kWarmStart, kVelocity, kIntegrate, kRelax, kRestitution };
   struct Round {
     RoundKind kind;
-    std::uint32_t split;
-    int iteration;
+    std::uint32_t split = 0;
+    int iteration = 0;
+    int substep = 0;
   };
   struct Group {
     std::uint32_t first_island = 0;
@@ -81,7 +85,7 @@ class IslandSolver {
     ContactConstraint* const* sequential = nullptr;  // the sequential split's constraints
     SolverContact** sequential_contacts = nullptr;   // ...as set up in the setup round
     std::uint32_t sequential_count = 0;
-    bool has_bounce = false;
+    bool has_restitution = false;
     std::uint32_t round_count = 0;
     std::atomic<std::uint64_t> status{0};  // round << 32 | next unclaimed item
     std::atomic<std::uint32_t> processed{0};
@@ -102,10 +106,15 @@ class IslandSolver {
     return group.splits.last_is_sequential && s + 1 == group.splits.split_count;
   }
   void AddGroup(std::uint32_t first_island, std::uint32_t end_island);
-  void Integrate(std::uint32_t island_body) const;
+  void Integrate(std::uint32_t island_body) const;  // positions and deltas of a dynamic body
+  void AddForces(std::uint32_t island_body) const;  // a substep's share of gravity and forces
+  // Whether a velocity or relax pass is the step's last (it measures penetration).
+  bool IsLastSolvePass(const Round& round) const;
 
   BlockPool& pool_;
   Input input_{};
+  SubstepContext context_{};  // elapsed set per round
+  float substep_dt_ = 0.0f;
   std::vector<ContactConstraint*> ordered_;  // every island's constraints, island after island
   std::vector<std::uint32_t> body_masks_;    // LargeIslandSplitter scratch, by solver body
   std::unique_ptr<Group[]> groups_;

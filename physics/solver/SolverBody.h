@@ -15,7 +15,11 @@ struct alignas(16) SolverBody {
   Vec4 angular_velocity = Vec4::Zero();  ///< rad/s, world
   Vec4 inverse_inertia[3] = {Vec4::Zero(), Vec4::Zero(),
                              Vec4::Zero()};  ///< world, by column (0 unless dynamic)
-  float inverse_mass = 0.0f;                 ///< 0 for static, kinematic and sleeping bodies
+  /// How far the centre of mass moved and the body turned (rotation vector) since the step began: contacts
+  /// track their separation from these instead of re-reading poses every substep.
+  Vec4 delta_position = Vec4::Zero();
+  Vec4 delta_rotation = Vec4::Zero();
+  float inverse_mass = 0.0f;  ///< 0 for static, kinematic and sleeping bodies
 
   /// Inverse inertia times `v` (w of `v` must be 0).
   Vec4 InverseInertiaTimes(const Vec4& v) const {
@@ -27,6 +31,12 @@ struct alignas(16) SolverBody {
 struct alignas(16) SolverPose {
   Vec4 center_of_mass = Vec4::Zero();  ///< world, w = 0
   Quat rotation = Quat::Identity();
+};
+
+/// The velocity a dynamic body gains per substep from gravity and applied forces and torques.
+struct alignas(16) SolverVelocityStep {
+  Vec4 linear = Vec4::Zero();
+  Vec4 angular = Vec4::Zero();
 };
 
 /// Makes a 4-wide vector (w = 0) from a 3-vector.

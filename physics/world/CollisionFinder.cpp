@@ -80,8 +80,6 @@ ContactSide CollisionFinder::ContactInputSide(const Side& side) const {
   contact.solver_index = side.solver_index;
   contact.dynamic = side.dynamic;
   contact.body = &input_.solver_bodies[side.solver_index];
-  contact.center_of_mass = side.center_of_mass;
-  contact.gravity_factor = side.dynamic ? side.body->gravity_factor() : 0.0f;
   return contact;
 }
 
@@ -248,7 +246,7 @@ void CollisionFinder::AddConstraint(const Vec3& normal, std::span<const ContactA
   job.constraints.push_back(BuildContactConstraint(
       job.arena, normal, arms, ContactInputSide(a), ContactInputSide(b),
       std::sqrt(a.body->friction() * b.body->friction()),
-      std::max(a.body->restitution(), b.body->restitution()), &cached, input_.dt, settings));
+      std::max(a.body->restitution(), b.body->restitution()), &cached));
   ++job.stats.constraints;
   // The island is that of a body the solver moves; two moving bodies join their islands.
   const std::uint32_t island_a = a.solver_index - 1, island_b = b.solver_index - 1;

@@ -15,15 +15,15 @@ bool NonNegative(float value) {
 
 Status PhysicsSettings::Validate() const {
   if (!IsFinite(gravity)) return Bad("gravity", "is not finite");
+  if (substeps < 1 || substeps > 64) return Bad("substeps", "must be in [1, 64]");
   if (velocity_iterations < 1 || velocity_iterations > 1000)
     return Bad("velocity_iterations", "must be in [1, 1000]");
-  if (position_iterations < 0 || position_iterations > 1000)
-    return Bad("position_iterations", "must be in [0, 1000]");
+  if (relax_iterations < 0 || relax_iterations > 1000) return Bad("relax_iterations", "must be in [0, 1000]");
+  if (!(contact_hertz > 0.0f) || !IsFinite(contact_hertz)) return Bad("contact_hertz", "must be > 0");
+  if (!NonNegative(contact_damping_ratio)) return Bad("contact_damping_ratio", "must be >= 0");
+  if (!(contact_push_max_velocity > 0.0f) || !IsFinite(contact_push_max_velocity))
+    return Bad("contact_push_max_velocity", "must be > 0");
   if (!NonNegative(speculative_distance)) return Bad("speculative_distance", "must be >= 0");
-  if (!NonNegative(penetration_slop)) return Bad("penetration_slop", "must be >= 0");
-  if (!(baumgarte > 0.0f && baumgarte <= 1.0f)) return Bad("baumgarte", "must be in (0, 1]");
-  if (!(max_position_correction > 0.0f) || !IsFinite(max_position_correction))
-    return Bad("max_position_correction", "must be > 0");
   if (!NonNegative(min_velocity_for_restitution)) return Bad("min_velocity_for_restitution", "must be >= 0");
   if (!NonNegative(contact_match_distance)) return Bad("contact_match_distance", "must be >= 0");
   if (!NonNegative(body_pair_cache_max_distance)) return Bad("body_pair_cache_max_distance", "must be >= 0");

@@ -10,14 +10,23 @@ namespace strata {
 /// Step tunables. Units: metres, seconds.
 struct PhysicsSettings {
   Vec3 gravity = Vec3(0.0f, -9.81f, 0.0f);    ///< m/s^2
-  int velocity_iterations = 10;               ///< sequential-impulse passes per step, >= 1
-  int position_iterations = 2;                ///< non-linear position passes per step, >= 0
+  /// The step is solved as this many substeps (Box2D v3's soft step): per substep gravity, warm start,
+  /// velocity passes with a soft bias, integration, relax passes. More substeps make tall stacks and large
+  /// mass ratios stiffer at about the cost of more iterations. Default chosen by `strata accuracy`.
+  int substeps = 4;
+  int velocity_iterations = 1;  ///< biased sequential-impulse passes per substep, >= 1
+  int relax_iterations = 1;     ///< passes per substep without the bias (remove the push's energy), >= 0
+  /// Contacts are springs of this stiffness (Hz) with this damping ratio while they push overlap out; the
+  /// stiffness is capped at a quarter of the substep rate, and contacts with a static body use twice it.
+  float contact_hertz = 30.0f;
+  float contact_damping_ratio = 10.0f;
+  float contact_push_max_velocity = 3.0f;     ///< fastest speed at which overlap is pushed out (m/s)
   bool allow_sleeping = true;                 ///< world-wide switch; bodies also have their own flag
   float speculative_distance = 0.02f;         ///< contacts are made this far before touching (m)
-  float penetration_slop = 0.005f;            ///< overlap left alone by position correction (m)
-  float baumgarte = 0.2f;                     ///< fraction of the overlap fixed per position pass, (0, 1]
-  float max_position_correction = 0.2f;       ///< largest push per position pass (m)
   float min_velocity_for_restitution = 1.0f;  ///< slower approaches do not bounce (m/s)
+  /// Spin about a non-principal axis turns the angular velocity (Euler's equations, solved implicitly);
+  /// off, angular velocity stays constant in free flight and angular momentum drifts.
+  bool gyroscopic_torque = true;
   float contact_match_distance = 0.02f;       ///< points closer than this between steps share impulses (m)
   /// A touching pair reuses last step's contacts instead of a new shape test while, relative to each other,
   /// its bodies moved less than this since the contacts were made (m); 0 turns reuse off. Jolt allows 1 mm

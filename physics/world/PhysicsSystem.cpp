@@ -7,6 +7,7 @@
 #include <string>
 
 #include "physics/body/BodyInterface.h"
+#include "physics/body/GyroscopicTorque.h"
 #include "physics/broadphase/QuadTreeBroadPhase.h"
 #include "physics/world/WorldQuery.h"
 
@@ -250,7 +251,9 @@ void PhysicsSystem::PrepareStep() {
   stats_.active_bodies = active_count;
   solver_bodies_.resize(active_count + 1);
   solver_poses_.resize(active_count + 1);
+  velocity_steps_.resize(active_count + 1);
   solver_bodies_[0] = SolverBody();
+  velocity_steps_[0] = SolverVelocityStep();
   solver_poses_[0] = SolverPose();
   islands_.Reset(active_count);
   // Enough blocks for any split of last step's work over the jobs: its bytes (the cache holds two steps'),
@@ -276,38 +279,59 @@ void PhysicsSystem::PrepareStep() {
   next_chunk_.store(0, std::memory_order_relaxed);
 }
 
-void PhysicsSystem::ApplyForces(std::uint32_t) {
+void PhysicsSystem::ApplyForces(std::uint32_t job) {
   const float dt = step_dt_;
+  const float h = dt / static_cast<float>(settings_.substeps);
+  FinishCounters& counters = finish_counters_[job];
   ForEachChunk(next_chunk_, static_cast<std::uint32_t>(active_.size()), kBodyChunk, [&](std::uint32_t i) {
     Body& body = body_manager_.BodyAt(active_[i].index);
     SolverBody& solver = solver_bodies_[i + 1];
     SolverPose& pose = solver_poses_[i + 1];
+    SolverVelocityStep& step = velocity_steps_[i + 1];
     pose.center_of_mass = ToVec4(body.CenterOfMass());
     pose.rotation = body.rotation();
+    solver.delta_position.setZero();
+    solver.delta_rotation.setZero();
     if (body.IsDynamic()) {
-      // Velocity half of symplectic Euler.
-      body.linear_velocity_ +=
-          dt * (settings_.gravity * body.gravity_factor_ + body.inverse_mass_ * body.force_);
+      if (settings_.gyroscopic_torque && body.gyroscopic_ && !body.angular_velocity_.isZero(0.0f))
+        body.angular_velocity_ =
+            SpinWithoutTorque(body.inertia_local_, body.rotation(), body.angular_velocity_, dt);
+      // Gravity and forces are added a substep's share at a time: the first share now (the velocity half of
+      // symplectic Euler), the others by the solver after each substep's integration.
       const Mat3 inverse_inertia = body.InverseInertiaWorld();
-      body.angular_velocity_ += dt * (inverse_inertia * body.torque_);
+      step.linear = ToVec4(h * (settings_.gravity * body.gravity_factor_ + body.inverse_mass_ * body.force_));
+      step.angular = ToVec4(h * (inverse_inertia * body.torque_));
+      body.linear_velocity_ += ToVec3(step.linear);
+      body.angular_velocity_ += ToVec3(step.angular);
       body.force_.setZero();
       body.torque_.setZero();
       body.linear_velocity_ *= std::max(0.0f, 1.0f - body.linear_damping_ * dt);
       body.angular_velocity_ *= std::max(0.0f, 1.0f - body.angular_damping_ * dt);
-      if (body.linear_velocity_.norm() > body.max_linear_velocity_)
-        body.linear_velocity_ *= body.max_linear_velocity_ / body.linear_velocity_.norm();
-      if (body.angular_velocity_.norm() > body.max_angular_velocity_)
-        body.angular_velocity_ *= body.max_angular_velocity_ / body.angular_velocity_.norm();
+      ClampVelocities(body, counters);
       solver.inverse_mass = body.inverse_mass_;
       for (int column = 0; column < 3; ++column)
         solver.inverse_inertia[column] = ToVec4(inverse_inertia.col(column));
     } else {
       solver.inverse_mass = 0.0f;
       for (Vec4& column : solver.inverse_inertia) column.setZero();
+      step = {};
     }
     solver.linear_velocity = ToVec4(body.linear_velocity_);
     solver.angular_velocity = ToVec4(body.angular_velocity_);
   });
+}
+
+void PhysicsSystem::ClampVelocities(Body& body, FinishCounters& counters) {
+  const float speed = body.linear_velocity_.norm();
+  if (speed > body.max_linear_velocity_) {
+    body.linear_velocity_ *= body.max_linear_velocity_ / speed;
+    ++counters.linear_velocity_clamps;
+  }
+  const float spin = body.angular_velocity_.norm();
+  if (spin > body.max_angular_velocity_) {
+    body.angular_velocity_ *= body.max_angular_velocity_ / spin;
+    ++counters.angular_velocity_clamps;
+  }
 }
 
 void PhysicsSystem::UpdateBroadPhase() {
@@ -321,8 +345,8 @@ void PhysicsSystem::FindCollisions(std::uint32_t job) {
 void PhysicsSystem::FinalizeIslands() {
   collisions_.Gather(constraints_, constraint_island_body_);
   islands_.Finalize(constraint_island_body_);
-  // Kinematic bodies follow their velocity whatever they touch; moving them now lets the position passes
-  // of the islands they touch read their end-of-step pose.
+  // Kinematic bodies follow their velocity whatever they touch: moved now to their end-of-step pose (the
+  // contacts that touch them follow them by their velocity).
   for (std::uint32_t i = 0; i < active_.size(); ++i) {
     if (body_manager_.BodyAt(active_[i].index).IsDynamic()) continue;
     SolverPose& pose = solver_poses_[i + 1];
@@ -338,6 +362,7 @@ void PhysicsSystem::FinalizeIslands() {
   input.constraints = constraints_;
   input.bodies = solver_bodies_.data();
   input.poses = solver_poses_.data();
+  input.velocity_steps = velocity_steps_.data();
   input.solver_body_count = static_cast<std::uint32_t>(solver_bodies_.size());
   input.dt = step_dt_;
   input.settings = &settings_;
@@ -368,6 +393,7 @@ void PhysicsSystem::FinishIslands(std::uint32_t job) {
       const SolverPose& pose = solver_poses_[i + 1];
       body.linear_velocity_ = ToVec3(solved.linear_velocity);
       body.angular_velocity_ = ToVec3(solved.angular_velocity);
+      ClampVelocities(body, finish_counters_[job]);  // the substeps after the first added gravity again
       body.pose_.rotation = pose.rotation;
       body.pose_.position = ToVec3(pose.center_of_mass) - pose.rotation * body.center_of_mass_local_;
       body.UpdateWorldBounds();
@@ -413,6 +439,8 @@ void PhysicsSystem::FinishStep() {
   stats_.max_penetration = -island_solver_.deepest_penetration();
   for (FinishCounters& counters : finish_counters_) {
     stats_.bodies_put_to_sleep += counters.bodies_put_to_sleep;
+    stats_.linear_velocity_clamps += counters.linear_velocity_clamps;
+    stats_.angular_velocity_clamps += counters.angular_velocity_clamps;
     counters = {};
   }
 }

@@ -53,7 +53,9 @@ struct StepStats {
   std::size_t bodies_put_to_sleep = 0;
   std::size_t island_links = 0;        ///< IslandBuilder::Link calls
   std::uint64_t island_link_hops = 0;  ///< links they followed
-  float max_penetration = 0.0f;        ///< after position correction (m)
+  float max_penetration = 0.0f;        ///< deepest overlap at the end of the solve (m)
+  std::size_t linear_velocity_clamps = 0;   ///< bodies slowed to their max_linear_velocity
+  std::size_t angular_velocity_clamps = 0;  ///< bodies slowed to their max_angular_velocity
 };
 
 /// Where the last step's time went: the stages in order, with their start, end and summed job time.
@@ -152,12 +154,17 @@ class PhysicsSystem {
   std::vector<std::uint32_t> solver_index_;  // by body index: active index + 1, 0 = not active
   std::vector<SolverBody> solver_bodies_;    // [0] the fixed body, then the active bodies
   std::vector<SolverPose> solver_poses_;
+  std::vector<SolverVelocityStep> velocity_steps_;  // what each substep adds to a dynamic body's velocity
   std::vector<ContactConstraint*> constraints_;
   std::vector<std::uint32_t> constraint_island_body_;
   std::uint32_t sleep_key_base_ = 0;  // island i falling asleep this step gets key base + i
   struct alignas(64) FinishCounters {
     std::size_t bodies_put_to_sleep = 0;
+    std::size_t linear_velocity_clamps = 0;
+    std::size_t angular_velocity_clamps = 0;
   };
+  // Slows a body to its velocity limits, counting each clamp.
+  static void ClampVelocities(Body& body, FinishCounters& counters);
   std::vector<FinishCounters> finish_counters_;
   BlockPool step_blocks_;  // every step arena's blocks (declared before its users, so it outlives them)
   BodyPairCache pair_cache_;

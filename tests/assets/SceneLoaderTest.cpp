@@ -32,10 +32,11 @@ TEST(SceneLoader, BundledScenesLoadAndRun) {
 TEST(SceneLoader, FieldsAreRead) {
   Result<Scene> scene =
       ParseScene(R"({"settings": {"gravity": [0, -5, 0], "dt": 0.01, "velocity_iterations": 7,
-      "position_iterations": 3, "sleeping": false},
+      "substeps": 6, "relax_iterations": 3, "gyroscopic_torque": false, "sleeping": false},
       "bodies": [{"name": "a", "shape": {"type": "capsule", "radius": 0.5, "half_height": 1},
                   "position": [1, 2, 3], "rotation": [0, 0, 1, 0], "motion": "kinematic", "friction": 0.9,
-                  "restitution": 0.3, "linear_velocity": [1, 0, 0]},
+                  "restitution": 0.3, "linear_velocity": [1, 0, 0], "max_linear_velocity": 40,
+                  "max_angular_velocity": 9},
                  {"name": "b", "shape": {"type": "mesh", "vertices": [[0,0,0],[1,0,0],[0,0,1]], "indices": [0, 2, 1]},
                   "motion": "static"},
                  {"shape": {"type": "sphere", "radius": 1}, "mass": 3}]})",
@@ -44,7 +45,9 @@ TEST(SceneLoader, FieldsAreRead) {
   EXPECT_FLOAT_EQ(scene->physics.gravity.y(), -5.0f);
   EXPECT_FLOAT_EQ(scene->dt, 0.01f);
   EXPECT_EQ(scene->physics.velocity_iterations, 7);
-  EXPECT_EQ(scene->physics.position_iterations, 3);
+  EXPECT_EQ(scene->physics.substeps, 6);
+  EXPECT_EQ(scene->physics.relax_iterations, 3);
+  EXPECT_FALSE(scene->physics.gyroscopic_torque);
   EXPECT_FALSE(scene->physics.allow_sleeping);
   ASSERT_EQ(scene->bodies.size(), 3u);
   const BodyCreationSettings& a = scene->bodies[0].settings;
@@ -53,6 +56,8 @@ TEST(SceneLoader, FieldsAreRead) {
   EXPECT_TRUE(a.position.isApprox(Vec3(1, 2, 3)));
   EXPECT_FLOAT_EQ(a.friction, 0.9f);
   EXPECT_FLOAT_EQ(a.restitution, 0.3f);
+  EXPECT_FLOAT_EQ(a.max_linear_velocity, 40.0f);
+  EXPECT_FLOAT_EQ(a.max_angular_velocity, 9.0f);
   EXPECT_EQ(scene->bodies[1].settings.shape->type(), ShapeType::kTriangleMesh);
   EXPECT_EQ(scene->bodies[2].name, "body2");
   EXPECT_FLOAT_EQ(*scene->bodies[2].settings.mass, 3.0f);

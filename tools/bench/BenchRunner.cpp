@@ -108,8 +108,9 @@ EngineResult RunStrata(const BenchScene& scene, int threads, JobSystemKind job_s
   if (job_system == JobSystemKind::kThreadPool)
     config.job_system = std::make_shared<ThreadPoolJobSystem>(threads);
   PhysicsSettings settings;
+  settings.substeps = scene.substeps;
   settings.velocity_iterations = scene.velocity_iterations;
-  settings.position_iterations = scene.position_iterations;
+  settings.relax_iterations = scene.relax_iterations;
   settings.allow_sleeping = scene.sleeping;
   settings.body_pair_cache_max_distance = scene.pair_cache_max_distance;
   settings.body_pair_cache_max_angle = scene.pair_cache_max_angle;

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "physics/math/Math.h"
+#include "physics/world/PhysicsSettings.h"
 
 namespace strata::bench {
 
@@ -34,8 +35,9 @@ struct BenchScene {
   std::vector<Vec3> mesh_vertices;  ///< shared by every kMesh body
   std::vector<std::array<std::uint32_t, 3>> mesh_triangles;
   float dt = 1.0f / 60.0f;
-  int velocity_iterations = 10;
-  int position_iterations = 2;
+  int substeps = PhysicsSettings().substeps;
+  int velocity_iterations = PhysicsSettings().velocity_iterations;  ///< per substep
+  int relax_iterations = PhysicsSettings().relax_iterations;        ///< per substep
   bool sleeping = false;
   int steps = 500;
   /// Strata's body-pair cache reuse limits (m, degrees). Jolt's, as its PerformanceTest runs these scenes

@@ -26,7 +26,9 @@ EngineResult RunBullet(const BenchScene& scene) {
   btSequentialImpulseConstraintSolver solver;
   btDiscreteDynamicsWorld world(&dispatcher, &broadphase, &solver, &configuration);
   world.setGravity(btVector3(0, -9.81f, 0));
-  world.getSolverInfo().m_numIterations = scene.velocity_iterations;
+  // As many passes over the contacts as Strata makes in a step.
+  world.getSolverInfo().m_numIterations =
+      scene.substeps * (scene.velocity_iterations + scene.relax_iterations);
 
   std::vector<std::unique_ptr<btCollisionShape>> shapes;
   std::vector<std::unique_ptr<btDefaultMotionState>> motion_states;

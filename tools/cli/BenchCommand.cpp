@@ -165,10 +165,10 @@ int RunBench(BenchOptions options) {
       scene.pair_cache_max_distance = *options.pair_cache_distance_mm / 1000.0f;
     if (options.pair_cache_angle) scene.pair_cache_max_angle = *options.pair_cache_angle;
     std::printf(
-        "%s: %zu bodies, %d steps of %.4f s, %d velocity / %d position iterations, sleeping %s, pair cache "
-        "%.2f mm / %.1f deg\n",
-        name.c_str(), scene.bodies.size(), scene.steps, scene.dt, scene.velocity_iterations,
-        scene.position_iterations, scene.sleeping ? "on" : "off", scene.pair_cache_max_distance * 1000.0f,
+        "%s: %zu bodies, %d steps of %.4f s, %d substeps x (%d velocity + %d relax passes), sleeping %s, pair "
+        "cache %.2f mm / %.1f deg\n",
+        name.c_str(), scene.bodies.size(), scene.steps, scene.dt, scene.substeps, scene.velocity_iterations,
+        scene.relax_iterations, scene.sleeping ? "on" : "off", scene.pair_cache_max_distance * 1000.0f,
         scene.pair_cache_max_angle);
     std::printf("  %-7s %7s %9s %10s %9s %9s %9s %6s %-12s %s\n", "engine", "threads", "steps/s", "ms median",
                 "ms max", "MiB peak", "speedup", "bodies", "", "state hash");

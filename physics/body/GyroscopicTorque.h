@@ -1,0 +1,20 @@
+// GyroscopicTorque: how a spinning body's angular velocity turns in free flight (Euler's equations: a body
+// spinning about a non-principal axis precesses; one spinning about its intermediate axis flips). Pure
+// functions; call from any thread.
+#pragma once
+
+#include "physics/math/Math.h"
+
+namespace strata {
+
+/// Whether `inertia` (any frame) differs enough from a multiple of the identity for spin to precess; a
+/// sphere or a cube never does, so the step leaves it out.
+bool HasGyroscopicTorque(const Mat3& inertia);
+
+/// The angular velocity (world) of a body with local `inertia` and `rotation` after `dt` seconds without
+/// torque: Euler's equations I dw/dt + w x I w = 0 in the body frame, by the implicit midpoint rule (three
+/// Newton steps). The rule keeps both the kinetic energy and |L| of the exact motion and stays stable at
+/// any spin, where an explicit step gains energy.
+Vec3 SpinWithoutTorque(const Mat3& inertia, const Quat& rotation, const Vec3& angular_velocity, float dt);
+
+}  // namespace strata
