@@ -204,11 +204,10 @@ Result<ShapeRef> ParseShape(const Reader& reader, const Json& shape, const std::
 
 Result<SceneBody> ParseBody(const Reader& reader, const Json& body, const std::filesystem::path& base) {
   if (!body.is_object()) return reader.Fail("", "must be an object");
-  STRATA_TRY(
-      reader.OnlyKeys(body, {"name", "shape", "position", "rotation", "motion", "mass", "density", "friction",
-                             "restitution", "linear_velocity", "angular_velocity", "linear_damping",
-                             "angular_damping", "gravity_factor", "allow_sleeping", "max_linear_velocity",
-                             "max_angular_velocity"}));
+  STRATA_TRY(reader.OnlyKeys(
+      body, {"name", "shape", "position", "rotation", "motion", "mass", "density", "friction", "restitution",
+             "linear_velocity", "angular_velocity", "linear_damping", "angular_damping", "gravity_factor",
+             "allow_sleeping", "max_linear_velocity", "max_angular_velocity", "motion_quality"}));
   SceneBody out;
   STRATA_TRY(reader.String(body, "name", out.name));
   if (!body.contains("shape")) return reader.Fail("shape", "is required");
@@ -228,6 +227,12 @@ Result<SceneBody> ParseBody(const Reader& reader, const Json& body, const std::f
     settings.motion_type = MotionType::kDynamic;
   else
     return reader.Fail("motion", "must be static, kinematic or dynamic (got '" + motion + "')");
+  std::string quality = "discrete";
+  STRATA_TRY(reader.String(body, "motion_quality", quality));
+  if (quality == "linear_cast")
+    settings.motion_quality = MotionQuality::kLinearCast;
+  else if (quality != "discrete")
+    return reader.Fail("motion_quality", "must be discrete or linear_cast (got '" + quality + "')");
   settings.object_layer = settings.motion_type == MotionType::kStatic ? layers::kNonMoving : layers::kMoving;
   if (body.contains("mass") && body.contains("density"))
     return reader.Fail("mass", "give mass or density, not both");

@@ -10,6 +10,7 @@ void Body::Reset(const BodyCreationSettings& settings, BodyID id) {
   shape_ = settings.shape;
   pose_ = {settings.position, settings.rotation.normalized()};
   motion_type_ = settings.motion_type;
+  motion_quality_ = settings.motion_quality;
   object_layer_ = settings.object_layer;
   friction_ = settings.friction;
   restitution_ = settings.restitution;

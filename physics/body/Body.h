@@ -14,6 +14,7 @@ class Body {
   BodyID id() const { return id_; }
   const ShapeRef& shape() const { return shape_; }
   MotionType motion_type() const { return motion_type_; }
+  MotionQuality motion_quality() const { return motion_quality_; }
   ObjectLayer object_layer() const { return object_layer_; }
   bool IsDynamic() const { return motion_type_ == MotionType::kDynamic; }
   bool IsStatic() const { return motion_type_ == MotionType::kStatic; }
@@ -98,6 +99,7 @@ class Body {
   std::uint32_t sleep_island_ = 0;  // island key shared by bodies that fell asleep together
   std::uint64_t user_data_ = 0;
   MotionType motion_type_ = MotionType::kStatic;
+  MotionQuality motion_quality_ = MotionQuality::kDiscrete;
   ObjectLayer object_layer_ = layers::kNonMoving;
   bool in_world_ = false;
   RelaxedAtomic<bool> sleeping_ = false;

@@ -18,6 +18,7 @@ struct BodyCreationSettings {
   Vec3 position = Vec3::Zero();      ///< of the shape origin, world space (m)
   Quat rotation = Quat::Identity();  ///< unit quaternion
   MotionType motion_type = MotionType::kDynamic;
+  MotionQuality motion_quality = MotionQuality::kDiscrete;  ///< LinearCast: fast bodies do not tunnel
   ObjectLayer object_layer = layers::kMoving;
   std::optional<float> mass;                         ///< kg; overrides density when set
   float density = 1000.0f;                           ///< kg/m^3, used when mass is not set

@@ -12,9 +12,9 @@ namespace strata {
 bool HasGyroscopicTorque(const Mat3& inertia);
 
 /// The angular velocity (world) of a body with local `inertia` and `rotation` after `dt` seconds without
-/// torque: Euler's equations I dw/dt + w x I w = 0 in the body frame, by the implicit midpoint rule (three
-/// Newton steps). The rule keeps both the kinetic energy and |L| of the exact motion and stays stable at
-/// any spin, where an explicit step gains energy.
+/// torque: Euler's equations I dw/dt + w x I w = 0 in the body frame, by the implicit midpoint rule (Newton
+/// to convergence; fast spin in pieces of half a radian). The rule keeps both the kinetic energy and |L| of
+/// the exact motion and stays stable at any spin, where an explicit step gains energy.
 Vec3 SpinWithoutTorque(const Mat3& inertia, const Quat& rotation, const Vec3& angular_velocity, float dt);
 
 }  // namespace strata

@@ -126,7 +126,9 @@ void SetupBundle(ContactBundle& bundle, const SolverBody* bodies, const SubstepC
     restitution[lane] = c->restitution;
     inverse_mass_a[lane] = bodies[c->body_a].inverse_mass;
     inverse_mass_b[lane] = bodies[c->body_b].inverse_mass;
-    const Softness& soft = c->dynamic_a && c->dynamic_b ? context.between_moving : context.against_fixed;
+    const Softness soft =
+        SoftnessFor(c->dynamic_a && c->dynamic_b ? context.between_moving : context.against_fixed,
+                    inverse_mass_a[lane], inverse_mass_b[lane]);
     bias_rate[lane] = soft.bias_rate;
     mass_scale[lane] = soft.mass_scale;
     impulse_scale[lane] = soft.impulse_scale;
@@ -253,8 +255,7 @@ void SolveBundleVelocity(ContactBundle& bundle, SolverBody* bodies, const Subste
   for (int k = 0; k < count; ++k) {
     ContactBundleRows& p = rows[reverse ? count - 1 - k : k];
     // Separation now: at the start of the step plus how the bodies moved and turned since (first order).
-    const WideFloat separation = p.separation + moved_apart +
-                                 Dot(turned_b, Cross(p.arm_b, bundle.normal)) -
+    const WideFloat separation = p.separation + moved_apart + Dot(turned_b, Cross(p.arm_b, bundle.normal)) -
                                  Dot(turned_a, Cross(p.arm_a, bundle.normal));
     lowest = Min(lowest, separation);
     const WideFloat gap = Greater(separation, WideFloat::Zero());
@@ -268,7 +269,8 @@ void SolveBundleVelocity(ContactBundle& bundle, SolverBody* bodies, const Subste
     }
     const WideFloat velocity = Dot(bundle.normal, lanes.Relative(p));
     PushNormal(bundle, p, lanes,
-               WideFloat::Zero() - p.normal_mass * mass_scale * (velocity + bias) - impulse_scale * p.normal_impulse);
+               WideFloat::Zero() - p.normal_mass * mass_scale * (velocity + bias) -
+                   impulse_scale * p.normal_impulse);
   }
   // Friction after non-penetration, bounded by the normal impulse just solved (see ContactSolver).
   for (int k = 0; k < count; ++k) {
@@ -308,7 +310,8 @@ void ApplyBundleRestitution(ContactBundle& bundle, SolverBody* bodies, const Sub
         Select(pushed, Select(fast, Greater(bundle.restitution, WideFloat::Zero()), WideFloat::Zero()),
                WideFloat::Zero());
     const WideFloat velocity = Dot(bundle.normal, lanes.Relative(p));
-    const WideFloat impulse = WideFloat::Zero() - p.normal_mass * MulAdd(bundle.restitution, p.normal_velocity, velocity);
+    const WideFloat impulse =
+        WideFloat::Zero() - p.normal_mass * MulAdd(bundle.restitution, p.normal_velocity, velocity);
     PushNormal(bundle, p, lanes, Select(bounces, impulse, WideFloat::Zero()));
   }
   lanes.Scatter(bodies, bundle);

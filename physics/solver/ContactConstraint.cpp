@@ -1,16 +1,25 @@
 #include "physics/solver/ContactConstraint.h"
 
+#include <algorithm>
 #include <new>
 
 namespace strata {
 
-Softness MakeSoftness(float hertz, float damping_ratio, float h) {
-  if (hertz <= 0.0f) return {};
+SoftSpring MakeSoftSpring(float hertz, float damping_ratio, float h) {
   const float omega = 2.0f * kPi * hertz;
   const float a1 = 2.0f * damping_ratio + h * omega;
-  const float a2 = h * omega * a1;
-  const float a3 = 1.0f / (1.0f + a2);
-  return {omega / a1, a2 * a3, a3};
+  return {omega / a1, h * omega * a1};
+}
+
+Softness SoftnessFor(const SoftSpring& spring, float inverse_mass_a, float inverse_mass_b) {
+  // The pair's effective mass over the heavier body's: 1 against a fixed body, 1/2 for equal masses,
+  // about 1/1000 for a 1:1000 pair.
+  const float total = inverse_mass_a + inverse_mass_b;
+  const float lighter = std::min(inverse_mass_a > 0.0f ? inverse_mass_a : kLargeFloat,
+                                 inverse_mass_b > 0.0f ? inverse_mass_b : kLargeFloat);
+  const float ratio = total > 0.0f && lighter < kLargeFloat ? lighter / total : 1.0f;
+  const float denominator = spring.stiffness + ratio;
+  return {spring.bias_rate, spring.stiffness / denominator, ratio / denominator};
 }
 
 ContactConstraint* BuildContactConstraint(BlockArena& arena, const Vec3& normal,
@@ -40,8 +49,7 @@ ContactConstraint* BuildContactConstraint(BlockArena& arena, const Vec3& normal,
     p.warm_normal = cached[i].normal_impulse;
     p.warm_friction = cached[i].friction_impulse;
     p.separation = arms.separation;
-    p.normal_velocity =
-        (velocity_b + spin_b.cross(p.r_b) - velocity_a - spin_a.cross(p.r_a)).dot(normal);
+    p.normal_velocity = (velocity_b + spin_b.cross(p.r_b) - velocity_a - spin_a.cross(p.r_a)).dot(normal);
   }
   return c;
 }

@@ -18,11 +18,11 @@ namespace strata {
 
 /// One point of a ContactConstraint.
 struct ContactConstraintPoint {
-  Vec3 r_a;            ///< from A's centre of mass to the point on A, world axes, at the start of the step
-  Vec3 r_b;            ///< from B's centre of mass to the point on B
-  Vec3 warm_friction;  ///< last step's friction impulse, world (0 if the point is new)
-  float warm_normal;   ///< last step's normal impulse
-  float separation;    ///< along the normal at the start of the step; < 0 where the bodies overlap
+  Vec3 r_a;               ///< from A's centre of mass to the point on A, world axes, at the start of the step
+  Vec3 r_b;               ///< from B's centre of mass to the point on B
+  Vec3 warm_friction;     ///< last step's friction impulse, world (0 if the point is new)
+  float warm_normal;      ///< last step's normal impulse
+  float separation;       ///< along the normal at the start of the step; < 0 where the bodies overlap
   float normal_velocity;  ///< of B relative to A along the normal, before the solve (< 0: approaching)
 };
 
@@ -54,23 +54,34 @@ struct ContactArms {
   float separation;  ///< along the normal; < 0 where the bodies overlap
 };
 
-/// A soft constraint (Catto, "Solver2D", and Box2D v3): a spring of some stiffness and damping ratio,
-/// stepped implicitly at the substep. The biased passes aim for `bias_rate` times the overlap, scale the
-/// impulse that would remove the velocity error by `mass_scale` and relax the accumulated one by
-/// `impulse_scale`; a rigid constraint is {0, 1, 0}.
+/// A contact spring (Catto, "Solver2D", and Box2D v3's soft step): a stiffness given as a frequency and a
+/// damping ratio, stepped implicitly at the substep, as `bias_rate` (1/s: the overlap pushed out per second)
+/// and `stiffness` (h omega (2 zeta + h omega), Box2D's a2).
+struct SoftSpring {
+  float bias_rate = 0.0f;
+  float stiffness = 0.0f;
+};
+/// The spring of `hertz` and `damping_ratio` stepped at `h` seconds.
+SoftSpring MakeSoftSpring(float hertz, float damping_ratio, float h);
+
+/// How a soft contact solves: aim for the bias, scale the impulse that would remove the velocity error by
+/// `mass_scale` and relax the accumulated one by `impulse_scale` (a rigid contact is {0, 1, 0}).
 struct Softness {
   float bias_rate = 0.0f;
   float mass_scale = 1.0f;
   float impulse_scale = 0.0f;
 };
-/// Softness of a spring of `hertz` and `damping_ratio` stepped at `h` seconds.
-Softness MakeSoftness(float hertz, float damping_ratio, float h);
+/// The softness of a contact between bodies of inverse masses `a` and `b` (0 = does not move). Box2D scales
+/// the spring by the pair's effective mass, so a 1000 kg box on a 1 kg box rests on a 1 kg spring and
+/// sinks 0.3 m; here the spring is scaled by the heavier body's mass: the light body's side becomes nearly
+/// rigid, and a contact's sag under its load is what the heavier body alone would give (g / omega^2).
+Softness SoftnessFor(const SoftSpring& spring, float inverse_mass_a, float inverse_mass_b);
 
 /// What the passes of one substep need besides the constraints and bodies.
 struct SubstepContext {
-  Softness between_moving;  ///< contacts between two bodies the solver moves
-  Softness against_fixed;   ///< contacts with a static, kinematic or sleeping body (twice as stiff)
-  float inverse_h = 0.0f;   ///< 1 / substep
+  SoftSpring between_moving;  ///< contacts between two bodies the solver moves
+  SoftSpring against_fixed;   ///< contacts with a static, kinematic or sleeping body (twice as stiff)
+  float inverse_h = 0.0f;     ///< 1 / substep
   float max_push_velocity = 0.0f;
   float elapsed = 0.0f;  ///< seconds since the step began at the poses the pass sees (kinematic motion)
   float restitution_threshold = 0.0f;

@@ -65,8 +65,8 @@ void SolveVelocity(SolverContact& c, SolverBody* bodies, const SubstepContext& c
   for (int k = 0; k < count; ++k) {
     SolverContactPoint& p = points[reverse ? count - 1 - k : k];
     // Separation now: at the start of the step plus how the bodies moved and turned since (first order).
-    const float separation = p.separation + moved_apart + p.angular_b[kNormal].dot(turned_b) -
-                             p.angular_a[kNormal].dot(turned_a);
+    const float separation =
+        p.separation + moved_apart + p.angular_b[kNormal].dot(turned_b) - p.angular_a[kNormal].dot(turned_a);
     lowest = std::min(lowest, separation);
     // A gap may close within this substep and no further; overlap is pushed out softly.
     float bias = 0.0f, mass_scale = 1.0f, impulse_scale = 0.0f;
@@ -166,7 +166,9 @@ SolverContact* SetupSolverContact(BlockArena& arena, ContactConstraint& constrai
   c->tangent[0] = ToVec4(first_tangent);
   c->tangent[1] = ToVec4(constraint.normal.cross(first_tangent));
   c->constraint = &constraint;
-  c->softness = constraint.dynamic_a && constraint.dynamic_b ? context.between_moving : context.against_fixed;
+  c->softness = SoftnessFor(
+      constraint.dynamic_a && constraint.dynamic_b ? context.between_moving : context.against_fixed,
+      bodies[constraint.body_a].inverse_mass, bodies[constraint.body_b].inverse_mass);
   c->friction = constraint.friction;
   c->restitution = constraint.restitution;
   c->point_count = constraint.point_count;

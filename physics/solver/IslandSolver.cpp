@@ -33,8 +33,8 @@ void IslandSolver::BeginStep(const Input& input, std::uint32_t job_count) {
   // Contacts stiffer than a quarter of the substep rate would ring; contacts with a fixed body may be twice
   // as stiff, since only one side moves.
   const float hertz = std::min(settings.contact_hertz, 0.25f / substep_dt_);
-  context_.between_moving = MakeSoftness(hertz, settings.contact_damping_ratio, substep_dt_);
-  context_.against_fixed = MakeSoftness(2.0f * hertz, settings.contact_damping_ratio, substep_dt_);
+  context_.between_moving = MakeSoftSpring(hertz, settings.contact_damping_ratio, substep_dt_);
+  context_.against_fixed = MakeSoftSpring(2.0f * hertz, settings.contact_damping_ratio, substep_dt_);
   context_.inverse_h = 1.0f / substep_dt_;
   context_.max_push_velocity = settings.contact_push_max_velocity;
   context_.restitution_threshold = settings.min_velocity_for_restitution;
@@ -136,11 +136,10 @@ void IslandSolver::PrepareGroup(std::uint32_t group_index, std::uint32_t job_ind
                        [&](const ContactConstraintPoint& p) { return p.normal_velocity < threshold; });
   });
   const PhysicsSettings& settings = *input_.settings;
-  const auto per_substep = splits * static_cast<std::uint32_t>(1 + settings.velocity_iterations +
-                                                                settings.relax_iterations) +
-                           2;
-  group.round_count = 1 + static_cast<std::uint32_t>(settings.substeps) * per_substep +
-                      (group.has_restitution ? splits : 0);
+  const auto per_substep =
+      splits * static_cast<std::uint32_t>(1 + settings.velocity_iterations + settings.relax_iterations) + 2;
+  group.round_count =
+      1 + static_cast<std::uint32_t>(settings.substeps) * per_substep + (group.has_restitution ? splits : 0);
   group.processed.store(0, std::memory_order_relaxed);
   group.status.store(0, std::memory_order_release);
 }
@@ -247,12 +246,15 @@ void IslandSolver::RunBatch(Group& split, const Round& round, std::uint32_t begi
   }
   SubstepContext context = context_;
   // Velocity passes see the poses at the substep's start, relax passes those after its integration.
-  context.elapsed = substep_dt_ * static_cast<float>(round.substep + (round.kind == RoundKind::kRelax ? 1 : 0));
+  context.elapsed =
+      substep_dt_ * static_cast<float>(round.substep + (round.kind == RoundKind::kRelax ? 1 : 0));
   const bool last_solve_pass = IsLastSolvePass(round);
   // The impulses a next step warm-starts from are those after restitution, where there is one.
-  const bool last_pass =
-      split.has_restitution ? round.kind == RoundKind::kRestitution : last_solve_pass;
-  const bool reverse = (round.iteration & 1) != 0;
+  const bool last_pass = split.has_restitution ? round.kind == RoundKind::kRestitution : last_solve_pass;
+  // Alternate the order points are visited in from pass to pass (and substep to substep), so a stack does
+  // not lean towards the side solved first.
+  const bool reverse =
+      ((round.iteration + round.substep + (round.kind == RoundKind::kRelax ? 1 : 0)) & 1) != 0;
   float deepest = 0.0f;
   float* const measure = last_solve_pass ? &deepest : nullptr;
   const bool use_bias = round.kind == RoundKind::kVelocity;

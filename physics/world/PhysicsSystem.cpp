@@ -9,6 +9,7 @@
 #include "physics/body/BodyInterface.h"
 #include "physics/body/GyroscopicTorque.h"
 #include "physics/broadphase/QuadTreeBroadPhase.h"
+#include "physics/narrowphase/ShapeCast.h"
 #include "physics/world/WorldQuery.h"
 
 namespace strata {
@@ -16,6 +17,12 @@ namespace strata {
 namespace {
 constexpr std::uint32_t kBodyChunk = 64;
 constexpr std::uint32_t kIslandChunk = 16;
+constexpr std::uint32_t kCastChunk = 8;
+// A linear-cast body is swept when it moved more than this fraction of its smallest half extent (Jolt casts
+// past 0.75 of its inner radius); slower bodies cannot skip anything their contacts did not see.
+constexpr float kLinearCastThreshold = 0.75f;
+// Casts stop this far before touching, so the next step's contacts start from a small gap.
+constexpr float kCastTolerance = 1e-3f;
 
 // Releases the step's hold on every body lock however the step leaves.
 class AllBodiesLock {
@@ -108,6 +115,7 @@ PhysicsSystem::PhysicsSystem(const PhysicsSystemConfig& config, const PhysicsSet
       island_solver_(step_blocks_) {
   job_count_ = static_cast<std::uint32_t>(std::max(1, jobs_->ThreadCount()));
   finish_counters_.resize(job_count_);
+  cast_scratch_.resize(job_count_);
   BuildStepGraphs();
 }
 
@@ -134,6 +142,9 @@ void PhysicsSystem::BuildStepGraphs() {
   const JobGraph::StageId solve = middle_graph_.Add(
       "solve islands", &ParallelStage<&PhysicsSystem::SolveIslands>, this, {prepare_islands_stage_});
   middle_graph_.SetWidth(solve, job_count_);
+  // One empty job when no body asks for linear casts (the width is set per step).
+  linear_casts_stage_ =
+      middle_graph_.Add("linear casts", &ParallelStage<&PhysicsSystem::LinearCasts>, this, {solve});
 
   const JobGraph::StageId finish =
       end_graph_.Add("finish islands", &ParallelStage<&PhysicsSystem::FinishIslands>, this);
@@ -219,6 +230,9 @@ Status PhysicsSystem::Step(float dt) {
 }
 
 void PhysicsSystem::PrepareStep() {
+  // Bounds were swept over the last step's dt (or 1/60 s before the first step): a longer step sweeps them
+  // again, so nothing it reaches is missed.
+  const bool longer_step = step_dt_ > last_dt_.load(std::memory_order_relaxed);
   last_dt_.store(step_dt_, std::memory_order_relaxed);
   // Islands woken through the API since the last step (the API holds one body's lock, so it queued keys).
   wake_keys_.clear();
@@ -232,6 +246,7 @@ void PhysicsSystem::PrepareStep() {
     solver_index_[id.index] = 0;
   }
   active_.clear();
+  linear_cast_bodies_.clear();
   // Index order: the same bodies give the same order, whatever order threads added them in.
   const std::uint32_t limit = body_manager_.slot_limit();
   for (std::uint32_t index = 0; index < limit; ++index) {
@@ -242,9 +257,16 @@ void PhysicsSystem::PrepareStep() {
       body.sleep_timer_ = 0.0f;
     }
     if (!body.IsActive()) continue;
+    if (body.IsDynamic() && body.motion_quality_ == MotionQuality::kLinearCast)
+      linear_cast_bodies_.push_back(static_cast<std::uint32_t>(active_.size()));
     active_.push_back(body.id());
     active_flags_[index] = 1;
     solver_index_[index] = static_cast<std::uint32_t>(active_.size());
+    if (longer_step) {
+      const Status updated = broad_phase_->UpdateBody(body.id(), BroadPhaseBounds(body, step_dt_));
+      assert(updated.ok());
+      (void)updated;
+    }
   }
   wake_keys_.clear();
   const auto active_count = static_cast<std::uint32_t>(active_.size());
@@ -369,6 +391,9 @@ void PhysicsSystem::FinalizeIslands() {
   island_solver_.BeginStep(input, job_count_);
   const std::uint32_t island_count = islands_.island_count();
   middle_graph_.SetWidth(prepare_islands_stage_, std::min(job_count_, island_solver_.group_count()));
+  const auto casts = static_cast<std::uint32_t>(linear_cast_bodies_.size());
+  middle_graph_.SetWidth(linear_casts_stage_, std::min(job_count_, (casts + kCastChunk - 1) / kCastChunk));
+  next_cast_.store(0, std::memory_order_relaxed);
   sleep_key_base_ = next_island_key_.fetch_add(island_count, std::memory_order_relaxed);
   next_chunk_.store(0, std::memory_order_relaxed);
 }
@@ -380,6 +405,56 @@ void PhysicsSystem::PrepareIslands(std::uint32_t job) {
 
 void PhysicsSystem::SolveIslands(std::uint32_t job) {
   island_solver_.SolveJob(job);
+}
+
+void PhysicsSystem::LinearCasts(std::uint32_t job) {
+  CastScratch& scratch = cast_scratch_[job];
+  ForEachChunk(next_cast_, static_cast<std::uint32_t>(linear_cast_bodies_.size()), kCastChunk,
+               [&](std::uint32_t k) {
+                 if (LinearCast(linear_cast_bodies_[k], scratch)) ++finish_counters_[job].linear_cast_hits;
+               });
+}
+
+bool PhysicsSystem::LinearCast(std::uint32_t active_index, CastScratch& scratch) {
+  const Body& body = body_manager_.BodyAt(active_[active_index].index);
+  SolverPose& pose = solver_poses_[active_index + 1];
+  SolverBody& solved = solver_bodies_[active_index + 1];
+  // The body has not been written back yet: its pose is still the one the step started from.
+  const Vec3 displacement = ToVec3(pose.center_of_mass) - body.CenterOfMass();
+  const ConvexShape& shape = static_cast<const ConvexShape&>(*body.shape());
+  const float inner = shape.LocalBounds().HalfExtents().minCoeff();
+  if (displacement.norm() <= kLinearCastThreshold * inner) return false;
+  // The sweep keeps the end rotation and moves the centre of mass in a straight line.
+  const Vec3 offset = pose.rotation * body.center_of_mass_local_;
+  const Pose start{body.CenterOfMass() - offset, pose.rotation};
+  scratch.hits.clear();
+  broad_phase_->CastAABB(shape.WorldBounds(start).Expanded(kCastTolerance), displacement, QueryFilter{},
+                         scratch.hits);
+  std::optional<ShapeCastHit> nearest;
+  float nearest_restitution = 0.0f;
+  for (const BroadPhaseRayHit& candidate : scratch.hits) {
+    if (candidate.id == body.id()) continue;
+    const Body& target = body_manager_.BodyAt(candidate.id.index);
+    if (!target.in_world() || target.id() != candidate.id) continue;
+    if (!layers_->ShouldCollide(body.object_layer(), target.object_layer())) continue;
+    const std::optional<ShapeCastHit> hit = CastConvexShape(shape, start, displacement, *target.shape(),
+                                                            target.pose(), kCastTolerance, scratch.triangles);
+    if (hit && (!nearest || hit->fraction < nearest->fraction)) {
+      nearest = hit;
+      nearest_restitution = target.restitution();
+    }
+  }
+  if (!nearest) return false;
+  // Stop at the first touch and take out the approach (a bounce if either body has restitution); friction
+  // and the rest are the contacts' work next step.
+  pose.center_of_mass = ToVec4(start.position + nearest->fraction * displacement + offset);
+  const Vec4 normal = ToVec4(nearest->normal);
+  const float approach = solved.linear_velocity.dot(normal);
+  if (approach < 0.0f) {
+    const float restitution = std::max(body.restitution(), nearest_restitution);
+    solved.linear_velocity -= ((1.0f + restitution) * approach) * normal;
+  }
+  return true;
 }
 
 void PhysicsSystem::FinishIslands(std::uint32_t job) {
@@ -441,6 +516,7 @@ void PhysicsSystem::FinishStep() {
     stats_.bodies_put_to_sleep += counters.bodies_put_to_sleep;
     stats_.linear_velocity_clamps += counters.linear_velocity_clamps;
     stats_.angular_velocity_clamps += counters.angular_velocity_clamps;
+    stats_.linear_cast_hits += counters.linear_cast_hits;
     counters = {};
   }
 }

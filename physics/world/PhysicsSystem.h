@@ -51,11 +51,12 @@ struct StepStats {
       0;                       ///< groups the islands were solved in (a large island, or small ones together)
   std::size_t max_splits = 0;  ///< splits of the most split group
   std::size_t bodies_put_to_sleep = 0;
-  std::size_t island_links = 0;        ///< IslandBuilder::Link calls
-  std::uint64_t island_link_hops = 0;  ///< links they followed
-  float max_penetration = 0.0f;        ///< deepest overlap at the end of the solve (m)
+  std::size_t island_links = 0;             ///< IslandBuilder::Link calls
+  std::uint64_t island_link_hops = 0;       ///< links they followed
+  float max_penetration = 0.0f;             ///< deepest overlap at the end of the solve (m)
   std::size_t linear_velocity_clamps = 0;   ///< bodies slowed to their max_linear_velocity
   std::size_t angular_velocity_clamps = 0;  ///< bodies slowed to their max_angular_velocity
+  std::size_t linear_cast_hits = 0;         ///< linear-cast bodies stopped at a first impact
 };
 
 /// Where the last step's time went: the stages in order, with their start, end and summed job time.
@@ -116,6 +117,7 @@ class PhysicsSystem {
   void FinalizeIslands();                  // serial, O(bodies + constraints)
   void PrepareIslands(std::uint32_t job);  // parallel over islands
   void SolveIslands(std::uint32_t job);    // parallel over islands and split batches
+  void LinearCasts(std::uint32_t job);     // parallel over fast linear-cast bodies (one empty job if none)
   void FinishIslands(std::uint32_t job);   // parallel over islands: write back, bounds, sleep
   void FinishStep();                       // serial: wake-ups, figures
 
@@ -162,10 +164,21 @@ class PhysicsSystem {
     std::size_t bodies_put_to_sleep = 0;
     std::size_t linear_velocity_clamps = 0;
     std::size_t angular_velocity_clamps = 0;
+    std::size_t linear_cast_hits = 0;
   };
+  struct CastScratch {
+    std::vector<BroadPhaseRayHit> hits;
+    std::vector<Triangle> triangles;
+  };
+  // Sweeps one linear-cast body over its motion this step; true if it was stopped at a hit.
+  bool LinearCast(std::uint32_t active_index, CastScratch& scratch);
   // Slows a body to its velocity limits, counting each clamp.
   static void ClampVelocities(Body& body, FinishCounters& counters);
   std::vector<FinishCounters> finish_counters_;
+  std::vector<CastScratch> cast_scratch_;          // per job
+  std::vector<std::uint32_t> linear_cast_bodies_;  // active indices of awake linear-cast bodies
+  std::atomic<std::uint32_t> next_cast_{0};
+  JobGraph::StageId linear_casts_stage_ = 0;
   BlockPool step_blocks_;  // every step arena's blocks (declared before its users, so it outlives them)
   BodyPairCache pair_cache_;
   CollisionFinder collisions_;

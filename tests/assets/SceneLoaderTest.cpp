@@ -99,6 +99,35 @@ TEST(SceneLoader, ErrorsNameTheFileAndJsonPath) {
   EXPECT_NE(LoadScene(kScenes / "nope.json").error().message.find("cannot open"), std::string::npos);
 }
 
+TEST(SceneLoader, NumbersOutsideTheirTypesAreErrorsNotAborts) {
+  // Beyond a double: nlohmann reports out_of_range while parsing.
+  EXPECT_NE(
+      ParseError(R"({"bodies": [{"shape": {"type": "sphere", "radius": 1e400}}]})").find("invalid JSON"),
+      std::string::npos);
+  // Beyond a float, and integers that would wrap.
+  EXPECT_NE(ParseError(R"({"bodies": [{"shape": {"type": "sphere", "radius": 1e39}}]})")
+                .find("/bodies/0/shape/radius: does not fit a 32-bit float"),
+            std::string::npos);
+  EXPECT_NE(
+      ParseError(R"({"bodies": [{"shape": {"type": "sphere", "radius": 1}, "position": [0, 1e39, 0]}]})")
+          .find("/bodies/0/position/1"),
+      std::string::npos);
+  EXPECT_NE(ParseError(R"({"settings": {"velocity_iterations": 4294967297}, "bodies": []})")
+                .find("/settings/velocity_iterations: is out of range"),
+            std::string::npos);
+  EXPECT_NE(ParseError(R"({"settings": {"substeps": 0}, "bodies": []})").find("substeps"), std::string::npos);
+  EXPECT_NE(ParseError(R"({"settings": {"position_iterations": 2}, "bodies": []})").find("relax_iterations"),
+            std::string::npos);
+  EXPECT_NE(ParseError(R"({"bodies": [{"shape": {"type": "sphere", "radius": 1}, "motion_quality": "ccd"}]})")
+                .find("/bodies/0/motion_quality"),
+            std::string::npos);
+  Result<Scene> cast = ParseScene(
+      R"({"bodies": [{"shape": {"type": "sphere", "radius": 1}, "motion_quality": "linear_cast"}]})",
+      "inline", kScenes);
+  ASSERT_TRUE(cast.ok()) << cast.error().message;
+  EXPECT_EQ(cast->bodies[0].settings.motion_quality, MotionQuality::kLinearCast);
+}
+
 TEST(SceneLoader, MeshFilesImportThroughAssimp) {
   const std::filesystem::path directory = std::filesystem::temp_directory_path() / "strata_scene_test";
   std::filesystem::create_directories(directory);

@@ -13,6 +13,7 @@
 #include <thread>
 
 #include "tools/bench/BenchRunner.h"
+#include "tools/bench/OutputFile.h"
 #include "tools/cli/Commands.h"
 
 namespace strata::cli {
@@ -109,22 +110,7 @@ nlohmann::json ToJson(const bench::EngineResult& r, double speedup) {
 }
 
 bool WriteJson(const std::string& path, const nlohmann::json& document) {
-  // A regular file is written beside the target and renamed over it, so a failed write never leaves half a
-  // file; anything else that exists (/dev/stdout, a pipe) is written in place, never replaced.
-  std::error_code error;
-  const std::filesystem::file_status status = std::filesystem::status(path, error);
-  const bool in_place = std::filesystem::exists(status) && !std::filesystem::is_regular_file(status);
-  const std::string target = in_place ? path : path + ".tmp";
-  {
-    std::ofstream out(target);
-    out << document.dump(2) << '\n';
-    out.flush();
-    if (!out) {
-      if (!in_place) std::remove(target.c_str());
-      return false;
-    }
-  }
-  return in_place || std::rename(target.c_str(), path.c_str()) == 0;
+  return bench::WriteOutputFile(path, document.dump(2) + "\n").ok();
 }
 
 /// Whether the JSON file can go where it was asked to, checked before minutes of benchmarking.
@@ -165,7 +151,8 @@ int RunBench(BenchOptions options) {
       scene.pair_cache_max_distance = *options.pair_cache_distance_mm / 1000.0f;
     if (options.pair_cache_angle) scene.pair_cache_max_angle = *options.pair_cache_angle;
     std::printf(
-        "%s: %zu bodies, %d steps of %.4f s, %d substeps x (%d velocity + %d relax passes), sleeping %s, pair "
+        "%s: %zu bodies, %d steps of %.4f s, %d substeps x (%d velocity + %d relax passes), sleeping %s, "
+        "pair "
         "cache %.2f mm / %.1f deg\n",
         name.c_str(), scene.bodies.size(), scene.steps, scene.dt, scene.substeps, scene.velocity_iterations,
         scene.relax_iterations, scene.sleeping ? "on" : "off", scene.pair_cache_max_distance * 1000.0f,

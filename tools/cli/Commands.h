@@ -18,6 +18,8 @@ std::function<int()> AddNavMeshBenchCommand(CLI::App& app);
 std::function<int()> AddDemoCommand(CLI::App& app);
 /// Adds `navmesh bake` and `navmesh path` to `app`.
 std::function<int()> AddNavMeshCommand(CLI::App& app);
+/// Adds `accuracy` (analytic cases against run time, beside Bullet) to `app`.
+std::function<int()> AddAccuracyCommand(CLI::App& app);
 /// Adds `level generate` to `app`.
 std::function<int()> AddLevelCommand(CLI::App& app);
 

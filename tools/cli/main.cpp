@@ -13,6 +13,7 @@ int main(int argc, char** argv) {
   const auto demo = strata::cli::AddDemoCommand(app);
   const auto navmesh = strata::cli::AddNavMeshCommand(app);
   const auto level = strata::cli::AddLevelCommand(app);
+  const auto accuracy = strata::cli::AddAccuracyCommand(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& error) {
@@ -25,5 +26,6 @@ int main(int argc, char** argv) {
   if (app.got_subcommand("demo")) return demo();
   if (app.got_subcommand("navmesh")) return navmesh();
   if (app.got_subcommand("level")) return level();
+  if (app.got_subcommand("accuracy")) return accuracy();
   return 2;
 }

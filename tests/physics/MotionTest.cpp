@@ -1,0 +1,116 @@
+// Free motion and fast motion: gyroscopic torque (Euler's equations), linear casts against thin walls, the
+// first step's swept bounds, and velocity limits that are counted.
+#include <cmath>
+
+#include "TestWorld.h"
+#include "physics/body/GyroscopicTorque.h"
+
+namespace strata::test {
+namespace {
+
+Vec3 BodyMomentum(const Mat3& inertia, const Vec3& spin) {
+  return inertia * spin;
+}
+
+TEST(Gyroscopic, ImplicitMidpointKeepsEnergyAndMomentumAtHighSpin) {
+  const Mat3 inertia = Vec3(0.1f, 0.26f, 0.34f).asDiagonal();
+  EXPECT_TRUE(HasGyroscopicTorque(inertia));
+  EXPECT_FALSE(HasGyroscopicTorque(Mat3::Identity() * 0.4f));
+  for (const float dt : {1.0f / 30.0f, 1.0f / 60.0f, 1.0f / 240.0f}) {
+    Vec3 spin(30.0f, 80.0f, -20.0f);  // about 4000 rpm on no principal axis
+    const float energy = spin.dot(inertia * spin), momentum = BodyMomentum(inertia, spin).norm();
+    // Body frame = world frame here (identity rotation): the rule's own invariants.
+    for (int step = 0; step < 600; ++step) spin = SpinWithoutTorque(inertia, Quat::Identity(), spin, dt);
+    ASSERT_TRUE(IsFinite(spin)) << dt;
+    EXPECT_NEAR(spin.dot(inertia * spin), energy, 1e-3f * energy) << dt;
+    EXPECT_NEAR(BodyMomentum(inertia, spin).norm(), momentum, 1e-3f * momentum) << dt;
+  }
+}
+
+TEST(Gyroscopic, SwitchingItOffLeavesSpinConstantAndMomentumDrifting) {
+  for (const bool gyroscopic : {false, true}) {
+    PhysicsSettings settings;
+    settings.gravity = Vec3::Zero();
+    settings.gyroscopic_torque = gyroscopic;
+    auto world = MakeWorld(settings);
+    BodyCreationSettings box = Dynamic(Box(0.5f, 0.3f, 0.1f), Vec3::Zero());
+    box.angular_velocity = Vec3(1, 2, 3);
+    box.angular_damping = 0.0f;
+    const BodyID id = Add(*world, box);
+    StepFor(*world, 120);
+    BodyLockRead lock(world->body_manager(), id);
+    const Body& body = lock.body();
+    const Mat3 rotation = body.rotation().toRotationMatrix();
+    const Vec3 momentum = rotation * body.inertia_local() * rotation.transpose() * body.angular_velocity();
+    const Vec3 start = body.inertia_local() * Vec3(1, 2, 3);
+    if (gyroscopic)
+      EXPECT_LT((momentum - start).norm(), 0.03f * start.norm());
+    else
+      EXPECT_TRUE(body.angular_velocity().isApprox(Vec3(1, 2, 3), 1e-5f));
+  }
+}
+
+BodyID ThinWallAndBullet(PhysicsSystem& world, MotionQuality quality, BodyID& wall) {
+  wall = Add(world, Static(Box(0.05f, 2, 2), Vec3(10, 0, 0)));
+  BodyCreationSettings bullet = Dynamic(Sphere(0.05f), Vec3::Zero());
+  bullet.linear_velocity = Vec3(500, 0, 0);
+  bullet.gravity_factor = 0.0f;
+  bullet.motion_quality = quality;
+  return Add(world, bullet);
+}
+
+TEST(LinearCast, FastSphereStopsAtAThinWallAtEveryDt) {
+  for (const float dt : {1.0f / 30.0f, 1.0f / 60.0f, 1.0f / 10.0f}) {
+    auto world = MakeWorld();
+    BodyID wall;
+    const BodyID bullet = ThinWallAndBullet(*world, MotionQuality::kLinearCast, wall);
+    std::size_t hits = 0;
+    for (int step = 0; step < 10; ++step) {
+      ASSERT_TRUE(world->Step(dt).ok());
+      hits += world->last_step_stats().linear_cast_hits;
+      EXPECT_LT(Position(*world, bullet).x(), 9.9f + 1e-3f) << "dt " << dt << " step " << step;
+    }
+    EXPECT_GE(hits, 1u) << dt;
+  }
+}
+
+TEST(LinearCast, BodiesThatDoNotAskAreNotCast) {
+  auto world = MakeWorld();
+  BodyID wall;
+  ThinWallAndBullet(*world, MotionQuality::kDiscrete, wall);
+  for (int step = 0; step < 10; ++step) {
+    ASSERT_TRUE(world->Step(1.0f / 30.0f).ok());
+    EXPECT_EQ(world->last_step_stats().linear_cast_hits, 0u);
+  }
+}
+
+TEST(LinearCast, FirstStepBoundsCoverTheRealDt) {
+  // A discrete body added before the first step, which is twice as long as the default: its swept bounds
+  // must reach the wall in that step, so the speculative contact stops it.
+  auto world = MakeWorld();
+  BodyID wall;
+  const BodyID bullet = ThinWallAndBullet(*world, MotionQuality::kDiscrete, wall);
+  for (int step = 0; step < 10; ++step) ASSERT_TRUE(world->Step(1.0f / 30.0f).ok());
+  EXPECT_LT(Position(*world, bullet).x(), 9.9f + 1e-3f);
+}
+
+TEST(VelocityLimits, ClampsAreCounted) {
+  PhysicsSettings settings;
+  settings.gravity = Vec3::Zero();
+  auto world = MakeWorld(settings);
+  BodyCreationSettings fast = Dynamic(Sphere(0.5f), Vec3::Zero());
+  fast.linear_velocity = Vec3(50, 0, 0);
+  fast.max_linear_velocity = 10.0f;
+  fast.angular_velocity = Vec3(0, 0, 40);
+  fast.max_angular_velocity = 5.0f;
+  const BodyID id = Add(*world, fast);
+  ASSERT_TRUE(world->Step(1.0f / 60.0f).ok());
+  EXPECT_EQ(world->last_step_stats().linear_velocity_clamps, 1u);
+  EXPECT_EQ(world->last_step_stats().angular_velocity_clamps, 1u);
+  EXPECT_NEAR(Velocity(*world, id).norm(), 10.0f, 1e-4f);
+  ASSERT_TRUE(world->Step(1.0f / 60.0f).ok());
+  EXPECT_EQ(world->last_step_stats().linear_velocity_clamps, 0u);  // already within its limit
+}
+
+}  // namespace
+}  // namespace strata::test

@@ -1,0 +1,99 @@
+#include "tools/accuracy/AccuracyEngine.h"
+
+#include <chrono>
+
+#include "physics/body/BodyInterface.h"
+#include "physics/core/JobSystem.h"
+#include "physics/shapes/BoxShape.h"
+#include "physics/shapes/SphereShape.h"
+#include "physics/world/PhysicsSystem.h"
+
+namespace strata::accuracy {
+
+namespace {
+
+class StrataEngine final : public AccuracyEngine {
+ public:
+  std::string name() const override { return "strata"; }
+
+  Status Build(const AccuracyScene& scene, const AccuracySetting& setting) override {
+    PhysicsSettings settings;
+    settings.gravity = scene.gravity;
+    settings.substeps = setting.substeps;
+    settings.velocity_iterations = setting.velocity_iterations;
+    settings.relax_iterations = setting.relax_iterations;
+    settings.allow_sleeping = false;  // the cases measure motion, not rest
+    PhysicsSystemConfig config;
+    config.max_bodies = static_cast<std::uint32_t>(scene.bodies.size()) + 16;
+    config.job_system = std::shared_ptr<JobSystem>(new SerialJobSystem());
+    Result<std::unique_ptr<PhysicsSystem>> world = PhysicsSystem::Create(config, settings);
+    if (!world) return world.error();
+    world_ = std::move(*world);
+    dt_ = setting.dt;
+    ids_.clear();
+    for (const AccuracyBody& body : scene.bodies) {
+      Result<ShapeRef> shape = body.shape == AccuracyShape::kBox ? BoxShape::Create(body.half_extents)
+                                                                 : SphereShape::Create(body.radius);
+      if (!shape) return shape.error();
+      BodyCreationSettings created;
+      created.shape = *shape;
+      created.position = body.position;
+      created.rotation = body.rotation;
+      created.motion_type = body.dynamic ? MotionType::kDynamic : MotionType::kStatic;
+      created.object_layer = body.dynamic ? layers::kMoving : layers::kNonMoving;
+      created.motion_quality =
+          body.dynamic && setting.linear_cast ? MotionQuality::kLinearCast : MotionQuality::kDiscrete;
+      if (body.mass > 0.0f) created.mass = body.mass;
+      created.friction = body.friction;
+      created.restitution = body.restitution;
+      created.linear_damping = 0.0f;
+      created.angular_damping = 0.0f;
+      created.linear_velocity = body.linear_velocity;
+      created.angular_velocity = body.angular_velocity;
+      created.max_angular_velocity = 1000.0f;
+      created.max_linear_velocity = 1000.0f;
+      Result<BodyID> id = world_->bodies().CreateAndAddBody(created);
+      if (!id) return id.error();
+      ids_.push_back(*id);
+    }
+    step_ms_ = 0.0;
+    return Status::Ok();
+  }
+
+  Status Step() override {
+    const auto start = std::chrono::steady_clock::now();
+    Status stepped = world_->Step(dt_);
+    step_ms_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    return stepped;
+  }
+
+  AccuracyBodyState State(std::size_t body) const override {
+    BodyLockRead lock(world_->body_manager(), ids_[body]);
+    const Body& b = lock.body();
+    return {b.CenterOfMass(), b.rotation(), b.linear_velocity(), b.angular_velocity()};
+  }
+
+  Vec3 PrincipalInertia(std::size_t body) const override {
+    BodyLockRead lock(world_->body_manager(), ids_[body]);
+    return lock.body().inertia_local().diagonal();
+  }
+
+ private:
+  std::unique_ptr<PhysicsSystem> world_;
+  std::vector<BodyID> ids_;
+  float dt_ = 1.0f / 60.0f;
+};
+
+}  // namespace
+
+std::unique_ptr<AccuracyEngine> MakeStrataEngine() {
+  return std::make_unique<StrataEngine>();
+}
+
+#ifndef STRATA_HAVE_BULLET
+std::unique_ptr<AccuracyEngine> MakeBulletEngine() {
+  return nullptr;
+}
+#endif
+
+}  // namespace strata::accuracy

@@ -1,0 +1,77 @@
+// AccuracyEngine: one physics engine behind the accuracy suite's small scene vocabulary (boxes and spheres,
+// static or dynamic), so the same analytic cases run on Strata and, side by side, on Bullet. One engine
+// object per run; single-threaded use.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "physics/core/Result.h"
+#include "physics/math/Math.h"
+
+namespace strata::accuracy {
+
+enum class AccuracyShape { kBox, kSphere };
+
+/// A body of an accuracy scene. Every body is undamped; friction and restitution are the pair's values
+/// (engines that combine per-body values differently are given what yields them).
+struct AccuracyBody {
+  AccuracyShape shape = AccuracyShape::kBox;
+  Vec3 half_extents = Vec3::Constant(0.5f);  ///< box
+  float radius = 0.5f;                       ///< sphere
+  Vec3 position = Vec3::Zero();
+  Quat rotation = Quat::Identity();
+  bool dynamic = true;
+  float mass = 0.0f;  ///< kg; 0 = density 1000
+  float friction = 0.5f;
+  float restitution = 0.0f;
+  Vec3 linear_velocity = Vec3::Zero();
+  Vec3 angular_velocity = Vec3::Zero();
+};
+
+struct AccuracyScene {
+  std::vector<AccuracyBody> bodies;
+  Vec3 gravity = Vec3(0.0f, -9.81f, 0.0f);
+};
+
+/// How a run is stepped.
+struct AccuracySetting {
+  std::string name;
+  float dt = 1.0f / 60.0f;
+  int substeps = 4;
+  int velocity_iterations = 1;  ///< per substep
+  int relax_iterations = 1;     ///< per substep
+  bool linear_cast = true;      ///< continuous collision for dynamic bodies
+};
+
+struct AccuracyBodyState {
+  Vec3 position = Vec3::Zero();  ///< centre of mass
+  Quat rotation = Quat::Identity();
+  Vec3 linear_velocity = Vec3::Zero();
+  Vec3 angular_velocity = Vec3::Zero();
+};
+
+class AccuracyEngine {
+ public:
+  virtual ~AccuracyEngine() = default;
+  virtual std::string name() const = 0;
+  /// Creates the scene's bodies (in order) with the setting's solver parameters.
+  virtual Status Build(const AccuracyScene& scene, const AccuracySetting& setting) = 0;
+  /// One step of the setting's dt; its wall time is added to step_ms().
+  virtual Status Step() = 0;
+  virtual AccuracyBodyState State(std::size_t body) const = 0;
+  /// Local inertia tensor (principal, in the body's axes) of a dynamic body.
+  virtual Vec3 PrincipalInertia(std::size_t body) const = 0;
+  double step_ms() const { return step_ms_; }
+
+ protected:
+  double step_ms_ = 0.0;
+};
+
+/// Strata on one thread.
+std::unique_ptr<AccuracyEngine> MakeStrataEngine();
+/// Bullet, when the build found it (else null).
+std::unique_ptr<AccuracyEngine> MakeBulletEngine();
+
+}  // namespace strata::accuracy

@@ -1,0 +1,87 @@
+// `strata accuracy`: runs the analytic cases over the settings grid on Strata and Bullet and writes
+// accuracy.json, accuracy.md and accuracy.png into --out-dir.
+#include <cstdio>
+#include <iostream>
+#include <set>
+
+#include "tools/accuracy/AccuracyReport.h"
+#include "tools/cli/Commands.h"
+
+namespace strata::cli {
+
+namespace {
+
+struct AccuracyOptions {
+  std::string out_dir = ".";
+  std::vector<std::string> cases;  // empty = all
+  bool quick = false;
+  bool no_bullet = false;
+};
+
+int RunAccuracy(const AccuracyOptions& options) {
+  using namespace accuracy;
+  std::vector<AccuracyCase> cases = AccuracyCases();
+  if (!options.cases.empty()) {
+    const std::set<std::string> wanted(options.cases.begin(), options.cases.end());
+    std::vector<AccuracyCase> chosen;
+    for (AccuracyCase& c : cases)
+      if (wanted.count(c.name)) chosen.push_back(std::move(c));
+    if (chosen.size() != wanted.size()) {
+      std::cerr << "strata accuracy: unknown case in --case; the cases are:";
+      for (const AccuracyCase& c : AccuracyCases()) std::cerr << " " << c.name;
+      std::cerr << "\n";
+      return 2;
+    }
+    cases = std::move(chosen);
+  }
+  std::vector<AccuracySetting> settings = AccuracySettings();
+  if (options.quick) settings = {DefaultAccuracySetting()};
+  std::vector<std::string> engines = {"strata"};
+  if (!options.no_bullet && MakeBulletEngine()) engines.push_back("bullet");
+  std::error_code error;
+  std::filesystem::create_directories(options.out_dir, error);
+  if (!std::filesystem::is_directory(options.out_dir)) {
+    std::cerr << "strata accuracy: cannot use output directory " << options.out_dir << "\n";
+    return 2;
+  }
+  Result<std::vector<AccuracyRecord>> records = RunAccuracySuite(cases, settings, engines);
+  if (!records) {
+    std::cerr << "strata accuracy: " << records.error().message << "\n";
+    return 1;
+  }
+  const std::filesystem::path out(options.out_dir);
+  for (const Status& written : {WriteAccuracyJson(*records, cases, out / "accuracy.json"),
+                                WriteAccuracyMarkdown(*records, cases, out / "accuracy.md"),
+                                WriteAccuracyPlot(*records, cases, out / "accuracy.png")})
+    if (!written) {
+      std::cerr << "strata accuracy: " << written.message() << "\n";
+      return 1;
+    }
+  int failed_defaults = 0;
+  std::printf("%-24s %-10s %12s %10s %5s\n", "case (default setting)", "engine", "error", "ms", "pass");
+  for (const AccuracyRecord& r : *records) {
+    if (!r.is_default) continue;
+    std::printf("%-24s %-10s %12.3e %10.2f %5s\n", r.case_name.c_str(), r.engine.c_str(), r.error, r.wall_ms,
+                r.passed ? "yes" : "NO");
+    if (r.engine == "strata" && !r.passed) ++failed_defaults;
+  }
+  std::printf("wrote %s, %s, %s (%zu runs); %d case(s) fail at Strata's default setting\n",
+              (out / "accuracy.json").c_str(), (out / "accuracy.md").c_str(), (out / "accuracy.png").c_str(),
+              records->size(), failed_defaults);
+  return 0;
+}
+
+}  // namespace
+
+std::function<int()> AddAccuracyCommand(CLI::App& app) {
+  auto options = std::make_shared<AccuracyOptions>();
+  CLI::App* command = app.add_subcommand(
+      "accuracy", "Analytic cases (error against run time) at a grid of settings, beside Bullet");
+  command->add_option("--out-dir", options->out_dir, "Where accuracy.json, accuracy.md and accuracy.png go");
+  command->add_option("--case", options->cases, "Run only these cases (repeatable)");
+  command->add_flag("--quick", options->quick, "Only the default setting");
+  command->add_flag("--no-bullet", options->no_bullet, "Strata only");
+  return [options] { return RunAccuracy(*options); };
+}
+
+}  // namespace strata::cli
