@@ -253,7 +253,14 @@ Result<SceneBody> ParseBody(const Reader& reader, const Json& body, const std::f
   STRATA_TRY(reader.Boolean(body, "allow_sleeping", settings.allow_sleeping));
   STRATA_TRY(reader.Number(body, "max_linear_velocity", settings.max_linear_velocity));
   STRATA_TRY(reader.Number(body, "max_angular_velocity", settings.max_angular_velocity));
-  if (Status valid = settings.Validate(); !valid) return reader.Fail("", valid.message());
+  if (Status valid = settings.Validate(); !valid) {
+    // Point at the value to change: the mass (or the density it came from), or the shape's size.
+    const std::string& message = valid.message();
+    std::string key;
+    if (message.find("mass must be in") != std::string::npos) key = settings.mass ? "mass" : "density";
+    if (message.find("mm across") != std::string::npos) key = "shape";
+    return reader.Fail(key, message);
+  }
   return out;
 }
 

@@ -1,5 +1,6 @@
 #include "physics/body/BodyCreationSettings.h"
 
+#include <sstream>
 #include <string>
 
 namespace strata {
@@ -7,6 +8,11 @@ namespace strata {
 namespace {
 Status Invalid(const std::string& message) {
   return MakeError(ErrorCode::kInvalidArgument, message);
+}
+std::string Number(float value) {
+  std::ostringstream text;
+  text << value;
+  return text.str();
 }
 }  // namespace
 
@@ -35,6 +41,13 @@ Status BodyCreationSettings::Validate() const {
                      "a triangle mesh has no volume: it can only be static or kinematic");
   if (motion_type == MotionType::kDynamic && !mass && shape->ComputeMassProperties(density).mass <= 0.0f)
     return MakeError(ErrorCode::kDegenerateShape, "body shape has no volume, so its mass would be zero");
+  if (motion_type != MotionType::kDynamic) return Status::Ok();
+  const float body_mass = mass ? *mass : shape->ComputeMassProperties(density).mass;
+  if (!(body_mass >= kMinMass && body_mass <= kMaxMass))
+    return Invalid("body mass must be in [1e-6, 1e10] kg, got " + Number(body_mass) +
+                   (mass ? "" : " (from its density)"));
+  if (shape->LocalBounds().HalfExtents().minCoeff() < kMinHalfExtent)
+    return Invalid("a dynamic body's shape must be at least 2 mm across on every axis");
   return Status::Ok();
 }
 

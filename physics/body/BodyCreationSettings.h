@@ -13,7 +13,14 @@
 namespace strata {
 
 /// Shape, pose, motion and material of a new body. Units: metres, kilograms, seconds, radians.
+/// A dynamic body's mass (given, or from its density) must lie in [kMinMass, kMaxMass] and its shape's
+/// bounds be at least kMinHalfExtent on every axis: beyond these float products in the step overflow or
+/// vanish and the state turns to NaN.
 struct BodyCreationSettings {
+  static constexpr float kMinMass = 1e-6f;        ///< kg
+  static constexpr float kMaxMass = 1e10f;        ///< kg
+  static constexpr float kMinHalfExtent = 1e-3f;  ///< m, of a dynamic body's local bounds
+
   ShapeRef shape;
   Vec3 position = Vec3::Zero();      ///< of the shape origin, world space (m)
   Quat rotation = Quat::Identity();  ///< unit quaternion

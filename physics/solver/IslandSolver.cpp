@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <thread>
 
+#include "physics/body/GyroscopicTorque.h"
 #include "physics/core/Atomics.h"
 
 #if defined(__x86_64__) || defined(__i386__)
@@ -218,6 +219,9 @@ void IslandSolver::AddForces(std::uint32_t island_body) const {
   SolverBody& body = input_.bodies[index];
   const SolverVelocityStep& step = input_.velocity_steps[index];
   body.linear_velocity += step.linear;
+  if (step.gyroscopic)
+    body.angular_velocity = ToVec4(SpinWithoutTorque(step.inertia, input_.poses[index].rotation,
+                                                     ToVec3(body.angular_velocity), substep_dt_));
   body.angular_velocity += step.angular;
 }
 

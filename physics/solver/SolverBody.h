@@ -33,10 +33,13 @@ struct alignas(16) SolverPose {
   Quat rotation = Quat::Identity();
 };
 
-/// The velocity a dynamic body gains per substep from gravity and applied forces and torques.
+/// The velocity a dynamic body gains per substep from gravity and applied forces and torques, and, for a
+/// body whose spin precesses, its inertia (shape axes) for the gyroscopic step of each substep.
 struct alignas(16) SolverVelocityStep {
   Vec4 linear = Vec4::Zero();
   Vec4 angular = Vec4::Zero();
+  Mat3 inertia = Mat3::Zero();
+  bool gyroscopic = false;
 };
 
 /// Makes a 4-wide vector (w = 0) from a 3-vector.

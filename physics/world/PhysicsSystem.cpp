@@ -315,9 +315,13 @@ void PhysicsSystem::ApplyForces(std::uint32_t job) {
     solver.delta_position.setZero();
     solver.delta_rotation.setZero();
     if (body.IsDynamic()) {
-      if (settings_.gyroscopic_torque && body.gyroscopic_ && !body.angular_velocity_.isZero(0.0f))
+      // The gyroscopic step goes with each substep's share too (its error shrinks with the substep).
+      step.gyroscopic =
+          settings_.gyroscopic_torque && body.gyroscopic_ && !body.angular_velocity_.isZero(0.0f);
+      step.inertia = body.inertia_local_;
+      if (step.gyroscopic)
         body.angular_velocity_ =
-            SpinWithoutTorque(body.inertia_local_, body.rotation(), body.angular_velocity_, dt);
+            SpinWithoutTorque(body.inertia_local_, body.rotation(), body.angular_velocity_, h);
       // Gravity and forces are added a substep's share at a time: the first share now (the velocity half of
       // symplectic Euler), the others by the solver after each substep's integration.
       const Mat3 inverse_inertia = body.InverseInertiaWorld();

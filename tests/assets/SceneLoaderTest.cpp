@@ -121,6 +121,21 @@ TEST(SceneLoader, NumbersOutsideTheirTypesAreErrorsNotAborts) {
   EXPECT_NE(ParseError(R"({"bodies": [{"shape": {"type": "sphere", "radius": 1}, "motion_quality": "ccd"}]})")
                 .find("/bodies/0/motion_quality"),
             std::string::npos);
+  EXPECT_NE(ParseError(R"({"bodies": [{"shape": {"type": "sphere", "radius": 1}, "mass": 1e-30}]})")
+                .find("/bodies/0/mass: body mass must be in [1e-6, 1e10] kg"),
+            std::string::npos);
+  EXPECT_NE(ParseError(R"({"bodies": [{"shape": {"type": "sphere", "radius": 1}, "density": 1e-40}]})")
+                .find("/bodies/0/density: body mass must be in"),
+            std::string::npos);
+  EXPECT_NE(
+      ParseError(R"({"bodies": [{"shape": {"type": "box", "half_extents": [0.0002, 1, 1]}, "mass": 1}]})")
+          .find("/bodies/0/shape: a dynamic body's shape must be at least 2 mm across"),
+      std::string::npos);
+  // A static body has no mass to overflow: any size.
+  EXPECT_TRUE(ParseScene(R"({"bodies": [{"shape": {"type": "box", "half_extents": [0.0002, 1, 1]},
+                                         "motion": "static"}]})",
+                         "inline", kScenes)
+                  .ok());
   Result<Scene> cast = ParseScene(
       R"({"bodies": [{"shape": {"type": "sphere", "radius": 1}, "motion_quality": "linear_cast"}]})",
       "inline", kScenes);

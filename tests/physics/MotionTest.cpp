@@ -94,6 +94,32 @@ TEST(LinearCast, FirstStepBoundsCoverTheRealDt) {
   EXPECT_LT(Position(*world, bullet).x(), 9.9f + 1e-3f);
 }
 
+TEST(BodyRanges, BodiesAtTheEdgesOfTheDocumentedRangesStayFinite) {
+  auto world = MakeWorld();
+  Add(*world, Static(Box(50, 1, 50), Vec3(0, -1, 0)));
+  const float tiny = BodyCreationSettings::kMinHalfExtent;
+  std::vector<BodyID> ids = {Add(*world, Dynamic(Box(tiny, tiny, tiny), Vec3(-3, 0.2f, 0)))};
+  BodyCreationSettings light = Dynamic(Box(0.5f, 0.5f, 0.5f), Vec3(0, 0.5f, 0));
+  light.mass = BodyCreationSettings::kMinMass;
+  ids.push_back(Add(*world, light));
+  ids.push_back(Add(*world, Dynamic(Sphere(0.3f), Vec3(0, 2, 0))));  // lands on the light box
+  BodyCreationSettings heavy = Dynamic(Box(0.5f, 0.5f, 0.5f), Vec3(3, 0.6f, 0));
+  heavy.mass = BodyCreationSettings::kMaxMass;
+  heavy.angular_velocity = Vec3(1, 2, 3);
+  ids.push_back(Add(*world, heavy));
+  for (int step = 0; step < 300; ++step) {
+    ASSERT_TRUE(world->Step(1.0f / 60.0f).ok());
+    for (const BodyID id : ids) ASSERT_TRUE(IsFinite(Position(*world, id)) && IsFinite(Velocity(*world, id)));
+  }
+  // Just outside the range: refused, and nothing was added.
+  const std::size_t before = world->body_count_in_world();
+  BodyCreationSettings too_light = light;
+  too_light.mass = 0.5f * BodyCreationSettings::kMinMass;
+  EXPECT_FALSE(world->bodies().CreateAndAddBody(too_light).ok());
+  EXPECT_FALSE(world->bodies().CreateAndAddBody(Dynamic(Sphere(0.5f * tiny), Vec3::Zero())).ok());
+  EXPECT_EQ(world->body_count_in_world(), before);
+}
+
 TEST(VelocityLimits, ClampsAreCounted) {
   PhysicsSettings settings;
   settings.gravity = Vec3::Zero();

@@ -38,6 +38,56 @@ std::filesystem::path TempFile(const std::string& name) {
          ("strata_cli_test_" + std::to_string(::getpid()) + "_" + name);
 }
 
+TEST(Cli, SimulateWarnsWhenVelocitiesWereClamped) {
+  const auto scene = TempFile("clamped.json");
+  std::ofstream(scene) << R"({"settings": {"gravity": [0, 0, 0]}, "bodies": [{"name": "b", "shape":
+      {"type": "sphere", "radius": 0.5}, "linear_velocity": [50, 0, 0], "max_linear_velocity": 10}]})";
+  // Standard error only: the warning names the limit to raise.
+  auto errors_of = [](const std::string& arguments) {
+    const auto captured = TempFile("stderr.txt");
+    const int status = std::system(
+        (std::string(STRATA_CLI) + " " + arguments + " > /dev/null 2> " + captured.string()).c_str());
+    EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << arguments;
+    std::ifstream file(captured);
+    return std::string(std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>());
+  };
+  std::string errors = errors_of("simulate " + scene.string() + " --steps 3 --every 3");
+  EXPECT_NE(errors.find("clamped to their limits 1 time(s) (linear)"), std::string::npos) << errors;
+  errors = errors_of("simulate " + (kScenes / "bounce.json").string() + " --steps 3");
+  EXPECT_EQ(errors.find("clamped"), std::string::npos) << errors;
+  std::filesystem::remove(scene);
+}
+
+TEST(Cli, AccuracyWritesJsonMarkdownAndPlot) {
+  const auto dir = TempFile("accuracy");
+  std::string output;
+  ASSERT_EQ(RunCliCapture("accuracy --quick --case free_fall --case fast_thin_wall --out-dir " + dir.string(),
+                          output),
+            0);
+  std::ifstream json_file(dir / "accuracy.json");
+  const auto json = nlohmann::json::parse(json_file);
+  ASSERT_EQ(json["cases"].size(), 2u);
+  std::set<std::string> engines;
+  for (const auto& run : json["runs"]) {
+    EXPECT_TRUE(run["finite"].get<bool>());
+    EXPECT_TRUE(run["default"].get<bool>());
+    if (run["engine"] == "strata") {
+      EXPECT_TRUE(run["passed"].get<bool>()) << run.dump();
+    }
+    engines.insert(run["engine"].get<std::string>());
+  }
+  EXPECT_TRUE(engines.count("strata"));
+  std::ifstream markdown(dir / "accuracy.md");
+  const std::string table((std::istreambuf_iterator<char>(markdown)), std::istreambuf_iterator<char>());
+  EXPECT_NE(table.find("## fast_thin_wall"), std::string::npos);
+  std::ifstream png(dir / "accuracy.png", std::ios::binary);
+  char magic[4] = {};
+  png.read(magic, 4);
+  EXPECT_EQ(std::string(magic + 1, 3), "PNG");
+  EXPECT_EQ(RunCli("accuracy --quick --case no_such_case --out-dir " + dir.string()), 2);
+  std::filesystem::remove_all(dir);
+}
+
 TEST(Cli, SimulateWritesOneLinePerRecordedStep) {
   const auto out = TempFile("states.jsonl");
   ASSERT_EQ(RunCli("simulate " + (kScenes / "bounce.json").string() + " --steps 120 --every 30 --out " +

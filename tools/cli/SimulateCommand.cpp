@@ -87,6 +87,7 @@ int RunSimulate(const SimulateOptions& options) {
   std::ostream& out = options.out.empty() ? std::cout : file;
   double slowest_ms = 0.0, total_ms = 0.0;
   int lines = 0;
+  std::size_t linear_clamps = 0, angular_clamps = 0;
   for (int step = 1; step <= options.steps; ++step) {
     const auto start = std::chrono::steady_clock::now();
     if (Status stepped = world->system->Step(scene->dt); !stepped) {
@@ -97,12 +98,20 @@ int RunSimulate(const SimulateOptions& options) {
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     slowest_ms = std::max(slowest_ms, ms);
     total_ms += ms;
+    linear_clamps += world->system->last_step_stats().linear_velocity_clamps;
+    angular_clamps += world->system->last_step_stats().angular_velocity_clamps;
     if (step % options.every == 0 || step == options.steps) {
       out << StateLine(*scene, *world, step, static_cast<float>(step) * scene->dt).dump() << "\n";
       ++lines;
     }
   }
   if (!options.out.empty()) PrintSummary(*scene, *world, options, lines, total_ms, slowest_ms);
+  // Limits are never silent: a body that hit its max_linear_velocity or max_angular_velocity is reported.
+  if (linear_clamps + angular_clamps > 0)
+    std::cerr
+        << "strata simulate: warning: velocities were clamped to their limits " << linear_clamps
+        << " time(s) (linear) and " << angular_clamps
+        << " time(s) (angular); raise max_linear_velocity / max_angular_velocity if that was not meant\n";
   return 0;
 }
 
