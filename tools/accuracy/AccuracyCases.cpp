@@ -229,7 +229,8 @@ Result<CaseOutcome> Tower(AccuracyEngine& engine, const AccuracySetting& setting
   return Outcome(ran, (engine.State(top).position - scene.bodies[top].position).norm());
 }
 
-// A heavy unit box resting on a 1 kg one for 5 s: how far the heavy one sank (m).
+// A heavy unit box resting on a 1 kg one for 5 s: how far the heavy one got from where it rests, after the
+// first second (m): sinking, or sliding off.
 Result<CaseOutcome> MassRatio(AccuracyEngine& engine, const AccuracySetting& setting, float ratio) {
   AccuracyScene scene;
   scene.bodies.push_back(Floor());
@@ -239,11 +240,12 @@ Result<CaseOutcome> MassRatio(AccuracyEngine& engine, const AccuracySetting& set
   heavy.mass = ratio;
   scene.bodies.push_back(light);
   scene.bodies.push_back(heavy);
-  double deepest = 0.0;
+  double farthest = 0.0;
   const Result<bool> ran = Run(engine, scene, setting, 5.0, [&](double time) {
-    if (time > 1.0) deepest = std::max(deepest, 1.5 - static_cast<double>(engine.State(2).position.y()));
+    if (time > 1.0)
+      farthest = std::max(farthest, static_cast<double>((engine.State(2).position - heavy.position).norm()));
   });
-  return Outcome(ran, (engine.State(2).position - heavy.position).norm() > 0.5 ? kInfinite : deepest);
+  return Outcome(ran, farthest);
 }
 
 // A 5 cm sphere at 500 m/s against a 10 cm static wall: how far past the wall's face it got (m).
@@ -338,7 +340,7 @@ std::vector<AccuracyCase> AccuracyCases() {
   for (const float ratio : {10.0f, 100.0f, 1000.0f})
     cases.push_back(
         {"mass_ratio_" + std::to_string(static_cast<int>(ratio)),
-         "a " + std::to_string(static_cast<int>(ratio)) + " kg box on a 1 kg box for 5 s: how far it sinks",
+         "a " + std::to_string(static_cast<int>(ratio)) + " kg box on a 1 kg box for 5 s: how far it sinks or slides",
          "m", 0.02, [ratio](AccuracyEngine& e, const AccuracySetting& s) { return MassRatio(e, s, ratio); }});
   cases.push_back({"fast_thin_wall", "a 5 cm sphere at 500 m/s against a 10 cm wall: distance past its face",
                    "m", 0.01, FastBodyThinWall});
