@@ -46,6 +46,20 @@ void ApplyNormal(const SolverContact& c, const SolverContactPoint& p, float delt
   }
 }
 
+// Writes the pass's velocities back to the sides the solver moves.
+template <bool kDynamicA, bool kDynamicB>
+void StoreVelocities(SolverBody& a, SolverBody& b, const Vec4& va, const Vec4& wa, const Vec4& vb,
+                     const Vec4& wb) {
+  if constexpr (kDynamicA) {
+    a.linear_velocity = va;
+    a.angular_velocity = wa;
+  }
+  if constexpr (kDynamicB) {
+    b.linear_velocity = vb;
+    b.angular_velocity = wb;
+  }
+}
+
 template <bool kDynamicA, bool kDynamicB>
 void SolveVelocity(SolverContact& c, SolverBody* bodies, const SubstepContext& context, bool use_bias,
                    bool reverse, float* deepest) {
@@ -116,14 +130,7 @@ void SolveVelocity(SolverContact& c, SolverBody* bodies, const SubstepContext& c
     }
   }
   if (deepest != nullptr) *deepest = std::min(*deepest, lowest);
-  if constexpr (kDynamicA) {
-    a.linear_velocity = va;
-    a.angular_velocity = wa;
-  }
-  if constexpr (kDynamicB) {
-    b.linear_velocity = vb;
-    b.angular_velocity = wb;
-  }
+  StoreVelocities<kDynamicA, kDynamicB>(a, b, va, wa, vb, wb);
 }
 
 template <bool kDynamicA, bool kDynamicB>
@@ -143,14 +150,7 @@ void Restitution(SolverContact& c, SolverBody* bodies, const SubstepContext& con
     ApplyNormal<kDynamicA, kDynamicB>(c, p, p.normal_impulse - old_impulse, a.inverse_mass, b.inverse_mass,
                                       va, wa, vb, wb);
   }
-  if constexpr (kDynamicA) {
-    a.linear_velocity = va;
-    a.angular_velocity = wa;
-  }
-  if constexpr (kDynamicB) {
-    b.linear_velocity = vb;
-    b.angular_velocity = wb;
-  }
+  StoreVelocities<kDynamicA, kDynamicB>(a, b, va, wa, vb, wb);
 }
 
 }  // namespace

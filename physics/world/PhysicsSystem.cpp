@@ -318,10 +318,11 @@ void PhysicsSystem::ApplyForces(std::uint32_t job) {
       // The gyroscopic step goes with each substep's share too (its error shrinks with the substep).
       step.gyroscopic =
           settings_.gyroscopic_torque && body.gyroscopic_ && !body.angular_velocity_.isZero(0.0f);
-      step.inertia = body.inertia_local_;
-      if (step.gyroscopic)
+      if (step.gyroscopic) {
+        step.inertia = body.inertia_local_;  // the substeps read it only for these bodies
         body.angular_velocity_ =
             SpinWithoutTorque(body.inertia_local_, body.rotation(), body.angular_velocity_, h);
+      }
       // Gravity and forces are added a substep's share at a time: the first share now (the velocity half of
       // symplectic Euler), the others by the solver after each substep's integration.
       const Mat3 inverse_inertia = body.InverseInertiaWorld();
