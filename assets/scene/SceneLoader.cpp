@@ -269,9 +269,9 @@ Status ParseSettings(const Reader& reader, const Json& json, Scene& scene) {
   if (json.contains("position_iterations"))
     return reader.Fail("position_iterations",
                        "was replaced by substeps and relax_iterations (see assets/scenes/README.md)");
-  STRATA_TRY(reader.OnlyKeys(
-      json, {"gravity", "dt", "substeps", "velocity_iterations", "relax_iterations", "contact_hertz",
-             "contact_damping_ratio", "contact_push_max_velocity", "gyroscopic_torque", "sleeping"}));
+  STRATA_TRY(reader.OnlyKeys(json, {"gravity", "dt", "substeps", "velocity_iterations", "relax_iterations",
+                                    "restitution_iterations", "contact_hertz", "contact_damping_ratio",
+                                    "contact_push_max_velocity", "gyroscopic_torque", "sleeping"}));
   PhysicsSettings& physics = scene.physics;
   STRATA_TRY(reader.Vector(json, "gravity", physics.gravity));
   STRATA_TRY(reader.Number(json, "dt", scene.dt));
@@ -279,6 +279,7 @@ Status ParseSettings(const Reader& reader, const Json& json, Scene& scene) {
   STRATA_TRY(reader.Integer(json, "substeps", physics.substeps));
   STRATA_TRY(reader.Integer(json, "velocity_iterations", physics.velocity_iterations));
   STRATA_TRY(reader.Integer(json, "relax_iterations", physics.relax_iterations));
+  STRATA_TRY(reader.Integer(json, "restitution_iterations", physics.restitution_iterations));
   STRATA_TRY(reader.Number(json, "contact_hertz", physics.contact_hertz));
   STRATA_TRY(reader.Number(json, "contact_damping_ratio", physics.contact_damping_ratio));
   STRATA_TRY(reader.Number(json, "contact_push_max_velocity", physics.contact_push_max_velocity));

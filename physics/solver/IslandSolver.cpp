@@ -140,7 +140,8 @@ void IslandSolver::PrepareGroup(std::uint32_t group_index, std::uint32_t job_ind
   const auto per_substep =
       splits * static_cast<std::uint32_t>(1 + settings.velocity_iterations + settings.relax_iterations) + 2;
   group.round_count =
-      1 + static_cast<std::uint32_t>(settings.substeps) * per_substep + (group.has_restitution ? splits : 0);
+      1 + static_cast<std::uint32_t>(settings.substeps) * per_substep +
+      (group.has_restitution ? splits * static_cast<std::uint32_t>(settings.restitution_iterations) : 0);
   group.processed.store(0, std::memory_order_relaxed);
   group.status.store(0, std::memory_order_release);
 }
@@ -154,7 +155,10 @@ IslandSolver::Round IslandSolver::Describe(const Group& group, std::uint32_t rou
   const auto relax = static_cast<std::uint32_t>(settings.relax_iterations);
   const std::uint32_t per_substep = splits * (1 + velocity + relax) + 2;
   const auto substeps = static_cast<std::uint32_t>(settings.substeps);
-  if (round >= substeps * per_substep) return {RoundKind::kRestitution, round - substeps * per_substep};
+  if (round >= substeps * per_substep) {
+    round -= substeps * per_substep;
+    return {RoundKind::kRestitution, round % splits, static_cast<int>(round / splits)};
+  }
   const auto substep = static_cast<int>(round / per_substep);
   round %= per_substep;
   if (round == 0) return {RoundKind::kAddForces, 0, 0, substep};
@@ -254,7 +258,10 @@ void IslandSolver::RunBatch(Group& split, const Round& round, std::uint32_t begi
       substep_dt_ * static_cast<float>(round.substep + (round.kind == RoundKind::kRelax ? 1 : 0));
   const bool last_solve_pass = IsLastSolvePass(round);
   // The impulses a next step warm-starts from are those after restitution, where there is one.
-  const bool last_pass = split.has_restitution ? round.kind == RoundKind::kRestitution : last_solve_pass;
+  const bool last_pass = split.has_restitution
+                             ? round.kind == RoundKind::kRestitution &&
+                                   round.iteration + 1 == input_.settings->restitution_iterations
+                             : last_solve_pass;
   // Alternate the order points are visited in from pass to pass (and substep to substep), so a stack does
   // not lean towards the side solved first.
   const bool reverse =

@@ -19,6 +19,8 @@ Status PhysicsSettings::Validate() const {
   if (velocity_iterations < 1 || velocity_iterations > 1000)
     return Bad("velocity_iterations", "must be in [1, 1000]");
   if (relax_iterations < 0 || relax_iterations > 1000) return Bad("relax_iterations", "must be in [0, 1000]");
+  if (restitution_iterations < 1 || restitution_iterations > 1000)
+    return Bad("restitution_iterations", "must be in [1, 1000]");
   if (!(contact_hertz > 0.0f) || !IsFinite(contact_hertz)) return Bad("contact_hertz", "must be > 0");
   if (!NonNegative(contact_damping_ratio)) return Bad("contact_damping_ratio", "must be >= 0");
   if (!(contact_push_max_velocity > 0.0f) || !IsFinite(contact_push_max_velocity))

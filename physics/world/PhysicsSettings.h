@@ -9,13 +9,18 @@ namespace strata {
 
 /// Step tunables. Units: metres, seconds.
 struct PhysicsSettings {
-  Vec3 gravity = Vec3(0.0f, -9.81f, 0.0f);    ///< m/s^2
+  Vec3 gravity = Vec3(0.0f, -9.81f, 0.0f);  ///< m/s^2
   /// The step is solved as this many substeps (Box2D v3's soft step): per substep gravity, warm start,
   /// velocity passes with a soft bias, integration, relax passes. More substeps make tall stacks and large
   /// mass ratios stiffer at about the cost of more iterations. Default chosen by `strata accuracy`.
   int substeps = 4;
   int velocity_iterations = 1;  ///< biased sequential-impulse passes per substep, >= 1
   int relax_iterations = 1;     ///< passes per substep without the bias (remove the push's energy), >= 0
+  /// Passes of the bounce after the last substep (only in groups where something bounces). One pass gives
+  /// the first point of a face hitting a wall most of the bounce and sets the body spinning: a box between
+  /// walls with restitution 1 changes its energy by 154% in 60 s with one pass, 5.9% with two, 0.26% with
+  /// four.
+  int restitution_iterations = 4;
   /// Contacts are springs of this stiffness (Hz) with this damping ratio while they push overlap out; the
   /// stiffness is capped at a quarter of the substep rate, and contacts with a static body use twice it.
   float contact_hertz = 30.0f;
@@ -27,7 +32,7 @@ struct PhysicsSettings {
   /// Spin about a non-principal axis turns the angular velocity (Euler's equations, solved implicitly);
   /// off, angular velocity stays constant in free flight and angular momentum drifts.
   bool gyroscopic_torque = true;
-  float contact_match_distance = 0.02f;       ///< points closer than this between steps share impulses (m)
+  float contact_match_distance = 0.02f;  ///< points closer than this between steps share impulses (m)
   /// A touching pair reuses last step's contacts instead of a new shape test while, relative to each other,
   /// its bodies moved less than this since the contacts were made (m); 0 turns reuse off. Jolt allows 1 mm
   /// and 2 degrees; there a stack of eight boxes at ten velocity passes sways 2 cm in ten seconds against

@@ -55,6 +55,15 @@ TEST(AccuracyCases, TenToOneStackHoldsWhenTheSubstepIsAtMostA240th) {
   }
 }
 
+TEST(AccuracyCases, ElasticSliderBetweenWallsKeepsItsEnergyWithinFivePercentForAMinute) {
+  // Each wall hit is a four-point face contact: the restitution passes must give every point its share,
+  // or the box spins up and trades energy chaotically.
+  for (const AccuracySetting& setting : Sweep({30, 60, 120}, {1, 2, 4, 8})) {
+    const CaseOutcome outcome = RunOnStrata("energy_drift", setting);
+    EXPECT_LE(outcome.error, 0.05) << setting.name;
+  }
+}
+
 TEST(AccuracyCases, BounceApexWithinFivePercentAtSixtyHertzAndFourSubsteps) {
   for (const AccuracySetting& setting : Sweep({60, 120}, {4, 8}))
     EXPECT_LE(RunOnStrata("restitution_apex", setting).error, 0.05) << setting.name;
