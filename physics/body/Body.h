@@ -26,6 +26,15 @@ class Body {
 
   const Pose& pose() const { return pose_; }
   const Vec3& position() const { return pose_.position; }
+  /// The shape origin with what a float cannot hold there: 10 km out a float moves in steps of about 1 mm,
+  /// so the step adds each body's motion to a float and a float remainder (compensated summation) and a
+  /// slow body far from the origin moves as it would at the origin. Contacts see position().
+  Vec3d precise_position() const {
+    return pose_.position.cast<double>() + position_remainder_.cast<double>();
+  }
+  Vec3d PreciseCenterOfMass() const {
+    return precise_position() + (pose_.rotation * center_of_mass_local_).cast<double>();
+  }
   const Quat& rotation() const { return pose_.rotation; }
   Vec3 CenterOfMass() const { return pose_.ToWorld(center_of_mass_local_); }
   const Vec3& center_of_mass_local() const { return center_of_mass_local_; }
@@ -75,10 +84,13 @@ class Body {
 
   void Reset(const BodyCreationSettings& settings, BodyID id);
   void UpdateWorldBounds() { world_bounds_ = shape_->WorldBounds(pose_); }
+  /// Moves the shape origin by `motion` (small) without rounding it away where position() is large.
+  void AddToPosition(const Vec3& motion);
 
   BodyID id_;
   ShapeRef shape_;
   Pose pose_;
+  Vec3 position_remainder_ = Vec3::Zero();  // precise_position() - position(), below half a float step
   Vec3 center_of_mass_local_ = Vec3::Zero();
   Vec3 linear_velocity_ = Vec3::Zero();
   Vec3 angular_velocity_ = Vec3::Zero();

@@ -170,6 +170,9 @@ Result<bool> BodyInterface::IsActive(BodyID id) const {
 Result<Vec3> BodyInterface::GetPosition(BodyID id) const {
   return Read(id, [](const Body& b) { return b.position(); });
 }
+Result<Vec3d> BodyInterface::GetPrecisePosition(BodyID id) const {
+  return Read(id, [](const Body& b) { return b.precise_position(); });
+}
 Result<Quat> BodyInterface::GetRotation(BodyID id) const {
   return Read(id, [](const Body& b) { return b.rotation(); });
 }
@@ -199,7 +202,10 @@ Status BodyInterface::Teleport(BodyID id, const std::optional<Vec3>& position,
   const Status moved = Write(id, [&](Body& body) {
     vacated = body.world_bounds();
     in_world = body.in_world();
-    if (position) body.pose_.position = *position;
+    if (position) {
+      body.pose_.position = *position;
+      body.position_remainder_.setZero();
+    }
     if (rotation) body.pose_.rotation = rotation->normalized();
     body.UpdateWorldBounds();
     RefreshBounds(body);

@@ -59,6 +59,8 @@ class BodyInterface {
   Result<bool> IsActive(BodyID id) const;
 
   Result<Vec3> GetPosition(BodyID id) const;
+  /// The position with the part a float cannot hold far from the origin (see Body::precise_position).
+  Result<Vec3d> GetPrecisePosition(BodyID id) const;
   Result<Quat> GetRotation(BodyID id) const;
   Result<Vec3> GetCenterOfMass(BodyID id) const;
   Result<Vec3> GetLinearVelocity(BodyID id) const;

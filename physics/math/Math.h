@@ -10,6 +10,7 @@
 namespace strata {
 
 using Vec3 = Eigen::Vector3f;
+using Vec3d = Eigen::Vector3d;  ///< only where float positions would round motion away (large worlds)
 using Vec4 = Eigen::Vector4f;
 using Mat3 = Eigen::Matrix3f;
 using Quat = Eigen::Quaternionf;

@@ -377,8 +377,9 @@ void PhysicsSystem::FinalizeIslands() {
   for (std::uint32_t i = 0; i < active_.size(); ++i) {
     if (body_manager_.BodyAt(active_[i].index).IsDynamic()) continue;
     SolverPose& pose = solver_poses_[i + 1];
-    const SolverBody& body = solver_bodies_[i + 1];
-    pose.center_of_mass += body.linear_velocity * step_dt_;
+    SolverBody& body = solver_bodies_[i + 1];
+    body.delta_position = body.linear_velocity * step_dt_;  // what the write-back adds to the position
+    pose.center_of_mass += body.delta_position;
     const Vec4 turn = body.angular_velocity * step_dt_;
     const Quat delta(0.0f, 0.5f * turn.x(), 0.5f * turn.y(), 0.5f * turn.z());
     pose.rotation.coeffs() += (delta * pose.rotation).coeffs();
@@ -453,6 +454,7 @@ bool PhysicsSystem::LinearCast(std::uint32_t active_index, CastScratch& scratch)
   // Stop at the first touch and take out the approach (a bounce if either body has restitution); friction
   // and the rest are the contacts' work next step.
   pose.center_of_mass = ToVec4(start.position + nearest->fraction * displacement + offset);
+  solved.delta_position = ToVec4(nearest->fraction * displacement);
   const Vec4 normal = ToVec4(nearest->normal);
   const float approach = solved.linear_velocity.dot(normal);
   if (approach < 0.0f) {
@@ -474,8 +476,12 @@ void PhysicsSystem::FinishIslands(std::uint32_t job) {
       body.linear_velocity_ = ToVec3(solved.linear_velocity);
       body.angular_velocity_ = ToVec3(solved.angular_velocity);
       ClampVelocities(body, finish_counters_[job]);  // the substeps after the first added gravity again
+      // The position takes the step's motion (small, so exact in a float) rather than the solver's pose,
+      // which far from the origin rounds a slow body's motion away.
+      const Vec3 turned_offset =
+          (body.pose_.rotation * body.center_of_mass_local_) - (pose.rotation * body.center_of_mass_local_);
       body.pose_.rotation = pose.rotation;
-      body.pose_.position = ToVec3(pose.center_of_mass) - pose.rotation * body.center_of_mass_local_;
+      body.AddToPosition(ToVec3(solved.delta_position) + turned_offset);
       body.UpdateWorldBounds();
       const bool resting = body.linear_velocity_.norm() < settings_.sleep_linear_velocity &&
                            body.angular_velocity_.norm() < settings_.sleep_angular_velocity;

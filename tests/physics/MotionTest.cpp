@@ -1,5 +1,5 @@
 // Free motion and fast motion: gyroscopic torque (Euler's equations), linear casts against thin walls, the
-// first step's swept bounds, and velocity limits that are counted.
+// first step's swept bounds, velocity limits that are counted, and motion 10 km from the origin.
 #include <cmath>
 
 #include "TestWorld.h"
@@ -136,6 +136,58 @@ TEST(VelocityLimits, ClampsAreCounted) {
   EXPECT_NEAR(Velocity(*world, id).norm(), 10.0f, 1e-4f);
   ASSERT_TRUE(world->Step(1.0f / 60.0f).ok());
   EXPECT_EQ(world->last_step_stats().linear_velocity_clamps, 0u);  // already within its limit
+}
+
+// How far a box on a floor at `origin` travels (x) and where it ends up (y) after `steps`, from `speed`.
+Vec3d SlideFrom(const Vec3& origin, float speed, float friction, float dt, int substeps, int steps) {
+  PhysicsSettings settings;
+  settings.substeps = substeps;
+  settings.allow_sleeping = false;
+  auto world = MakeWorld(settings);
+  BodyCreationSettings floor = Static(Box(50, 1, 50), origin + Vec3(0, -1, 0));
+  floor.friction = friction;
+  Add(*world, floor);
+  BodyCreationSettings box = Dynamic(Box(0.5f, 0.5f, 0.5f), origin + Vec3(0, 0.5f, 0));
+  box.friction = friction;
+  box.linear_velocity = Vec3(speed, 0, 0);
+  box.linear_damping = 0.0f;
+  const BodyID id = Add(*world, box);
+  StepFor(*world, steps, dt);
+  return *world->bodies().GetPrecisePosition(id) - origin.cast<double>();
+}
+
+TEST(LargeWorlds, BoxesSlideAndStop10KilometresOutAsTheyDoAtTheOrigin) {
+  const Vec3 far(10000.0f, 0.0f, -10000.0f);
+  for (const float dt : {1.0f / 30.0f, 1.0f / 60.0f, 1.0f / 120.0f})
+    for (const int substeps : {1, 4}) {
+      const auto steps = static_cast<int>(std::lround(2.0f / dt));
+      // 2 cm/s without friction: each step's 0.3 mm is below a float's step there.
+      const Vec3d near_slide = SlideFrom(Vec3::Zero(), 0.02f, 0.0f, dt, substeps, steps);
+      const Vec3d far_slide = SlideFrom(far, 0.02f, 0.0f, dt, substeps, steps);
+      EXPECT_NEAR(near_slide.x(), 0.04, 0.0004) << dt << " " << substeps;
+      EXPECT_NEAR(far_slide.x(), near_slide.x(), 0.01 * near_slide.x()) << dt << " " << substeps;
+      EXPECT_NEAR(far_slide.y(), near_slide.y(), 1e-3) << dt << " " << substeps;
+      // 1 m/s with friction 0.5: it stops after about v^2 / (2 mu g) = 10 cm, wherever it is.
+      const Vec3d near_stop = SlideFrom(Vec3::Zero(), 1.0f, 0.5f, dt, substeps, steps);
+      const Vec3d far_stop = SlideFrom(far, 1.0f, 0.5f, dt, substeps, steps);
+      EXPECT_NEAR(far_stop.x(), near_stop.x(), 0.01 * near_stop.x()) << dt << " " << substeps;
+    }
+}
+
+TEST(LargeWorlds, TeleportingDropsTheRemainder) {
+  PhysicsSettings settings;
+  settings.gravity = Vec3::Zero();
+  auto world = MakeWorld(settings);
+  BodyCreationSettings box = Dynamic(Box(0.5f, 0.5f, 0.5f), Vec3(10000.0f, 0.0f, 0.0f));
+  box.linear_velocity = Vec3(0.02f, 0, 0);
+  box.linear_damping = 0.0f;
+  const BodyID id = Add(*world, box);
+  StepFor(*world, 30);
+  const Vec3d moved = *world->bodies().GetPrecisePosition(id);
+  EXPECT_NEAR(moved.x() - 10000.0, 0.01, 1e-5);
+  EXPECT_EQ(Position(*world, id).x(), static_cast<float>(moved.x()));  // the float is the nearest one
+  ASSERT_TRUE(world->bodies().SetPosition(id, Vec3(5.0f, 0.0f, 0.0f)).ok());
+  EXPECT_EQ(world->bodies().GetPrecisePosition(id)->x(), 5.0);
 }
 
 }  // namespace

@@ -13,7 +13,7 @@ constexpr float kGravity = 9.81f;
 constexpr double kInfinite = std::numeric_limits<double>::infinity();
 
 bool IsFiniteState(const AccuracyBodyState& s) {
-  return IsFinite(s.position) && IsFinite(s.linear_velocity) && IsFinite(s.angular_velocity) &&
+  return s.position.allFinite() && IsFinite(s.linear_velocity) && IsFinite(s.angular_velocity) &&
          IsFinite(s.rotation);
 }
 
@@ -94,7 +94,7 @@ Result<CaseOutcome> Incline(AccuracyEngine& engine, const AccuracySetting& setti
   constexpr double kSeconds = 2.0;
   const Result<bool> ran = Run(engine, scene, setting, kSeconds);
   if (!ran || !*ran) return Outcome(ran, 0.0);
-  const double moved = (engine.State(1).position - body.position).norm();
+  const double moved = (engine.State(1).position - body.position.cast<double>()).norm();
   const double expected = 0.5 * expected_acceleration * kSeconds * kSeconds;
   return Outcome(ran, relative ? std::abs(moved - expected) / expected : std::abs(moved - expected));
 }
@@ -112,7 +112,7 @@ Result<CaseOutcome> RestitutionApex(AccuracyEngine& engine, const AccuracySettin
     const AccuracyBodyState s = engine.State(1);
     if (!bounced && s.linear_velocity.y() > 0.0f) bounced = true;
     if (bounced && !falling_again) {
-      apex = std::max(apex, static_cast<double>(s.position.y()) - 0.5);
+      apex = std::max(apex, s.position.y() - 0.5);
       falling_again = s.linear_velocity.y() < 0.0f;
     }
   });
@@ -226,7 +226,7 @@ Result<CaseOutcome> Tower(AccuracyEngine& engine, const AccuracySetting& setting
   const Result<bool> ran = Run(engine, scene, setting, 10.0);
   if (!ran || !*ran) return Outcome(ran, 0.0);
   const std::size_t top = scene.bodies.size() - 1;
-  return Outcome(ran, (engine.State(top).position - scene.bodies[top].position).norm());
+  return Outcome(ran, (engine.State(top).position - scene.bodies[top].position.cast<double>()).norm());
 }
 
 // A heavy unit box resting on a 1 kg one for 5 s: how far the heavy one got from where it rests, after the
@@ -243,7 +243,7 @@ Result<CaseOutcome> MassRatio(AccuracyEngine& engine, const AccuracySetting& set
   double farthest = 0.0;
   const Result<bool> ran = Run(engine, scene, setting, 5.0, [&](double time) {
     if (time > 1.0)
-      farthest = std::max(farthest, static_cast<double>((engine.State(2).position - heavy.position).norm()));
+      farthest = std::max(farthest, (engine.State(2).position - heavy.position.cast<double>()).norm());
   });
   return Outcome(ran, farthest);
 }
@@ -259,7 +259,7 @@ Result<CaseOutcome> FastBodyThinWall(AccuracyEngine& engine, const AccuracySetti
   double farthest = 0.0;
   const double face = 10.0 - 0.05 - 0.05;  // where the sphere's centre is when it touches
   const Result<bool> ran = Run(engine, scene, setting, 0.2, [&](double) {
-    farthest = std::max(farthest, static_cast<double>(engine.State(1).position.x()) - face);
+    farthest = std::max(farthest, engine.State(1).position.x() - face);
   });
   return Outcome(ran, farthest);
 }
@@ -275,7 +275,7 @@ Result<CaseOutcome> FarFromOrigin(AccuracyEngine& engine, const AccuracySetting&
   constexpr double kSeconds = 2.0;
   const Result<bool> ran = Run(engine, scene, setting, kSeconds);
   if (!ran || !*ran) return Outcome(ran, 0.0);
-  const double travelled = static_cast<double>(engine.State(1).position.x()) - box.position.x();
+  const double travelled = engine.State(1).position.x() - box.position.x();
   const double expected = 0.02 * kSeconds;
   return Outcome(ran, std::abs(travelled - expected) / expected);
 }
@@ -340,7 +340,8 @@ std::vector<AccuracyCase> AccuracyCases() {
   for (const float ratio : {10.0f, 100.0f, 1000.0f})
     cases.push_back(
         {"mass_ratio_" + std::to_string(static_cast<int>(ratio)),
-         "a " + std::to_string(static_cast<int>(ratio)) + " kg box on a 1 kg box for 5 s: how far it sinks or slides",
+         "a " + std::to_string(static_cast<int>(ratio)) +
+             " kg box on a 1 kg box for 5 s: how far it sinks or slides",
          "m", 0.02, [ratio](AccuracyEngine& e, const AccuracySetting& s) { return MassRatio(e, s, ratio); }});
   cases.push_back({"fast_thin_wall", "a 5 cm sphere at 500 m/s against a 10 cm wall: distance past its face",
                    "m", 0.01, FastBodyThinWall});

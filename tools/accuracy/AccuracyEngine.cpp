@@ -70,7 +70,7 @@ class StrataEngine final : public AccuracyEngine {
   AccuracyBodyState State(std::size_t body) const override {
     BodyLockRead lock(world_->body_manager(), ids_[body]);
     const Body& b = lock.body();
-    return {b.CenterOfMass(), b.rotation(), b.linear_velocity(), b.angular_velocity()};
+    return {b.PreciseCenterOfMass(), b.rotation(), b.linear_velocity(), b.angular_velocity()};
   }
 
   Vec3 PrincipalInertia(std::size_t body) const override {

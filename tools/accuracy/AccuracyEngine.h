@@ -46,7 +46,7 @@ struct AccuracySetting {
 };
 
 struct AccuracyBodyState {
-  Vec3 position = Vec3::Zero();  ///< centre of mass
+  Vec3d position = Vec3d::Zero();  ///< centre of mass, as precisely as the engine keeps it
   Quat rotation = Quat::Identity();
   Vec3 linear_velocity = Vec3::Zero();
   Vec3 angular_velocity = Vec3::Zero();

@@ -91,7 +91,7 @@ class BulletEngine final : public AccuracyEngine {
     const btRigidBody& b = *bodies_[body];
     const btTransform& transform = b.getWorldTransform();
     const btQuaternion q = transform.getRotation();
-    return {FromBullet(transform.getOrigin()), Quat(q.w(), q.x(), q.y(), q.z()),
+    return {FromBullet(transform.getOrigin()).cast<double>(), Quat(q.w(), q.x(), q.y(), q.z()),
             FromBullet(b.getLinearVelocity()), FromBullet(b.getAngularVelocity())};
   }
 

@@ -27,7 +27,7 @@ nlohmann::json StateLine(const Scene& scene, SceneWorld& world, int step, float 
   BodyInterface& interface = world.system->bodies();
   for (std::size_t i = 0; i < world.ids.size(); ++i) {
     const BodyID id = world.ids[i];
-    const Vec3 p = *interface.GetPosition(id);
+    const Vec3d p = *interface.GetPrecisePosition(id);
     const Quat q = *interface.GetRotation(id);
     const Vec3 v = *interface.GetLinearVelocity(id);
     const Vec3 w = *interface.GetAngularVelocity(id);
