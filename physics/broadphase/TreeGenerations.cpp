@@ -40,9 +40,10 @@ std::uint64_t TreeGenerations::current_generation() const {
 }
 
 std::uint32_t TreeGenerations::FindFreeRecord() const {
-  for (std::uint32_t r = 0; r < kRecordCount; ++r)
+  const std::uint32_t used = records_used_.load(std::memory_order_relaxed);
+  for (std::uint32_t r = 0; r < used; ++r)
     if (records_[r].state.load(std::memory_order_acquire) == kFree) return r;
-  return kRecordCount;
+  return used;  // never handed out, so free (kRecordCount when all are taken)
 }
 
 bool TreeGenerations::CanPublish() const {
@@ -54,6 +55,8 @@ void TreeGenerations::Publish(const std::array<std::uint32_t, kMaxTrees>& roots,
   const std::uint32_t fresh = FindFreeRecord();
   assert(fresh < kRecordCount);
   Record& next = records_[fresh];
+  if (fresh + 1 > records_used_.load(std::memory_order_relaxed))
+    records_used_.store(fresh + 1, std::memory_order_relaxed);
   next.generation = next_generation_++;
   next.balance.store(0, std::memory_order_relaxed);
   for (std::uint32_t tree = 0; tree < kMaxTrees; ++tree)
@@ -87,7 +90,9 @@ void TreeGenerations::Publish(const std::array<std::uint32_t, kMaxTrees>& roots,
 
 void TreeGenerations::Reclaim(const std::function<void(std::uint32_t)>& free_node) {
   std::uint64_t oldest_alive = std::numeric_limits<std::uint64_t>::max();
-  for (Record& record : records_) {
+  const std::uint32_t used = records_used_.load(std::memory_order_relaxed);
+  for (std::uint32_t r = 0; r < used; ++r) {
+    Record& record = records_[r];
     const std::uint8_t state = record.state.load(std::memory_order_acquire);
     if (state == kReleased) {
       record.state.store(kFree, std::memory_order_relaxed);

@@ -76,6 +76,9 @@ class TreeGenerations {
   // Record index in the high 16 bits, pins taken on it in the low 48.
   mutable std::atomic<std::uint64_t> current_;
   mutable std::array<Record, kRecordCount> records_;
+  // Records [0, this) have been handed out at least once; the writer's scans stop there (the lowest free
+  // record is reused first, so it stays small), not at kRecordCount cache lines every step.
+  std::atomic<std::uint32_t> records_used_{1};
   // A ring of retired-node lists, oldest first. Lists keep their capacity, so a steady world's rebuilds
   // allocate nothing; the ring grows only while a reader pins an old generation across many rebuilds.
   std::vector<RetiredNodes> retired_ = std::vector<RetiredNodes>(8);
