@@ -45,12 +45,16 @@ void JobGraph::RunJob(void* graph, std::uint32_t packed) {
   auto& self = *static_cast<JobGraph*>(graph);
   const StageId id = packed >> kJobBits;
   Stage& stage = self.stages_[id];
-  const std::int64_t start = self.NowNs();
-  stage.function(stage.context, packed & kJobMask, stage.last_width);
-  const std::int64_t end = self.NowNs();
-  AtomicMin(stage.start_ns, start);
-  AtomicMax(stage.end_ns, end);
-  stage.busy_ns.fetch_add(end - start, std::memory_order_relaxed);
+  if (self.timed_) {
+    const std::int64_t start = self.NowNs();
+    stage.function(stage.context, packed & kJobMask, stage.last_width);
+    const std::int64_t end = self.NowNs();
+    AtomicMin(stage.start_ns, start);
+    AtomicMax(stage.end_ns, end);
+    stage.busy_ns.fetch_add(end - start, std::memory_order_relaxed);
+  } else {
+    stage.function(stage.context, packed & kJobMask, stage.last_width);
+  }
   // acq_rel: the stages released below see everything every job of this stage wrote.
   if (stage.unfinished_jobs.fetch_sub(1, std::memory_order_acq_rel) != 1) return;
   for (const StageId next : stage.successors)
@@ -59,10 +63,10 @@ void JobGraph::RunJob(void* graph, std::uint32_t packed) {
 
 void JobGraph::Run(JobSystem& jobs) {
   run_start_ns_ = 0;
-  run_start_ns_ = NowNs();
+  if (timed_) run_start_ns_ = NowNs();
   for (Stage& stage : stages_) {
     stage.waiting_for.store(stage.dependency_count, std::memory_order_relaxed);
-    stage.start_ns.store(INT64_MAX, std::memory_order_relaxed);
+    stage.start_ns.store(timed_ ? INT64_MAX : 0, std::memory_order_relaxed);
     stage.end_ns.store(0, std::memory_order_relaxed);
     stage.busy_ns.store(0, std::memory_order_relaxed);
   }

@@ -47,6 +47,8 @@ class JobGraph {
   void Run(JobSystem& jobs);
 
   std::size_t stage_count() const { return stages_.size(); }
+  /// Whether Run times each job (two clock reads a job); untimed, timing() reports zeros.
+  void set_timed(bool timed) { timed_ = timed; }
   /// Figures of the last Run.
   StageTiming timing(StageId stage) const;
 
@@ -85,6 +87,7 @@ class JobGraph {
   std::vector<Stage> stages_;
   JobQueue* queue_ = nullptr;  // the queue of the Run in progress
   std::int64_t run_start_ns_ = 0;
+  bool timed_ = true;
 };
 
 }  // namespace strata

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <chrono>
 #include <thread>
 #include <vector>
 
@@ -133,6 +134,33 @@ TEST(JobGraph, StagesGivenAWidthReportThemselvesParallel) {
   EXPECT_FALSE(graph.timing(serial).parallel);
   EXPECT_TRUE(graph.timing(narrowed).parallel);
   EXPECT_EQ(graph.timing(narrowed).width, 1u);
+}
+
+TEST(JobGraph, UntimedGraphsRunEveryStageAndReportNoTimes) {
+  for (const bool timed : {true, false}) {
+    JobGraph graph;
+    graph.set_timed(timed);
+    std::atomic<int> calls{0};
+    auto wait = [](void* context, std::uint32_t, std::uint32_t) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+      static_cast<std::atomic<int>*>(context)->fetch_add(1);
+    };
+    const JobGraph::StageId first = graph.Add("first", wait, &calls);
+    const JobGraph::StageId second = graph.Add("second", wait, &calls, {first});
+    graph.SetWidth(second, 3);
+    SerialJobSystem jobs;
+    graph.Run(jobs);
+    EXPECT_EQ(calls.load(), 4);
+    const StageTiming timing = graph.timing(second);
+    EXPECT_EQ(timing.width, 3u);
+    if (timed) {
+      EXPECT_GE(timing.busy_ms, 3.0);  // three jobs that each slept a millisecond
+      EXPECT_GE(timing.start_ms, graph.timing(first).end_ms);
+    } else {
+      EXPECT_EQ(timing.busy_ms, 0.0);
+      EXPECT_EQ(timing.end_ms, 0.0);
+    }
+  }
 }
 
 TEST(JobGraphThreads, GraphsRunFromSeveralThreadsOnOnePoolStayApart) {

@@ -13,6 +13,27 @@ BodyID Floor(PhysicsSystem& world, float friction = 0.5f, const Quat& rotation =
   return Add(world, floor);
 }
 
+TEST(Simulation, StageTimingsCanBeLeftOutWithoutChangingTheStep) {
+  Vec3 positions[2];
+  for (const bool timed : {true, false}) {
+    PhysicsSystemConfig config;
+    config.max_bodies = 64;
+    config.job_system = std::make_shared<SerialJobSystem>();
+    config.stage_timings = timed;
+    auto world = std::move(*PhysicsSystem::Create(config));
+    Add(*world, Static(Box(10, 1, 10), Vec3(0, -1, 0)));
+    const BodyID box = Add(*world, Dynamic(Box(0.5f, 0.5f, 0.5f), Vec3(0, 2, 0)));
+    StepFor(*world, 60);
+    positions[timed ? 0 : 1] = Position(*world, box);
+    const StepProfile& profile = world->last_step_profile();
+    if (timed)
+      EXPECT_GT(profile.stage_count, 5u);
+    else
+      EXPECT_EQ(profile.stage_count, 0u);
+  }
+  EXPECT_EQ(positions[0], positions[1]);
+}
+
 TEST(Simulation, RestingBoxPenetratesLessThanOneCentimetre) {
   auto world = MakeWorld();
   Floor(*world);
