@@ -49,6 +49,7 @@ class JobGraph {
   std::size_t stage_count() const { return stages_.size(); }
   /// Whether Run times each job (two clock reads a job); untimed, timing() reports zeros.
   void set_timed(bool timed) { timed_ = timed; }
+  bool timed() const { return timed_; }
   /// Figures of the last Run.
   StageTiming timing(StageId stage) const;
 

@@ -116,9 +116,8 @@ PhysicsSystem::PhysicsSystem(const PhysicsSystemConfig& config, const PhysicsSet
   job_count_ = static_cast<std::uint32_t>(std::max(1, jobs_->ThreadCount()));
   finish_counters_.resize(job_count_);
   cast_scratch_.resize(job_count_);
-  stage_timings_ = config.stage_timings;
   BuildStepGraphs();
-  for (JobGraph* graph : {&start_graph_, &middle_graph_, &end_graph_}) graph->set_timed(stage_timings_);
+  for (JobGraph* graph : {&start_graph_, &middle_graph_, &end_graph_}) graph->set_timed(config.stage_timings);
 }
 
 PhysicsSystem::~PhysicsSystem() = default;
@@ -204,7 +203,7 @@ Status PhysicsSystem::Step(float dt) {
   profile_.stage_count = 0;
   step_dt_ = dt;
   auto run = [&](JobGraph& graph) {
-    if (!stage_timings_) {
+    if (!graph.timed()) {
       graph.Run(*jobs_);
       return;
     }

@@ -151,7 +151,6 @@ class PhysicsSystem {
   JobGraph end_graph_;     // runs while the step holds every body lock
   JobGraph::StageId prepare_islands_stage_ = 0;
   std::uint32_t job_count_ = 1;
-  bool stage_timings_ = true;
   float step_dt_ = 0.0f;
   std::atomic<std::uint32_t> next_chunk_{0};  // work claimed by the current parallel stage
   std::vector<std::uint32_t> wake_keys_;

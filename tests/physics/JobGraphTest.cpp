@@ -4,7 +4,6 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
-#include <chrono>
 #include <thread>
 #include <vector>
 
@@ -141,24 +140,27 @@ TEST(JobGraph, UntimedGraphsRunEveryStageAndReportNoTimes) {
     JobGraph graph;
     graph.set_timed(timed);
     std::atomic<int> calls{0};
-    auto wait = [](void* context, std::uint32_t, std::uint32_t) {
-      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    auto count = [](void* context, std::uint32_t, std::uint32_t) {
       static_cast<std::atomic<int>*>(context)->fetch_add(1);
     };
-    const JobGraph::StageId first = graph.Add("first", wait, &calls);
-    const JobGraph::StageId second = graph.Add("second", wait, &calls, {first});
+    const JobGraph::StageId first = graph.Add("first", count, &calls);
+    const JobGraph::StageId second = graph.Add("second", count, &calls, {first});
     graph.SetWidth(second, 3);
     SerialJobSystem jobs;
     graph.Run(jobs);
     EXPECT_EQ(calls.load(), 4);
-    const StageTiming timing = graph.timing(second);
-    EXPECT_EQ(timing.width, 3u);
+    const StageTiming before = graph.timing(first), after = graph.timing(second);
+    EXPECT_EQ(after.width, 3u);
     if (timed) {
-      EXPECT_GE(timing.busy_ms, 3.0);  // three jobs that each slept a millisecond
-      EXPECT_GE(timing.start_ms, graph.timing(first).end_ms);
+      // Recorded, and in the order the stages ran (no speed is asserted).
+      EXPECT_LE(before.start_ms, before.end_ms);
+      EXPECT_LE(before.end_ms, after.start_ms);
+      EXPECT_LE(after.start_ms, after.end_ms);
+      EXPECT_GT(after.end_ms, 0.0);
     } else {
-      EXPECT_EQ(timing.busy_ms, 0.0);
-      EXPECT_EQ(timing.end_ms, 0.0);
+      EXPECT_EQ(before.end_ms, 0.0);
+      EXPECT_EQ(after.end_ms, 0.0);
+      EXPECT_EQ(after.busy_ms, 0.0);
     }
   }
 }
