@@ -269,9 +269,10 @@ Status ParseSettings(const Reader& reader, const Json& json, Scene& scene) {
   if (json.contains("position_iterations"))
     return reader.Fail("position_iterations",
                        "was replaced by substeps and relax_iterations (see assets/scenes/README.md)");
-  STRATA_TRY(reader.OnlyKeys(json, {"gravity", "dt", "substeps", "velocity_iterations", "relax_iterations",
-                                    "restitution_iterations", "contact_hertz", "contact_damping_ratio",
-                                    "contact_push_max_velocity", "gyroscopic_torque", "sleeping"}));
+  STRATA_TRY(reader.OnlyKeys(
+      json, {"gravity", "dt", "substeps", "velocity_iterations", "relax_iterations", "restitution_iterations",
+             "contact_hertz", "contact_damping_ratio", "contact_push_max_velocity", "direct_small_islands",
+             "gyroscopic_torque", "sleeping"}));
   PhysicsSettings& physics = scene.physics;
   STRATA_TRY(reader.Vector(json, "gravity", physics.gravity));
   STRATA_TRY(reader.Number(json, "dt", scene.dt));
@@ -283,6 +284,7 @@ Status ParseSettings(const Reader& reader, const Json& json, Scene& scene) {
   STRATA_TRY(reader.Number(json, "contact_hertz", physics.contact_hertz));
   STRATA_TRY(reader.Number(json, "contact_damping_ratio", physics.contact_damping_ratio));
   STRATA_TRY(reader.Number(json, "contact_push_max_velocity", physics.contact_push_max_velocity));
+  STRATA_TRY(reader.Boolean(json, "direct_small_islands", physics.direct_small_islands));
   STRATA_TRY(reader.Boolean(json, "gyroscopic_torque", physics.gyroscopic_torque));
   STRATA_TRY(reader.Boolean(json, "sleeping", physics.allow_sleeping));
   if (Status valid = physics.Validate(); !valid) return reader.Fail("", valid.message());

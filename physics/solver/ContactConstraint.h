@@ -85,6 +85,7 @@ struct SubstepContext {
   float max_push_velocity = 0.0f;
   float elapsed = 0.0f;  ///< seconds since the step began at the poses the pass sees (kinematic motion)
   float restitution_threshold = 0.0f;
+  float weight_per_impulse = 0.0f;  ///< 1 / (|g| h): the mass a per-substep impulse holds up, per kg*m/s
 };
 
 /// One side of a manifold as the constraint builder needs it.

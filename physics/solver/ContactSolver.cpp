@@ -155,6 +155,16 @@ void Restitution(SolverContact& c, SolverBody* bodies, const SubstepContext& con
 
 }  // namespace
 
+ContactMotion MotionSinceStepBegan(const SolverContact& c, const SolverBody* bodies, float elapsed) {
+  const ContactConstraint& constraint = *c.constraint;
+  Vec4 moved_a, moved_b;
+  ContactMotion motion;
+  SideMotion(bodies[constraint.body_a], constraint.dynamic_a, elapsed, moved_a, motion.turned_a);
+  SideMotion(bodies[constraint.body_b], constraint.dynamic_b, elapsed, moved_b, motion.turned_b);
+  motion.moved_apart = c.normal.dot(moved_b - moved_a);
+  return motion;
+}
+
 SolverContact* SetupSolverContact(BlockArena& arena, ContactConstraint& constraint, const SolverBody* bodies,
                                   const SubstepContext& context) {
   const int count = constraint.point_count;

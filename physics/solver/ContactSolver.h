@@ -14,12 +14,12 @@ namespace strata {
 
 /// Velocity rows of one contact point: [0] the normal, [1] and [2] the friction axes.
 struct alignas(16) SolverContactPoint {
-  Vec4 angular_a[3];   ///< r_a x axis
-  Vec4 angular_b[3];   ///< r_b x axis
-  Vec4 response_a[3];  ///< inverse inertia of A times angular_a
-  Vec4 response_b[3];  ///< inverse inertia of B times angular_b
-  float normal_mass;   ///< 1 / effective mass along the normal
-  float tangent_mass;  ///< one mass for both friction axes, so friction opposes sliding in every direction
+  Vec4 angular_a[3];      ///< r_a x axis
+  Vec4 angular_b[3];      ///< r_b x axis
+  Vec4 response_a[3];     ///< inverse inertia of A times angular_a
+  Vec4 response_b[3];     ///< inverse inertia of B times angular_b
+  float normal_mass;      ///< 1 / effective mass along the normal
+  float tangent_mass;     ///< one mass for both friction axes, so friction opposes sliding in every direction
   float separation;       ///< at the start of the step
   float normal_velocity;  ///< before the solve: what a bounce reverses
   float normal_impulse;   ///< accumulated
@@ -40,6 +40,21 @@ struct alignas(16) SolverContact {
   SolverContactPoint* points() { return reinterpret_cast<SolverContactPoint*>(this + 1); }
   const SolverContactPoint* points() const { return reinterpret_cast<const SolverContactPoint*>(this + 1); }
 };
+
+/// How a contact's bodies moved since the step began, as first-order separation tracking needs it.
+struct ContactMotion {
+  float moved_apart = 0.0f;  ///< along the normal
+  Vec4 turned_a = Vec4::Zero();
+  Vec4 turned_b = Vec4::Zero();
+};
+/// The motion of `contact`'s bodies `elapsed` seconds into the step: their deltas where the solver moves
+/// them, else their velocity times `elapsed` (kinematic bodies; the fixed body does not move).
+ContactMotion MotionSinceStepBegan(const SolverContact& contact, const SolverBody* bodies, float elapsed);
+/// A point's separation now: at the start of the step plus how the bodies moved and turned since.
+inline float SeparationNow(const SolverContactPoint& p, const ContactMotion& motion) {
+  return p.separation + motion.moved_apart + p.angular_b[0].dot(motion.turned_b) -
+         p.angular_a[0].dot(motion.turned_a);
+}
 
 /// Sets `constraint` up in `arena` against the bodies' current inverse masses and inertias.
 SolverContact* SetupSolverContact(BlockArena& arena, ContactConstraint& constraint, const SolverBody* bodies,

@@ -40,34 +40,42 @@ void IslandSolver::BeginStep(const Input& input, std::uint32_t job_count) {
   context_.max_push_velocity = settings.contact_push_max_velocity;
   context_.restitution_threshold = settings.min_velocity_for_restitution;
   context_.elapsed = 0.0f;
+  const float gravity = settings.gravity.norm();
+  context_.weight_per_impulse = gravity > 0.0f ? 1.0f / (gravity * substep_dt_) : 0.0f;
   const IslandBuilder& islands = *input.islands;
   const std::uint32_t island_count = islands.island_count();
   ordered_.resize(input.constraints.size());
   body_masks_.resize(input.solver_body_count);
-  // Groups: a large island alone, or consecutive small islands until they hold kGroupConstraints.
+  island_direct_.resize(island_count);
+  for (std::uint32_t island = 0; island < island_count; ++island)
+    island_direct_[island] = IsDirectIsland(island);
+  // Groups: a large island alone, or consecutive small islands of one kind (solved directly or not) until
+  // they hold kGroupConstraints.
   auto form_groups = [&](auto&& add) {
     std::uint32_t island = 0;
     while (island < island_count) {
       const std::uint32_t first = island;
       if (islands.constraint_count(island, island + 1) >= LargeIslandSplitter::kMinConstraintsToSplit) {
-        add(first, ++island);
+        add(first, ++island, false);
         continue;
       }
+      const bool direct = island_direct_[island] != 0;
       std::uint32_t total = 0;
       while (island < island_count && total < kGroupConstraints &&
-             islands.constraint_count(island, island + 1) < LargeIslandSplitter::kMinConstraintsToSplit)
+             islands.constraint_count(island, island + 1) < LargeIslandSplitter::kMinConstraintsToSplit &&
+             (island_direct_[island] != 0) == direct)
         total += islands.constraint_count(island, island + 1), ++island;
-      add(first, island);
+      add(first, island, direct);
     }
   };
   std::uint32_t count = 0;
-  form_groups([&](std::uint32_t, std::uint32_t) { ++count; });
+  form_groups([&](std::uint32_t, std::uint32_t, bool) { ++count; });
   if (count > group_capacity_) {
     group_capacity_ = count;
     groups_ = std::make_unique<Group[]>(group_capacity_);
   }
   group_count_ = 0;
-  form_groups([&](std::uint32_t first, std::uint32_t end) { AddGroup(first, end); });
+  form_groups([&](std::uint32_t first, std::uint32_t end, bool direct) { AddGroup(first, end, direct); });
   groups_finished_.store(0, std::memory_order_relaxed);
   if (jobs_.size() < job_count) {
     jobs_.resize(job_count);
@@ -85,10 +93,32 @@ void IslandSolver::BeginStep(const Input& input, std::uint32_t job_count) {
   }
 }
 
-void IslandSolver::AddGroup(std::uint32_t first_island, std::uint32_t end_island) {
+bool IslandSolver::IsDirectIsland(std::uint32_t island) const {
+  // Worth it where sequential passes fall short and affordable: bodies resting on each other (a single body
+  // on the ground gains nothing), few points per body (a body on many mesh triangles has far more rows than
+  // its six motions; they would make the solve cost the cube of that), and at rest (a landing pile changes
+  // which rows push every pass, and moving piles show no sag).
+  if (!input_.settings->direct_small_islands) return false;
+  const std::span<const std::uint32_t> bodies = input_.islands->bodies(island, island + 1);
+  if (bodies.size() < 2) return false;
+  std::uint32_t points = 0;
+  for (const std::uint32_t index : input_.islands->constraints(island))
+    points += input_.constraints[index]->point_count;
+  if (points == 0 || points > DirectContactSolver::kMaxPoints ||
+      points > kDirectMaxPointsPerBody * bodies.size())
+    return false;
+  constexpr float kRest2 = kDirectRestSpeed * kDirectRestSpeed;
+  return std::all_of(bodies.begin(), bodies.end(), [&](std::uint32_t body) {
+    const SolverBody& b = input_.bodies[body + 1];
+    return b.linear_velocity.squaredNorm() <= kRest2 && b.angular_velocity.squaredNorm() <= kRest2;
+  });
+}
+
+void IslandSolver::AddGroup(std::uint32_t first_island, std::uint32_t end_island, bool direct) {
   Group& group = groups_[group_count_++];
   group.first_island = first_island;
   group.end_island = end_island;
+  group.direct = direct;
   group.first_constraint = input_.islands->constraint_offset(first_island);
 }
 
@@ -105,7 +135,17 @@ void IslandSolver::PrepareGroup(std::uint32_t group_index, std::uint32_t job_ind
   JobState& job = jobs_[job_index];
   for (const std::uint32_t body : islands.bodies(group.first_island, group.end_island))
     body_masks_[body + 1] = 0;
-  group.splits = LargeIslandSplitter::Split(ordered, body_masks_.data(), job.split_of, job.scratch);
+  if (group.direct) {
+    // One sequential split in island order: each island's rows are solved together.
+    group.splits = IslandSplits{};
+    group.splits.split_count = constraint_count > 0 ? 1 : 0;
+    group.splits.begin[1] = constraint_count;
+    group.splits.last_is_sequential = constraint_count > 0;
+    group.direct_solvers =
+        job.arena.AllocateArray<DirectContactSolver*>(group.end_island - group.first_island);
+  } else {
+    group.splits = LargeIslandSplitter::Split(ordered, body_masks_.data(), job.split_of, job.scratch);
+  }
   const std::uint32_t splits = group.splits.split_count;
   const std::uint32_t parallel_splits = splits - (group.splits.last_is_sequential ? 1 : 0);
   // Bundles of consecutive constraints of a parallel split; set up later, in the setup round.
@@ -240,6 +280,7 @@ void IslandSolver::RunBatch(Group& split, const Round& round, std::uint32_t begi
       }
       for (std::uint32_t k = 0; k < split.sequential_count; ++k)
         split.sequential_contacts[k] = SetupSolverContact(job.arena, *split.sequential[k], bodies, context_);
+      if (split.direct) SetupDirectSolvers(split, job);
     }
     return;
   }
@@ -269,7 +310,13 @@ void IslandSolver::RunBatch(Group& split, const Round& round, std::uint32_t begi
   float deepest = 0.0f;
   float* const measure = last_solve_pass ? &deepest : nullptr;
   const bool use_bias = round.kind == RoundKind::kVelocity;
-  if (IsSequential(split, round.split)) {
+  if (split.direct && (round.kind == RoundKind::kVelocity || round.kind == RoundKind::kRelax)) {
+    for (std::uint32_t island = 0; island < split.end_island - split.first_island; ++island)
+      split.direct_solvers[island]->Solve(bodies, context, use_bias, measure);
+    if (last_pass)
+      for (std::uint32_t k = 0; k < split.sequential_count; ++k)
+        StoreContactImpulses(*split.sequential_contacts[k]);
+  } else if (IsSequential(split, round.split)) {
     const std::span<SolverContact*> contacts(split.sequential_contacts, split.sequential_count);
     for (SolverContact* c : contacts) {
       switch (round.kind) {
@@ -310,6 +357,18 @@ void IslandSolver::RunBatch(Group& split, const Round& round, std::uint32_t begi
     }
   }
   if (measure != nullptr) job.deepest = std::min(job.deepest, deepest);
+}
+
+void IslandSolver::SetupDirectSolvers(Group& group, JobState& job) {
+  const IslandBuilder& islands = *input_.islands;
+  std::uint32_t offset = 0;
+  for (std::uint32_t island = group.first_island; island < group.end_island; ++island) {
+    const std::uint32_t count = islands.constraint_count(island, island + 1);
+    group.direct_solvers[island - group.first_island] = DirectContactSolver::Create(
+        job.arena, std::span<SolverContact* const>(group.sequential_contacts + offset, count), input_.bodies,
+        context_.weight_per_impulse);
+    offset += count;
+  }
 }
 
 IslandSolver::BatchResult IslandSolver::TryRunBatch(Group& group, JobState& job) {
@@ -385,6 +444,10 @@ float IslandSolver::deepest_penetration() const {
   float deepest = 0.0f;
   for (const JobState& job : jobs_) deepest = std::min(deepest, job.deepest);
   return deepest;
+}
+
+std::uint32_t IslandSolver::direct_island_count() const {
+  return static_cast<std::uint32_t>(std::count(island_direct_.begin(), island_direct_.end(), 1));
 }
 
 std::uint32_t IslandSolver::merged_group_count() const {

@@ -22,6 +22,7 @@
 #include "physics/solver/ContactBundle.h"
 #include "physics/solver/ContactConstraint.h"
 #include "physics/solver/ContactSolver.h"
+#include "physics/solver/DirectContactSolver.h"
 #include "physics/solver/IslandBuilder.h"
 #include "physics/solver/LargeIslandSplitter.h"
 
@@ -32,6 +33,11 @@ class IslandSolver {
  public:
   /// A run of small islands closes once it has this many constraints.
   static constexpr std::uint32_t kGroupConstraints = LargeIslandSplitter::kMinConstraintsToSplit;
+  /// Small islands are solved by a DirectContactSolver (with PhysicsSettings::direct_small_islands) when
+  /// they have at least two bodies, at most this many contact points per body...
+  static constexpr std::uint32_t kDirectMaxPointsPerBody = 8;
+  /// ...and every body moves and turns slower than this (m/s, rad/s) when the step begins.
+  static constexpr float kDirectRestSpeed = 1.0f;
 
   /// What a step's solve needs; the arrays stay owned by the caller.
   struct Input {
@@ -63,6 +69,8 @@ class IslandSolver {
   float deepest_penetration() const;
   /// Groups that hold more than one island.
   std::uint32_t merged_group_count() const;
+  /// Islands solved by a DirectContactSolver this step.
+  std::uint32_t direct_island_count() const;
   /// Splits of the most split group (0 if none), for profiles.
   std::uint32_t max_split_count() const;
 
@@ -85,6 +93,8 @@ class IslandSolver {
     ContactConstraint* const* sequential = nullptr;  // the sequential split's constraints
     SolverContact** sequential_contacts = nullptr;   // ...as set up in the setup round
     std::uint32_t sequential_count = 0;
+    bool direct = false;  // small islands only, each solved by its own DirectContactSolver
+    DirectContactSolver** direct_solvers = nullptr;  // one per island, set up in the setup round
     bool has_restitution = false;
     std::uint32_t round_count = 0;
     std::atomic<std::uint64_t> status{0};  // round << 32 | next unclaimed item
@@ -105,7 +115,9 @@ class IslandSolver {
   bool IsSequential(const Group& group, std::uint32_t s) const {
     return group.splits.last_is_sequential && s + 1 == group.splits.split_count;
   }
-  void AddGroup(std::uint32_t first_island, std::uint32_t end_island);
+  void AddGroup(std::uint32_t first_island, std::uint32_t end_island, bool direct);
+  bool IsDirectIsland(std::uint32_t island) const;
+  void SetupDirectSolvers(Group& group, JobState& job);
   void Integrate(std::uint32_t island_body) const;  // positions and deltas of a dynamic body
   void AddForces(std::uint32_t island_body) const;  // a substep's share of gravity and forces
   // Whether a velocity or relax pass is the step's last (it measures penetration).
@@ -117,6 +129,7 @@ class IslandSolver {
   float substep_dt_ = 0.0f;
   std::vector<ContactConstraint*> ordered_;  // every island's constraints, island after island
   std::vector<std::uint32_t> body_masks_;    // LargeIslandSplitter scratch, by solver body
+  std::vector<std::uint8_t> island_direct_;  // by island: solved by a DirectContactSolver
   std::unique_ptr<Group[]> groups_;
   std::uint32_t group_capacity_ = 0;
   std::uint32_t group_count_ = 0;

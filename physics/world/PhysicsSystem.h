@@ -53,6 +53,7 @@ struct StepStats {
   std::size_t solve_groups =
       0;                       ///< groups the islands were solved in (a large island, or small ones together)
   std::size_t max_splits = 0;  ///< splits of the most split group
+  std::size_t direct_islands = 0;  ///< islands solved exactly (DirectContactSolver)
   std::size_t bodies_put_to_sleep = 0;
   std::size_t island_links = 0;             ///< IslandBuilder::Link calls
   std::uint64_t island_link_hops = 0;       ///< links they followed

@@ -40,9 +40,10 @@ struct AccuracySetting {
   std::string name;
   float dt = 1.0f / 60.0f;
   int substeps = 4;
-  int velocity_iterations = 1;  ///< per substep
-  int relax_iterations = 1;     ///< per substep
-  bool linear_cast = true;      ///< continuous collision for dynamic bodies
+  int velocity_iterations = 1;       ///< per substep
+  int relax_iterations = 1;          ///< per substep
+  bool linear_cast = true;           ///< continuous collision for dynamic bodies
+  bool direct_small_islands = true;  ///< Strata only: PhysicsSettings::direct_small_islands
 };
 
 struct AccuracyBodyState {

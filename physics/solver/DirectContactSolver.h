@@ -1,0 +1,94 @@
+// DirectContactSolver: one small island's contact rows (per point: non-penetration and two friction axes)
+// solved together, exactly, instead of one row at a time. Gauss-Seidel passes move momentum through a stack
+// one contact per pass, and between a heavy and a light body a thousandth at a time, so a tall tower sags and
+// buckles and a 1000 kg box squeezes out the 1 kg box under it; solving the rows' coupling matrix (a banded
+// Cholesky factor of the rows that are not at a limit, those found by a few active-set rounds) lands where
+// unlimited passes would. Because the solve is exact, each contact's spring can be as stiff as the load it
+// carries needs (see Create). One island per solver; IslandSolver runs a solver on one thread at a time.
+#pragma once
+
+#include <cstdint>
+#include <span>
+
+#include "physics/core/BlockArena.h"
+#include "physics/solver/ContactSolver.h"
+
+namespace strata {
+
+/// The contact rows of one island and how they couple, for one step.
+class DirectContactSolver {
+ public:
+  /// Islands with more contact points than this are left to the sequential passes.
+  static constexpr std::uint32_t kMaxPoints = 128;
+
+  /// Lays out the rows of `contacts` (set up for this step, warm impulses in place) in `arena`, ordered so
+  /// that the coupling matrix is banded (reverse Cuthill-McKee over contacts that share a body), and
+  /// computes it. `weight_per_impulse` (1 / (|g| substep)) turns a contact's warm impulse into the mass it
+  /// carries; its spring is scaled to that mass, so every contact of a stack sags about as much as one box
+  /// on the floor (g / omega^2). nullptr if there are no points or more than kMaxPoints.
+  static DirectContactSolver* Create(BlockArena& arena, std::span<SolverContact* const> contacts,
+                                     const SolverBody* bodies, float weight_per_impulse);
+
+  /// One pass (replacing SolveContactVelocity over the island's contacts): the impulses with which, all
+  /// together, no point sinks (softly with `use_bias`, rigidly in relax passes), none pulls, and friction
+  /// holds each point still within its limit. `deepest` as in SolveContactVelocity.
+  void Solve(SolverBody* bodies, const SubstepContext& context, bool use_bias, float* deepest);
+
+ private:
+  struct Row {
+    SolverContact* contact;
+    SolverContactPoint* point;
+    std::uint32_t body_a;  // 0 unless the solver moves that side
+    std::uint32_t body_b;
+    std::uint8_t axis;  // 0: the normal, 1 and 2: the friction axes
+    float load;         // the contact's spring scale: carried mass over its heavier body's mass, >= 1
+  };
+  // A Cholesky factor of the free rows' block of (coupling + softness) in skyline storage, kept while the
+  // same rows are free with the same softness (velocity and relax passes each keep one).
+  struct Factor {
+    double* lower = nullptr;         // packed row r's entries from column first[r] to r at start[r]
+    std::uint32_t* start = nullptr;  // packed rows + 1
+    std::uint32_t* rows = nullptr;   // packed row -> row
+    std::uint32_t* first = nullptr;  // first packed column of each packed row's envelope
+    std::uint8_t* free = nullptr;    // what it was made of
+    float* softness = nullptr;
+    std::uint32_t size = 0;
+    bool valid = false;
+  };
+
+  static float RowCoupling(const Row& i, const Row& j, const SolverBody* bodies);
+  void AllocateFactor(BlockArena& arena, Factor& factor) const;
+  bool Refactor(Factor& factor);
+  void SolveWith(const Factor& factor, const double* right, double* out) const;
+  double Residual(std::uint32_t row, const double* impulse) const;
+  // One round: move the free rows towards their minimum, stopping at the first limit hit (that row is then
+  // held), or, at the minimum, free the held rows that would move off their limits. False when done.
+  bool FreeRowsStep(Factor& factor);
+
+  std::span<SolverContact* const> contacts_;
+  Row* rows_ = nullptr;
+  std::uint32_t count_ = 0;
+  // The coupling matrix by row, non-zero entries only (a row touches the rows of contacts that share a body
+  // with its own): row i's entries are [neighbour_begin_[i], neighbour_begin_[i + 1]), coupling_[k] the
+  // velocity change of row i per unit impulse on row neighbours_[k].
+  std::uint32_t* neighbour_begin_ = nullptr;  // count + 1
+  std::uint32_t* neighbours_ = nullptr;
+  float* coupling_ = nullptr;
+  float* diagonal_ = nullptr;  // each row's own entry: its inverse effective mass
+  Factor factors_[2];          // [use_bias]
+  // Scratch of one pass.
+  double* offset_ = nullptr;   // q: residual = (coupling + softness) * impulse + q
+  double* right_ = nullptr;    // right-hand side of the free rows
+  double* impulse_ = nullptr;  // the pass's solution
+  double* bound_ = nullptr;    // friction rows' limit this pass (normal rows: 0)
+  double* lower_ = nullptr;
+  double* upper_ = nullptr;
+  double* target_ = nullptr;  // the free rows' equality-constrained minimum
+  double* scratch_ = nullptr;
+  double* dense_row_ = nullptr;  // zero between uses
+  float* softness_ = nullptr;
+  std::uint8_t* free_ = nullptr;
+  std::uint32_t* packed_of_ = nullptr;
+};
+
+}  // namespace strata

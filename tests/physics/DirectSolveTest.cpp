@@ -1,0 +1,140 @@
+// The exact solve of small resting islands (DirectContactSolver): which islands take it, that stacks and
+// heavy-on-light pairs hold with it where the sequential passes let them sag or slide, that it keeps friction
+// (a box held on a slope, a box sliding down one at the closed-form rate), and that it is deterministic.
+#include <cmath>
+
+#include "TestWorld.h"
+
+namespace strata::test {
+namespace {
+
+constexpr int kSecond = 60;
+
+struct Stack {
+  std::vector<BodyID> boxes;  // bottom to top
+  Vec3 top_start;
+};
+
+// `count` unit boxes of `base_mass` kg, the top one `top_mass` kg, on a static floor.
+Stack AddStack(PhysicsSystem& world, int count, float base_mass = 1.0f, float top_mass = 1.0f) {
+  Add(world, Static(Box(20, 1, 20), Vec3(0, -1, 0)));
+  Stack stack;
+  for (int i = 0; i < count; ++i) {
+    BodyCreationSettings box = Dynamic(Box(0.5f, 0.5f, 0.5f), Vec3(0, 0.5f + static_cast<float>(i), 0));
+    box.mass = i + 1 == count ? top_mass : base_mass;
+    stack.boxes.push_back(Add(world, box));
+  }
+  stack.top_start = Position(world, stack.boxes.back());
+  return stack;
+}
+
+PhysicsSettings Awake(bool direct) {
+  PhysicsSettings settings;
+  settings.allow_sleeping = false;  // the tests watch motion at rest
+  settings.direct_small_islands = direct;
+  return settings;
+}
+
+TEST(DirectSolve, RestingStacksAreSolvedDirectlyLoneBodiesAndTheSwitchedOffWorldAreNot) {
+  for (const bool direct : {true, false}) {
+    auto world = MakeWorld(Awake(direct));
+    AddStack(*world, 3);
+    Add(*world, Dynamic(Box(0.5f, 0.5f, 0.5f), Vec3(5, 0.5f, 0)));  // alone on the floor
+    StepFor(*world, 30);
+    EXPECT_EQ(world->last_step_stats().islands, 2u);
+    EXPECT_EQ(world->last_step_stats().direct_islands, direct ? 1u : 0u);
+  }
+}
+
+TEST(DirectSolve, MovingPilesAreLeftToTheSequentialPasses) {
+  PhysicsSettings settings = Awake(true);
+  settings.gravity = Vec3::Zero();
+  auto world = MakeWorld(settings);
+  // Two boxes in contact drifting together at 3 m/s: an island of two bodies, but not at rest.
+  for (const float x : {0.0f, 1.0f}) {
+    BodyCreationSettings box = Dynamic(Box(0.5f, 0.5f, 0.5f), Vec3(x, 0, 0));
+    box.linear_velocity = Vec3(3, 0, 0);
+    box.linear_damping = 0.0f;
+    Add(*world, box);
+  }
+  StepFor(*world, 3);
+  EXPECT_EQ(world->last_step_stats().islands, 1u);
+  EXPECT_EQ(world->last_step_stats().direct_islands, 0u);
+}
+
+TEST(DirectSolve, ThirtyBoxTowerStandsWithinFourCentimetresAtSeveralStepsAndSubsteps) {
+  for (const float dt : {1.0f / 30.0f, 1.0f / 60.0f})
+    for (const int substeps : {2, 4}) {
+      PhysicsSettings settings = Awake(true);
+      settings.substeps = substeps;
+      auto world = MakeWorld(settings);
+      const Stack stack = AddStack(*world, 30);
+      StepFor(*world, static_cast<int>(5.0f / dt), dt);
+      const float moved = (Position(*world, stack.boxes.back()) - stack.top_start).norm();
+      EXPECT_LT(moved, 0.04f) << "dt " << dt << " substeps " << substeps;
+      EXPECT_EQ(world->last_step_stats().direct_islands, 1u);
+    }
+}
+
+TEST(DirectSolve, HeavyBoxOnALightOneSinksLessThanAMillimetreUpToAThousandToOne) {
+  for (const float ratio : {10.0f, 100.0f, 1000.0f})
+    for (const int substeps : {1, 4}) {
+      PhysicsSettings settings = Awake(true);
+      settings.substeps = substeps;
+      auto world = MakeWorld(settings);
+      const Stack stack = AddStack(*world, 2, 1.0f, ratio);
+      StepFor(*world, 5 * kSecond);
+      const Vec3 heavy = Position(*world, stack.boxes.back());
+      EXPECT_LT((heavy - stack.top_start).norm(), substeps == 1 ? 3e-3f : 1e-3f)
+          << "1:" << ratio << " substeps " << substeps;
+      EXPECT_GT(Position(*world, stack.boxes.front()).y(), 0.49f);  // the light box is not squeezed out
+    }
+}
+
+TEST(DirectSolve, FrictionHoldsABoxOnASlopeAndLetsOneSlideAtTheClosedFormRate) {
+  // Gravity tilted by 20 degrees makes the floor a slope. A heavy slab holds fast on it (friction 1); a small
+  // box rests on the slab: an island of two resting bodies. Pair friction is sqrt(a * b), so the small box's
+  // own coefficient is the square of the pair's.
+  const float angle = 20.0f * kPi / 180.0f;
+  for (const float friction : {0.8f, 0.2f}) {
+    PhysicsSettings settings = Awake(true);
+    settings.gravity = 9.81f * Vec3(std::sin(angle), -std::cos(angle), 0);
+    auto world = MakeWorld(settings);
+    BodyCreationSettings floor = Static(Box(20, 1, 20), Vec3(0, -1, 0));
+    floor.friction = 1.0f;
+    Add(*world, floor);
+    BodyCreationSettings slab = Dynamic(Box(4, 0.5f, 2), Vec3(0, 0.5f, 0));
+    slab.mass = 1000.0f;
+    slab.friction = 1.0f;
+    Add(*world, slab);
+    BodyCreationSettings box = Dynamic(Box(0.25f, 0.25f, 0.25f), Vec3(-2, 1.25f, 0));
+    box.friction = friction * friction;
+    box.linear_damping = 0.0f;
+    const BodyID id = Add(*world, box);
+    const Vec3 start = Position(*world, id);
+    StepFor(*world, kSecond / 2);  // slow enough (< 1 m/s) to stay with the direct solve
+    EXPECT_EQ(world->last_step_stats().direct_islands, 1u);
+    const float travelled = (Position(*world, id) - start).norm();
+    if (friction > std::tan(angle)) {
+      EXPECT_LT(travelled, 0.005f);
+    } else {
+      // Down the slope at g (sin a - mu cos a) for half a second, from rest.
+      const float expected = 0.5f * 9.81f * (std::sin(angle) - friction * std::cos(angle)) * 0.25f;
+      EXPECT_NEAR(travelled, expected, 0.05f * expected);
+    }
+  }
+}
+
+TEST(DirectSolve, SameInputsGiveTheSameTowerToTheBit) {
+  std::vector<Vec3> tops;
+  for (int run = 0; run < 2; ++run) {
+    auto world = MakeWorld(Awake(true));
+    const Stack stack = AddStack(*world, 12, 1.0f, 50.0f);
+    StepFor(*world, 2 * kSecond);
+    tops.push_back(Position(*world, stack.boxes.back()));
+  }
+  EXPECT_EQ(tops[0], tops[1]);
+}
+
+}  // namespace
+}  // namespace strata::test
