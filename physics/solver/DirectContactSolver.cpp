@@ -52,8 +52,10 @@ void BandedOrder(std::uint32_t count, const std::uint8_t* adjacent, std::uint32_
       const std::uint32_t begin = filled;
       for (std::uint32_t j = 0; j < count; ++j)
         if (!placed[j] && adjacent[from * count + j]) placed[j] = 1, order[filled++] = j;
-      std::stable_sort(order + begin, order + filled,
-                       [&](std::uint32_t x, std::uint32_t y) { return degree[x] < degree[y]; });
+      // Insertion sort by degree, stable (and no buffer to allocate, unlike std::stable_sort).
+      for (std::uint32_t k = begin + 1; k < filled; ++k)
+        for (std::uint32_t m = k; m > begin && degree[order[m]] < degree[order[m - 1]]; --m)
+          std::swap(order[m], order[m - 1]);
     }
   }
   std::reverse(order, order + count);
