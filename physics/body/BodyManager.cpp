@@ -1,5 +1,6 @@
 #include "physics/body/BodyManager.h"
 
+#include <algorithm>
 #include <chrono>
 #include <string>
 #include <thread>
@@ -83,16 +84,20 @@ Status BodyManager::DestroyBody(BodyID id) {
 }
 
 void BodyManager::LockAll() {
+  // Only the mutexes of slots handed out so far guard anything: a small world takes as many as it has
+  // bodies. A slot handed out after this point is outside the world until a writer adds it, and writers
+  // wait for the step, so nothing the step touches is left unlocked.
+  locked_count_ = std::min(mutex_count(), std::max(slot_limit(), 1u));
   // Timed like any other contended acquisition, so tools can see a step waiting for readers.
-  for (SpinningSharedMutex& mutex : mutexes_) {
-    std::unique_lock lock(mutex, std::defer_lock);
+  for (std::uint32_t i = 0; i < locked_count_; ++i) {
+    std::unique_lock lock(mutexes_[i], std::defer_lock);
     LockTimingWait(lock);
     lock.release();
   }
 }
 
 void BodyManager::UnlockAll() {
-  for (SpinningSharedMutex& mutex : mutexes_) mutex.unlock();
+  for (std::uint32_t i = 0; i < locked_count_; ++i) mutexes_[i].unlock();
 }
 
 void BodyManager::BeginStep() {

@@ -41,7 +41,8 @@ class BodyManager {
   Body& BodyAt(std::uint32_t index) { return bodies_[index]; }
   const Body& BodyAt(std::uint32_t index) const { return bodies_[index]; }
 
-  /// Takes every body lock for writing (in index order, so it cannot deadlock with itself).
+  /// Takes every body lock that guards a slot handed out so far for writing (in index order, so it cannot
+  /// deadlock with itself); one thread at a time (the step, or a settings change that excludes it).
   void LockAll();
   void UnlockAll();
 
@@ -65,6 +66,7 @@ class BodyManager {
   std::atomic<bool> stepping_{false};
   std::atomic<std::uint32_t> waiting_writers_{0};  // writers blocked by the step that is ending
   std::atomic<std::uint32_t> slot_limit_{0};
+  std::uint32_t locked_count_ = 0;  // mutexes held by LockAll
 };
 
 /// Time this thread has spent blocked on body mutexes (ns) since it started. Only contended acquisitions are

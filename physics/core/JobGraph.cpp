@@ -1,5 +1,6 @@
 #include "physics/core/JobGraph.h"
 
+#include <algorithm>
 #include <cassert>
 #include <chrono>
 
@@ -70,6 +71,10 @@ void JobGraph::Run(JobSystem& jobs) {
     stage.end_ns.store(0, std::memory_order_relaxed);
     stage.busy_ns.store(0, std::memory_order_relaxed);
   }
+  if (jobs.ThreadCount() <= 1) {
+    RunInOrder();
+    return;
+  }
   jobs.Run(
       [](void* graph, JobQueue& queue) {
         auto& self = *static_cast<JobGraph*>(graph);
@@ -79,6 +84,25 @@ void JobGraph::Run(JobSystem& jobs) {
       },
       this);
   queue_ = nullptr;
+}
+
+void JobGraph::RunInOrder() {
+  // Stages were added after the stages they wait for, so index order is a valid order; with one thread a
+  // queue would only add a push and a pop per job (a small world's step is mostly such overhead).
+  for (Stage& stage : stages_) {
+    const std::uint32_t width = std::min(stage.width.load(std::memory_order_relaxed), kJobMask + 1);
+    stage.last_width = width;
+    if (!timed_) {
+      for (std::uint32_t job = 0; job < width; ++job) stage.function(stage.context, job, width);
+      continue;
+    }
+    const std::int64_t start = NowNs();
+    for (std::uint32_t job = 0; job < width; ++job) stage.function(stage.context, job, width);
+    const std::int64_t end = NowNs();
+    stage.start_ns.store(start, std::memory_order_relaxed);
+    stage.end_ns.store(end, std::memory_order_relaxed);
+    stage.busy_ns.store(end - start, std::memory_order_relaxed);
+  }
 }
 
 StageTiming JobGraph::timing(StageId id) const {

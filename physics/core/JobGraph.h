@@ -43,7 +43,8 @@ class JobGraph {
     stages_[stage].width.store(width == 0 ? 1 : width, std::memory_order_relaxed);
   }
 
-  /// Runs every stage once, each after the stages it waits for; returns when all are done.
+  /// Runs every stage once, each after the stages it waits for; returns when all are done. With a one-thread
+  /// job system the stages run in the order they were added, on the calling thread.
   void Run(JobSystem& jobs);
 
   std::size_t stage_count() const { return stages_.size(); }
@@ -82,6 +83,7 @@ class JobGraph {
   };
 
   static void RunJob(void* graph, std::uint32_t packed);
+  void RunInOrder();
   void Release(StageId stage);
   std::int64_t NowNs() const;
 

@@ -133,19 +133,21 @@ void IslandSolver::PrepareGroup(std::uint32_t group_index, std::uint32_t job_ind
     for (const std::uint32_t index : islands.constraints(island)) ordered[k++] = input_.constraints[index];
 
   JobState& job = jobs_[job_index];
-  for (const std::uint32_t body : islands.bodies(group.first_island, group.end_island))
-    body_masks_[body + 1] = 0;
-  if (group.direct) {
-    // One sequential split in island order: each island's rows are solved together.
+  // One sequential split in island order: for a direct group, whose islands' rows are solved together, and
+  // for a group too small for any parallel split (the splitter would merge each into the sequential one).
+  if (group.direct || constraint_count < LargeIslandSplitter::kMinSplitSize) {
     group.splits = IslandSplits{};
     group.splits.split_count = constraint_count > 0 ? 1 : 0;
     group.splits.begin[1] = constraint_count;
     group.splits.last_is_sequential = constraint_count > 0;
-    group.direct_solvers =
-        job.arena.AllocateArray<DirectContactSolver*>(group.end_island - group.first_island);
   } else {
+    for (const std::uint32_t body : islands.bodies(group.first_island, group.end_island))
+      body_masks_[body + 1] = 0;
     group.splits = LargeIslandSplitter::Split(ordered, body_masks_.data(), job.split_of, job.scratch);
   }
+  if (group.direct)
+    group.direct_solvers =
+        job.arena.AllocateArray<DirectContactSolver*>(group.end_island - group.first_island);
   const std::uint32_t splits = group.splits.split_count;
   const std::uint32_t parallel_splits = splits - (group.splits.last_is_sequential ? 1 : 0);
   // Bundles of consecutive constraints of a parallel split; set up later, in the setup round.

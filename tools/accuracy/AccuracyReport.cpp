@@ -93,31 +93,46 @@ std::string Format(double value) {
 
 Result<std::vector<AccuracyRecord>> RunAccuracySuite(const std::vector<AccuracyCase>& cases,
                                                      const std::vector<AccuracySetting>& settings,
-                                                     const std::vector<std::string>& engines) {
+                                                     const std::vector<std::string>& engines,
+                                                     int timing_runs) {
   std::vector<AccuracyRecord> records;
   const AccuracySetting defaults = DefaultAccuracySetting();
-  for (const AccuracyCase& c : cases)
-    for (const std::string& engine_name : engines)
-      for (const AccuracySetting& setting : settings) {
-        std::unique_ptr<AccuracyEngine> engine = MakeEngine(engine_name);
-        if (!engine)
-          return MakeError(ErrorCode::kInvalidArgument, "no engine '" + engine_name + "' in this build");
-        Result<CaseOutcome> outcome = c.run(*engine, setting);
-        if (!outcome)
-          return MakeError(outcome.error().code, c.name + " at " + setting.name + " on " + engine_name +
-                                                     ": " + outcome.error().message);
-        AccuracyRecord record;
-        record.case_name = c.name;
-        record.setting = setting.name;
-        record.engine = engine_name;
-        record.error = outcome->error;
-        record.tolerance = c.tolerance;
-        record.wall_ms = engine->step_ms();
-        record.finite = outcome->finite;
-        record.passed = outcome->finite && outcome->error <= c.tolerance;
-        record.is_default = SameSetting(setting, defaults);
-        records.push_back(record);
-      }
+  // Whole passes over the suite, each run's time the least of its passes: a burst of noise on a shared
+  // machine then lands on one pass of a few runs, not on one engine's whole front.
+  for (int pass = 0; pass < std::max(timing_runs, 1); ++pass) {
+    std::size_t next = 0;
+    for (const AccuracyCase& c : cases)
+      for (const std::string& engine_name : engines)
+        for (const AccuracySetting& setting : settings) {
+          std::unique_ptr<AccuracyEngine> engine = MakeEngine(engine_name);
+          if (!engine)
+            return MakeError(ErrorCode::kInvalidArgument, "no engine '" + engine_name + "' in this build");
+          Result<CaseOutcome> outcome = c.run(*engine, setting);
+          if (!outcome)
+            return MakeError(outcome.error().code, c.name + " at " + setting.name + " on " + engine_name +
+                                                       ": " + outcome.error().message);
+          if (pass > 0) {
+            AccuracyRecord& record = records[next++];
+            record.wall_ms = std::min(record.wall_ms, engine->step_ms());
+            // Both engines are deterministic; a run that is not shows as its worst error.
+            if (!(outcome->error <= record.error)) record.error = outcome->error;
+            record.finite = record.finite && outcome->finite;
+            record.passed = record.finite && record.error <= c.tolerance;
+            continue;
+          }
+          AccuracyRecord record;
+          record.case_name = c.name;
+          record.setting = setting.name;
+          record.engine = engine_name;
+          record.error = outcome->error;
+          record.tolerance = c.tolerance;
+          record.wall_ms = engine->step_ms();
+          record.finite = outcome->finite;
+          record.passed = outcome->finite && outcome->error <= c.tolerance;
+          record.is_default = SameSetting(setting, defaults);
+          records.push_back(record);
+        }
+  }
   return records;
 }
 

@@ -18,16 +18,18 @@ struct AccuracyRecord {
   std::string engine;
   double error = 0.0;
   double tolerance = 0.0;
-  double wall_ms = 0.0;  ///< stepping time only
+  double wall_ms = 0.0;  ///< stepping time only, the least over the timing runs
   bool finite = true;
   bool passed = false;
   bool is_default = false;  ///< the world's default setting
 };
 
-/// Runs every case at every setting on every engine (engines made fresh per run by `make_engine`).
+/// Runs every case at every setting on every engine (a fresh engine per run), the whole grid `timing_runs`
+/// times; each run's time is its least.
 Result<std::vector<AccuracyRecord>> RunAccuracySuite(const std::vector<AccuracyCase>& cases,
                                                      const std::vector<AccuracySetting>& settings,
-                                                     const std::vector<std::string>& engines);
+                                                     const std::vector<std::string>& engines,
+                                                     int timing_runs = 1);
 
 /// Per case and engine: the runs no other run of the same engine beats on both error and time.
 std::vector<AccuracyRecord> ParetoFront(const std::vector<AccuracyRecord>& records,

@@ -16,6 +16,7 @@ struct AccuracyOptions {
   std::vector<std::string> cases;  // empty = all
   bool quick = false;
   bool no_bullet = false;
+  int timing_runs = 3;
 };
 
 int RunAccuracy(const AccuracyOptions& options) {
@@ -44,7 +45,8 @@ int RunAccuracy(const AccuracyOptions& options) {
     std::cerr << "strata accuracy: cannot use output directory " << options.out_dir << "\n";
     return 2;
   }
-  Result<std::vector<AccuracyRecord>> records = RunAccuracySuite(cases, settings, engines);
+  Result<std::vector<AccuracyRecord>> records =
+      RunAccuracySuite(cases, settings, engines, options.timing_runs);
   if (!records) {
     std::cerr << "strata accuracy: " << records.error().message << "\n";
     return 1;
@@ -81,6 +83,10 @@ std::function<int()> AddAccuracyCommand(CLI::App& app) {
   command->add_option("--case", options->cases, "Run only these cases (repeatable)");
   command->add_flag("--quick", options->quick, "Only the default setting");
   command->add_flag("--no-bullet", options->no_bullet, "Strata only");
+  command
+      ->add_option("--timing-runs", options->timing_runs,
+                   "Passes over the grid; each run's time is the least of its passes")
+      ->check(CLI::Range(1, 20));
   return [options] { return RunAccuracy(*options); };
 }
 
