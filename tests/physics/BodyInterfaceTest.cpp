@@ -207,5 +207,31 @@ TEST(BodyInterfaceThreadsStress, ConcurrentCreateMoveQueryAndStepLong) {
   ConcurrentCreateMoveQueryAndStep(8, 3000);
 }
 
+// The step's LockAll takes the mutexes that guard slots handed out so far: a small world's step takes as
+// many as it has bodies, and once the slots wrap around the mutexes every one.
+TEST(BodyManagerLocks, LockAllHoldsExactlyTheMutexesOfSlotsInUse) {
+  BodyManager manager(64, 8);
+  auto held = [&](std::uint32_t mutex) {
+    bool taken = false;
+    std::thread reader([&] {
+      SpinningSharedMutex& m = manager.MutexFor(mutex);
+      taken = !m.try_lock_shared();
+      if (!taken) m.unlock_shared();
+    });
+    reader.join();
+    return taken;
+  };
+  for (int i = 0; i < 3; ++i) ASSERT_TRUE(manager.CreateBody(Dynamic(Sphere(1), Vec3(0, 0, 0))).ok());
+  manager.LockAll();
+  for (std::uint32_t m = 0; m < 8; ++m) EXPECT_EQ(held(m), m < 3) << "mutex " << m;
+  manager.UnlockAll();
+  for (std::uint32_t m = 0; m < 8; ++m) EXPECT_FALSE(held(m)) << "mutex " << m;
+  for (int i = 0; i < 7; ++i) ASSERT_TRUE(manager.CreateBody(Dynamic(Sphere(1), Vec3(0, 0, 0))).ok());
+  manager.LockAll();
+  for (std::uint32_t m = 0; m < 8; ++m) EXPECT_TRUE(held(m)) << "mutex " << m;
+  manager.UnlockAll();
+  for (std::uint32_t m = 0; m < 8; ++m) EXPECT_FALSE(held(m)) << "mutex " << m;
+}
+
 }  // namespace
 }  // namespace strata::test
