@@ -23,19 +23,47 @@ bool HasGyroscopicTorque(const Mat3& inertia) {
 
 namespace {
 // One implicit midpoint step of the body-frame spin. The unknown is the midpoint spin m = (w0 + w1) / 2 with
-// f(m) = 2 I (m - w0) + h m x (I m) = 0, solved by Newton from m = w0 (converges fast while h |w| is small;
-// the caller keeps it below kMaxTurnPerStep).
+// f(m) = 2 I (m - w0) + h m x (I m) = 0, solved by Newton (converges fast while h |w| is small; the caller
+// keeps it below kMaxTurnPerStep). It starts from the explicit midpoint, already within O(h^2), which saves
+// about one iteration.
 Vec3 MidpointStep(const Mat3& inertia, const Vec3& start, float h) {
-  Vec3 middle = start;
+  const Vec3 start_momentum = inertia * start;
+  Vec3 middle = start - (0.5f * h) * (inertia.inverse() * start.cross(start_momentum));
   for (int iteration = 0; iteration < kMaxNewtonIterations; ++iteration) {
     const Vec3 momentum = inertia * middle;
-    const Vec3 residual = 2.0f * inertia * (middle - start) + h * middle.cross(momentum);
+    const Vec3 residual = 2.0f * (momentum - start_momentum) + h * middle.cross(momentum);
     const Mat3 jacobian = 2.0f * inertia + h * (CrossMatrix(middle) * inertia - CrossMatrix(momentum));
     const Vec3 change = jacobian.inverse() * residual;  // closed-form 3x3 inverse
     middle -= change;
     if (change.squaredNorm() <= 1e-12f * start.squaredNorm()) break;
   }
   return 2.0f * middle - start;
+}
+
+// The same step for a diagonal inertia (every primitive shape in its principal frame), with the products
+// by the inertia written out: about a third fewer operations.
+Vec3 DiagonalMidpointStep(const Vec3& inertia, const Vec3& start, float h) {
+  const Vec3 start_momentum = inertia.cwiseProduct(start);
+  Vec3 middle = start - (0.5f * h) * start.cross(start_momentum).cwiseQuotient(inertia);
+  for (int iteration = 0; iteration < kMaxNewtonIterations; ++iteration) {
+    const Vec3 m = middle;
+    const Vec3 p = inertia.cwiseProduct(m);
+    const Vec3 residual = 2.0f * (p - start_momentum) + h * m.cross(p);
+    // 2 I + h ([m]x I - [I m]x), entry by entry.
+    Mat3 jacobian;
+    jacobian << 2.0f * inertia.x(), h * (p.z() - m.z() * inertia.y()), h * (m.y() * inertia.z() - p.y()),
+        h * (m.z() * inertia.x() - p.z()), 2.0f * inertia.y(), h * (p.x() - m.x() * inertia.z()),
+        h * (p.y() - m.y() * inertia.x()), h * (m.x() * inertia.y() - p.x()), 2.0f * inertia.z();
+    const Vec3 change = jacobian.inverse() * residual;
+    middle -= change;
+    if (change.squaredNorm() <= 1e-12f * start.squaredNorm()) break;
+  }
+  return 2.0f * middle - start;
+}
+
+bool IsDiagonal(const Mat3& m) {
+  return m(0, 1) == 0.0f && m(0, 2) == 0.0f && m(1, 0) == 0.0f && m(1, 2) == 0.0f && m(2, 0) == 0.0f &&
+         m(2, 1) == 0.0f;
 }
 }  // namespace
 
@@ -44,7 +72,12 @@ Vec3 SpinWithoutTorque(const Mat3& inertia, const Quat& rotation, const Vec3& an
   // Fast spin is split into pieces of at most kMaxTurnPerStep radians, where Newton converges.
   const int pieces = std::max(1, static_cast<int>(std::ceil(spin.norm() * dt / kMaxTurnPerStep)));
   const float h = dt / static_cast<float>(pieces);
-  for (int piece = 0; piece < pieces; ++piece) spin = MidpointStep(inertia, spin, h);
+  if (IsDiagonal(inertia)) {
+    const Vec3 diagonal = inertia.diagonal();
+    for (int piece = 0; piece < pieces; ++piece) spin = DiagonalMidpointStep(diagonal, spin, h);
+  } else {
+    for (int piece = 0; piece < pieces; ++piece) spin = MidpointStep(inertia, spin, h);
+  }
   return rotation * spin;
 }
 

@@ -34,18 +34,12 @@ BlockPool::Block* BlockPool::MakeBlock(std::size_t size) {
   block->size = size;
   std::lock_guard lock(mutex_);
   bytes_reserved_ += kHeaderBytes + size;
-  if (size == block_bytes_) ++standard_blocks_;
+  if (size == block_bytes_) standard_blocks_.fetch_add(1, std::memory_order_release);
   return block;
 }
 
 void BlockPool::EnsureBlocks(std::size_t blocks) {
-  while (true) {
-    {
-      std::lock_guard lock(mutex_);
-      if (standard_blocks_ >= blocks) return;
-    }
-    Give(MakeBlock(block_bytes_));
-  }
+  while (standard_blocks_.load(std::memory_order_acquire) < blocks) Give(MakeBlock(block_bytes_));
 }
 
 void BlockPool::Give(Block* chain) {

@@ -6,6 +6,7 @@
 // thread-safe (a mutex, taken once per block).
 #pragma once
 
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -50,7 +51,8 @@ class BlockPool {
   mutable std::mutex mutex_;
   Block* free_ = nullptr;
   std::size_t bytes_reserved_ = 0;
-  std::size_t standard_blocks_ = 0;
+  // Changed under mutex_; read without it by EnsureBlocks, which a steady step calls to learn it has enough.
+  std::atomic<std::size_t> standard_blocks_{0};
 };
 
 /// Bump allocator over pool blocks.

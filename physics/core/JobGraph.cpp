@@ -65,15 +65,15 @@ void JobGraph::RunJob(void* graph, std::uint32_t packed) {
 void JobGraph::Run(JobSystem& jobs) {
   run_start_ns_ = 0;
   if (timed_) run_start_ns_ = NowNs();
+  if (jobs.ThreadCount() <= 1) {
+    RunInOrder();
+    return;
+  }
   for (Stage& stage : stages_) {
     stage.waiting_for.store(stage.dependency_count, std::memory_order_relaxed);
     stage.start_ns.store(timed_ ? INT64_MAX : 0, std::memory_order_relaxed);
     stage.end_ns.store(0, std::memory_order_relaxed);
     stage.busy_ns.store(0, std::memory_order_relaxed);
-  }
-  if (jobs.ThreadCount() <= 1) {
-    RunInOrder();
-    return;
   }
   jobs.Run(
       [](void* graph, JobQueue& queue) {

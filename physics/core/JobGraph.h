@@ -49,7 +49,14 @@ class JobGraph {
 
   std::size_t stage_count() const { return stages_.size(); }
   /// Whether Run times each job (two clock reads a job); untimed, timing() reports zeros.
-  void set_timed(bool timed) { timed_ = timed; }
+  void set_timed(bool timed) {
+    timed_ = timed;
+    for (Stage& stage : stages_) {
+      stage.start_ns.store(0, std::memory_order_relaxed);
+      stage.end_ns.store(0, std::memory_order_relaxed);
+      stage.busy_ns.store(0, std::memory_order_relaxed);
+    }
+  }
   bool timed() const { return timed_; }
   /// Figures of the last Run.
   StageTiming timing(StageId stage) const;

@@ -5,6 +5,7 @@
 
 #include <array>
 #include <atomic>
+#include <bit>
 #include <cstdint>
 #include <mutex>
 #include <thread>
@@ -16,7 +17,13 @@ class StripedGate {
  public:
   /// Passes the gate (waits only while it is closed). Pair with Leave on the same thread.
   void Enter() {
-    Stripe& stripe = stripes_[ThreadStripe()];
+    const std::size_t index = ThreadStripe();
+    // The first pass of a stripe marks it, so Close waits on the stripes in use rather than all 64 (in a
+    // one-thread world that was most of a small tree's rebuild). seq_cst, as the count and the flag: a
+    // closer that sees no mark cannot have missed an entrant (the mark comes before its count).
+    const std::uint64_t bit = std::uint64_t{1} << index;
+    if ((used_.load(std::memory_order_seq_cst) & bit) == 0) used_.fetch_or(bit, std::memory_order_seq_cst);
+    Stripe& stripe = stripes_[index];
     for (;;) {
       stripe.inside.fetch_add(1, std::memory_order_seq_cst);
       if (!closed_.load(std::memory_order_seq_cst)) return;
@@ -30,8 +37,10 @@ class StripedGate {
   void Close() {
     close_mutex_.lock();
     closed_.store(true, std::memory_order_seq_cst);
-    for (Stripe& stripe : stripes_)
+    for (std::uint64_t used = used_.load(std::memory_order_seq_cst); used != 0; used &= used - 1) {
+      const Stripe& stripe = stripes_[static_cast<std::size_t>(std::countr_zero(used))];
       while (stripe.inside.load(std::memory_order_acquire) != 0) std::this_thread::yield();
+    }
   }
   void Open() {
     closed_.store(false, std::memory_order_release);
@@ -51,7 +60,9 @@ class StripedGate {
     return stripe;
   }
 
+  static_assert(kStripes <= 64, "one bit of used_ per stripe");
   std::array<Stripe, kStripes> stripes_;
+  std::atomic<std::uint64_t> used_{0};  // stripes ever entered, one bit each
   std::atomic<bool> closed_{false};
   std::mutex close_mutex_;
 };

@@ -184,6 +184,8 @@ void IslandSolver::PrepareGroup(std::uint32_t group_index, std::uint32_t job_ind
   group.round_count =
       1 + static_cast<std::uint32_t>(settings.substeps) * per_substep +
       (group.has_restitution ? splits * static_cast<std::uint32_t>(settings.restitution_iterations) : 0);
+  group.free_bodies_only =
+      constraint_count == 0 && islands.bodies(group.first_island, group.end_island).size() <= kBodyBatch;
   group.processed.store(0, std::memory_order_relaxed);
   group.status.store(0, std::memory_order_release);
 }
@@ -373,7 +375,25 @@ void IslandSolver::SetupDirectSolvers(Group& group, JobState& job) {
   }
 }
 
+IslandSolver::BatchResult IslandSolver::TryRunFreeBodies(Group& group) {
+  std::uint64_t status = group.status.load(std::memory_order_acquire);
+  const std::uint64_t done = static_cast<std::uint64_t>(group.round_count) << 32;
+  if (status == done || !group.status.compare_exchange_strong(status, done, std::memory_order_acq_rel))
+    return BatchResult::kDone;
+  // What the rounds would do (each a single batch here), without stepping through the empty ones: per
+  // substep, the substep's forces (the first substep's came before the solve) and the integration.
+  const std::span<const std::uint32_t> bodies = input_.islands->bodies(group.first_island, group.end_island);
+  for (int substep = 0; substep < input_.settings->substeps; ++substep) {
+    if (substep > 0)
+      for (const std::uint32_t body : bodies) AddForces(body);
+    for (const std::uint32_t body : bodies) Integrate(body);
+  }
+  groups_finished_.fetch_add(1, std::memory_order_release);
+  return BatchResult::kRan;
+}
+
 IslandSolver::BatchResult IslandSolver::TryRunBatch(Group& group, JobState& job) {
+  if (group.free_bodies_only) return TryRunFreeBodies(group);
   std::uint64_t status = group.status.load(std::memory_order_acquire);
   while (true) {
     const auto round_index = static_cast<std::uint32_t>(status >> 32);

@@ -46,8 +46,11 @@ void CollisionFinder::BeginStep(const Input& input, std::uint32_t job_count) {
   const PhysicsSettings& settings = *input.settings;
   replay_max_distance_squared_ =
       settings.body_pair_cache_max_distance * settings.body_pair_cache_max_distance;
-  // Quaternions measure half the angle.
-  replay_min_half_angle_cosine_ = std::cos(0.5f * settings.body_pair_cache_max_angle * kPi / 180.0f);
+  // Quaternions measure half the angle. (A cosine is a fair share of a small world's step: only on a change.)
+  if (settings.body_pair_cache_max_angle != replay_max_angle_) {
+    replay_max_angle_ = settings.body_pair_cache_max_angle;
+    replay_min_half_angle_cosine_ = std::cos(0.5f * replay_max_angle_ * kPi / 180.0f);
+  }
   next_body_.store(0, std::memory_order_relaxed);
   if (jobs_.size() < job_count) {
     jobs_.resize(job_count);
@@ -243,10 +246,10 @@ void CollisionFinder::AddConstraint(const Vec3& normal, std::span<const ContactA
   }
   if (!a.dynamic && !b.dynamic) return;
 
-  job.constraints.push_back(BuildContactConstraint(
-      job.arena, normal, arms, ContactInputSide(a), ContactInputSide(b),
-      std::sqrt(a.body->friction() * b.body->friction()),
-      std::max(a.body->restitution(), b.body->restitution()), &cached));
+  job.constraints.push_back(
+      BuildContactConstraint(job.arena, normal, arms, ContactInputSide(a), ContactInputSide(b),
+                             std::sqrt(a.body->friction() * b.body->friction()),
+                             std::max(a.body->restitution(), b.body->restitution()), &cached));
   ++job.stats.constraints;
   // The island is that of a body the solver moves; two moving bodies join their islands.
   const std::uint32_t island_a = a.solver_index - 1, island_b = b.solver_index - 1;

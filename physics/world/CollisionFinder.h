@@ -112,6 +112,7 @@ class CollisionFinder {
   std::uint32_t job_count_ = 0;
   float replay_max_distance_squared_ = 0.0f;
   float replay_min_half_angle_cosine_ = 1.0f;
+  float replay_max_angle_ = 0.0f;  // degrees, what the cosine above was computed from
   std::atomic<std::uint32_t> next_body_{0};
   std::vector<Job> jobs_;
   std::vector<BodyContacts> body_contacts_;  // by active index

@@ -176,6 +176,7 @@ std::vector<BodyID> PhysicsSystem::BodiesInWorld() const {
 void PhysicsSystem::RequestWake(std::uint32_t island_key) {
   std::lock_guard lock(wake_mutex_);
   pending_wakes_.push_back(island_key);
+  wakes_pending_.store(true, std::memory_order_release);
 }
 
 AABB PhysicsSystem::BroadPhaseBounds(const Body& body, float dt) const {
@@ -198,7 +199,9 @@ Status PhysicsSystem::Step(float dt) {
                      "step dt must be a positive finite number, got " + std::to_string(dt));
   std::lock_guard step(step_mutex_);
   StepScope no_writers(body_manager_);
-  const auto start = std::chrono::steady_clock::now();
+  // An untimed world reads no clock at all (two reads are a tenth of a one-body step).
+  const bool timed = start_graph_.timed();
+  const auto start = timed ? std::chrono::steady_clock::now() : std::chrono::steady_clock::time_point{};
   stats_ = {};
   profile_.stage_count = 0;
   step_dt_ = dt;
@@ -230,7 +233,7 @@ Status PhysicsSystem::Step(float dt) {
     run(end_graph_);
   }
   FinishStep();
-  profile_.total_ms = MillisecondsSince(start);
+  profile_.total_ms = timed ? MillisecondsSince(start) : 0.0;
   return Status::Ok();
 }
 
@@ -241,7 +244,9 @@ void PhysicsSystem::PrepareStep() {
   last_dt_.store(step_dt_, std::memory_order_relaxed);
   // Islands woken through the API since the last step (the API holds one body's lock, so it queued keys).
   wake_keys_.clear();
-  {
+  // Most steps have none: the flag spares them the mutex. A key queued after the exchange raises the flag
+  // again and is taken next step.
+  if (wakes_pending_.exchange(false, std::memory_order_acq_rel)) {
     std::lock_guard lock(wake_mutex_);
     wake_keys_.swap(pending_wakes_);
   }
@@ -516,6 +521,7 @@ void PhysicsSystem::FinishStep() {
   if (!wake_keys_.empty()) {
     std::lock_guard lock(wake_mutex_);
     pending_wakes_.insert(pending_wakes_.end(), wake_keys_.begin(), wake_keys_.end());
+    wakes_pending_.store(true, std::memory_order_release);
   }
   const CollisionStats collision = collisions_.stats();
   stats_.pairs = collision.pairs;

@@ -35,8 +35,8 @@ struct PhysicsSystemConfig {
   std::shared_ptr<const LayerSetup> layers;  ///< null = DefaultLayerSetup
   std::shared_ptr<JobSystem> job_system;     ///< null = oneTBB default (std::thread pool without oneTBB)
   std::shared_ptr<BroadPhase> broad_phase;   ///< null = QuadTreeBroadPhase
-  /// Time every stage's jobs for last_step_profile(). Off, the profile has only the step's total: two clock
-  /// reads per job are about 16% of a one-body step.
+  /// Time the step and every stage's jobs for last_step_profile(). Off, no clock is read: two reads per job
+  /// were about 16% of a one-body step.
   bool stage_timings = true;
 
   Status Validate() const;
@@ -68,7 +68,7 @@ struct StepProfile {
   static constexpr std::size_t kMaxStages = 16;
   StageTiming stages[kMaxStages];
   std::size_t stage_count = 0;
-  double total_ms = 0.0;
+  double total_ms = 0.0;  ///< the whole step; 0 when the world was created without stage_timings
 };
 
 /// A physics world.
@@ -140,6 +140,7 @@ class PhysicsSystem {
   std::mutex step_mutex_;  // one Step (or SetSettings) at a time
   std::atomic<std::size_t> in_world_count_{0};
   std::mutex wake_mutex_;
+  std::atomic<bool> wakes_pending_{false};    // pending_wakes_ may hold keys
   std::vector<std::uint32_t> pending_wakes_;  // island keys to wake at the next step
   std::atomic<std::uint32_t> next_island_key_{1};
   // Read by BodyInterface outside the step; written only under every body lock.

@@ -26,10 +26,13 @@ TEST(Simulation, StageTimingsCanBeLeftOutWithoutChangingTheStep) {
     StepFor(*world, 60);
     positions[timed ? 0 : 1] = Position(*world, box);
     const StepProfile& profile = world->last_step_profile();
-    if (timed)
+    if (timed) {
       EXPECT_GT(profile.stage_count, 5u);
-    else
+      EXPECT_GT(profile.total_ms, 0.0);
+    } else {
       EXPECT_EQ(profile.stage_count, 0u);
+      EXPECT_EQ(profile.total_ms, 0.0);
+    }
   }
   EXPECT_EQ(positions[0], positions[1]);
 }
