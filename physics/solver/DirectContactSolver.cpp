@@ -153,19 +153,40 @@ DirectContactSolver* DirectContactSolver::Create(BlockArena& arena, std::span<So
         neighbour_count += (row_begin[k + 1] - row_begin[k]) * (row_begin[l + 1] - row_begin[l]);
   solver->neighbours_ = arena.AllocateArray<std::uint32_t>(neighbour_count);
   solver->coupling_ = arena.AllocateArray<float>(neighbour_count);
+  // Where contact l's rows start in the neighbour list of a row of contact k (when they share a body).
+  auto* block_offset =
+      arena.AllocateArray<std::uint32_t>(static_cast<std::size_t>(contact_count) * contact_count);
+  for (std::uint32_t k = 0; k < contact_count; ++k) {
+    std::uint32_t offset = 0;
+    for (std::uint32_t l = 0; l < contact_count; ++l) {
+      block_offset[k * contact_count + l] = offset;
+      if (adjacent[order[k] * contact_count + order[l]]) offset += row_begin[l + 1] - row_begin[l];
+    }
+  }
   neighbour_count = 0;
   for (std::uint32_t k = 0; k < contact_count; ++k)
     for (std::uint32_t i = row_begin[k]; i < row_begin[k + 1]; ++i) {
       solver->neighbour_begin_[i] = neighbour_count;
       for (std::uint32_t l = 0; l < contact_count; ++l) {
         if (!adjacent[order[k] * contact_count + order[l]]) continue;
-        for (std::uint32_t j = row_begin[l]; j < row_begin[l + 1]; ++j) {
-          solver->neighbours_[neighbour_count] = j;
-          solver->coupling_[neighbour_count++] = RowCoupling(solver->rows_[i], solver->rows_[j], bodies);
-        }
+        for (std::uint32_t j = row_begin[l]; j < row_begin[l + 1]; ++j)
+          solver->neighbours_[neighbour_count++] = j;
       }
     }
   solver->neighbour_begin_[count] = neighbour_count;
+  // The coupling is symmetric: each block of two contacts is computed once and stored on both sides.
+  for (std::uint32_t k = 0; k < contact_count; ++k)
+    for (std::uint32_t l = 0; l <= k; ++l) {
+      if (!adjacent[order[k] * contact_count + order[l]]) continue;
+      for (std::uint32_t i = row_begin[k]; i < row_begin[k + 1]; ++i)
+        for (std::uint32_t j = row_begin[l]; j < row_begin[l + 1] && (l < k || j <= i); ++j) {
+          const float value = RowCoupling(solver->rows_[i], solver->rows_[j], bodies);
+          solver->coupling_[solver->neighbour_begin_[i] + block_offset[k * contact_count + l] +
+                            (j - row_begin[l])] = value;
+          solver->coupling_[solver->neighbour_begin_[j] + block_offset[l * contact_count + k] +
+                            (i - row_begin[k])] = value;
+        }
+    }
   solver->diagonal_ = arena.AllocateArray<float>(count);
   for (std::uint32_t i = 0; i < count; ++i)
     for (std::uint32_t k = solver->neighbour_begin_[i]; k < solver->neighbour_begin_[i + 1]; ++k)
@@ -226,27 +247,28 @@ bool DirectContactSolver::Refactor(Factor& factor) {
     factor.first[r] = first;
     factor.start[r + 1] = factor.start[r] + (r - first + 1);
   }
-  auto at = [&](std::uint32_t r, std::uint32_t c) -> double& {
-    return factor.lower[factor.start[r] + (c - factor.first[r])];
-  };
+  // Row r of the factor as an array indexed by packed column (valid from first[r] to r), so the inner loop
+  // is a plain dot product over contiguous memory.
+  auto row_of = [&](std::uint32_t r) { return factor.lower + factor.start[r] - factor.first[r]; };
   bool positive = true;
   for (std::uint32_t r = 0; r < m && positive; ++r) {
     const std::uint32_t i = factor.rows[r];
     for (std::uint32_t k = neighbour_begin_[i]; k < neighbour_begin_[i + 1]; ++k)
       dense_row_[neighbours_[k]] = coupling_[k];
-    for (std::uint32_t c = factor.first[r]; c <= r; ++c) {
-      double sum = dense_row_[factor.rows[c]] + (r == c ? softness_[i] : 0.0f);
-      for (std::uint32_t k = std::max(factor.first[r], factor.first[c]); k < c; ++k)
-        sum -= at(r, k) * at(c, k);
-      if (r != c) {
-        at(r, c) = sum / at(c, c);
-      } else if (sum > 0.0) {
-        at(r, r) = std::sqrt(sum);
-      } else {
-        positive = false;  // never seen: the softness keeps the matrix positive definite
-        break;
-      }
+    double* const row = row_of(r);
+    const std::uint32_t row_first = factor.first[r];
+    for (std::uint32_t c = row_first; c < r; ++c) {
+      const double* const column = row_of(c);
+      double sum = dense_row_[factor.rows[c]];
+      for (std::uint32_t k = std::max(row_first, factor.first[c]); k < c; ++k) sum -= row[k] * column[k];
+      row[c] = sum / column[c];
     }
+    double diagonal = dense_row_[i] + softness_[i];
+    for (std::uint32_t k = row_first; k < r; ++k) diagonal -= row[k] * row[k];
+    if (diagonal > 0.0)
+      row[r] = std::sqrt(diagonal);
+    else
+      positive = false;  // never seen: the softness keeps the matrix positive definite
     for (std::uint32_t k = neighbour_begin_[i]; k < neighbour_begin_[i + 1]; ++k)
       dense_row_[neighbours_[k]] = 0.0;
   }
@@ -255,18 +277,19 @@ bool DirectContactSolver::Refactor(Factor& factor) {
 
 void DirectContactSolver::SolveWith(const Factor& factor, const double* right, double* out) const {
   const std::uint32_t m = factor.size;
-  auto at = [&](std::uint32_t r, std::uint32_t c) {
-    return factor.lower[factor.start[r] + (c - factor.first[r])];
-  };
+  auto row_of = [&](std::uint32_t r) { return factor.lower + factor.start[r] - factor.first[r]; };
   double* packed = scratch_;
   for (std::uint32_t r = 0; r < m; ++r) {
+    const double* const row = row_of(r);
     double sum = right[factor.rows[r]];
-    for (std::uint32_t k = factor.first[r]; k < r; ++k) sum -= at(r, k) * packed[k];
-    packed[r] = sum / at(r, r);
+    for (std::uint32_t k = factor.first[r]; k < r; ++k) sum -= row[k] * packed[k];
+    packed[r] = sum / row[r];
   }
   for (std::uint32_t r = m; r-- > 0;) {
-    packed[r] /= at(r, r);
-    for (std::uint32_t k = factor.first[r]; k < r; ++k) packed[k] -= at(r, k) * packed[r];
+    const double* const row = row_of(r);
+    packed[r] /= row[r];
+    const double value = packed[r];
+    for (std::uint32_t k = factor.first[r]; k < r; ++k) packed[k] -= row[k] * value;
   }
   for (std::uint32_t r = 0; r < m; ++r) out[factor.rows[r]] = packed[r];
 }
