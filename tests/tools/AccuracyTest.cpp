@@ -6,6 +6,7 @@
 #include <map>
 
 #include "tools/accuracy/AccuracyCases.h"
+#include "tools/accuracy/AccuracyReport.h"
 
 namespace strata::accuracy {
 namespace {
@@ -31,6 +32,50 @@ std::vector<AccuracySetting> Sweep(std::initializer_list<int> rates, std::initia
       settings.push_back({"dt1/" + std::to_string(rate) + " sub" + std::to_string(count),
                           1.0f / static_cast<float>(rate), count, 1, 1, true});
   return settings;
+}
+
+AccuracyRecord Record(const std::string& engine, const std::string& setting, double error, double ms) {
+  AccuracyRecord record;
+  record.case_name = "case";
+  record.engine = engine;
+  record.setting = setting;
+  record.error = error;
+  record.wall_ms = ms;
+  return record;
+}
+
+TEST(AccuracyReport, FrontKeepsTheRunsNothingBeatsOnBothErrorAndTime) {
+  const std::vector<AccuracyRecord> records = {
+      Record("strata", "a", 0.1, 1.0), Record("strata", "b", 0.2, 2.0), Record("strata", "c", 0.01, 3.0),
+      Record("bullet", "d", 0.05, 0.5)};
+  const std::vector<AccuracyRecord> front = ParetoFront(records, "case", "strata");
+  ASSERT_EQ(front.size(), 2u);  // b is slower and worse than a
+  EXPECT_EQ(front[0].setting, "a");
+  EXPECT_EQ(front[1].setting, "c");
+}
+
+TEST(AccuracyReport, GapsNameEachUncoveredBulletRunAndTheCheapestStrataRunAsAccurate) {
+  std::vector<AccuracyRecord> records = {Record("strata", "a", 0.1, 1.0), Record("strata", "c", 0.01, 3.0),
+                                         Record("bullet", "x", 0.2, 1.5), Record("bullet", "y", 0.05, 2.0)};
+  // x is covered by a (faster and more accurate); y only by c, which is slower.
+  std::vector<FrontGap> gaps = FrontGaps(records, "case", 0.0);
+  ASSERT_EQ(gaps.size(), 1u);
+  EXPECT_EQ(gaps[0].bullet.setting, "y");
+  ASSERT_TRUE(gaps[0].strata.has_value());
+  EXPECT_EQ(gaps[0].strata->setting, "c");
+  EXPECT_FALSE(
+      FrontAtOrBelow(ParetoFront(records, "case", "strata"), ParetoFront(records, "case", "bullet"), 0.0));
+  // Errors under the floor count as equal: a now matches y.
+  gaps = FrontGaps(records, "case", 0.1);
+  EXPECT_TRUE(gaps.empty());
+  EXPECT_TRUE(
+      FrontAtOrBelow(ParetoFront(records, "case", "strata"), ParetoFront(records, "case", "bullet"), 0.1));
+  // A Bullet run more accurate than every Strata run has no Strata counterpart.
+  records.push_back(Record("bullet", "z", 0.001, 9.0));
+  gaps = FrontGaps(records, "case", 0.0);
+  ASSERT_EQ(gaps.size(), 2u);
+  EXPECT_EQ(gaps[1].bullet.setting, "z");
+  EXPECT_FALSE(gaps[1].strata.has_value());
 }
 
 TEST(AccuracyCases, ClosedFormCasesHoldAtEveryDtAndSubstepCount) {

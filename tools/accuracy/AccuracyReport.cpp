@@ -165,6 +165,26 @@ bool FrontAtOrBelow(const std::vector<AccuracyRecord>& strata, const std::vector
   return true;
 }
 
+std::vector<FrontGap> FrontGaps(const std::vector<AccuracyRecord>& records, const std::string& case_name,
+                                double floor) {
+  std::vector<AccuracyRecord> strata;
+  for (const AccuracyRecord& r : records)
+    if (r.case_name == case_name && r.engine == "strata" && std::isfinite(r.error)) strata.push_back(r);
+  std::vector<FrontGap> gaps;
+  for (const AccuracyRecord& b : ParetoFront(records, case_name, "bullet")) {
+    const double bar = std::max(b.error, floor);
+    const bool covered = std::any_of(strata.begin(), strata.end(), [&](const AccuracyRecord& s) {
+      return s.wall_ms <= b.wall_ms && std::max(s.error, floor) <= bar;
+    });
+    if (covered) continue;
+    FrontGap gap{b, std::nullopt};
+    for (const AccuracyRecord& s : strata)
+      if (std::max(s.error, floor) <= bar && (!gap.strata || s.wall_ms < gap.strata->wall_ms)) gap.strata = s;
+    gaps.push_back(gap);
+  }
+  return gaps;
+}
+
 Status WriteAccuracyJson(const std::vector<AccuracyRecord>& records, const std::vector<AccuracyCase>& cases,
                          const std::filesystem::path& path) {
   nlohmann::json document;
@@ -208,12 +228,21 @@ Status WriteAccuracyMarkdown(const std::vector<AccuracyRecord>& records,
           << " | " << Format(r.wall_ms) << " | " << (r.passed ? "yes" : "**no**") << " |\n";
     }
     const auto bullet = ParetoFront(records, c.name, "bullet");
-    if (!bullet.empty())
-      out << "\nStrata's Pareto front is "
-          << (FrontAtOrBelow(ParetoFront(records, c.name, "strata"), bullet, c.tolerance * 0.1)
-                  ? "at or below"
-                  : "**not** at or below")
-          << " Bullet's.\n";
+    if (bullet.empty()) continue;
+    const std::vector<FrontGap> gaps = FrontGaps(records, c.name, c.tolerance * 0.1);
+    out << "\nStrata's Pareto front is " << (gaps.empty() ? "at or below" : "**not** at or below")
+        << " Bullet's.\n";
+    for (const FrontGap& gap : gaps) {
+      out << "- Bullet " << gap.bullet.setting << " (error " << Format(gap.bullet.error) << ", "
+          << Format(gap.bullet.wall_ms) << " ms): ";
+      if (!gap.strata) {
+        out << "no Strata run is as accurate\n";
+        continue;
+      }
+      out << "the cheapest Strata run as accurate is " << gap.strata->setting << " (error "
+          << Format(gap.strata->error) << ", " << Format(gap.strata->wall_ms) << " ms, "
+          << Format(gap.strata->wall_ms / gap.bullet.wall_ms) << "x the time)\n";
+    }
   }
   return bench::WriteOutputFile(path, out.str());
 }

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -38,6 +39,16 @@ std::vector<AccuracyRecord> ParetoFront(const std::vector<AccuracyRecord>& recor
 /// Strata run is no slower and no less accurate (errors within `floor` count as equal).
 bool FrontAtOrBelow(const std::vector<AccuracyRecord>& strata, const std::vector<AccuracyRecord>& bullet,
                     double floor);
+
+/// A point of Bullet's front that no Strata run covers, and the cheapest Strata run that is at least as
+/// accurate (none when no Strata run is).
+struct FrontGap {
+  AccuracyRecord bullet;
+  std::optional<AccuracyRecord> strata;
+};
+/// Why FrontAtOrBelow is false for a case: every uncovered point of Bullet's front (empty when it is true).
+std::vector<FrontGap> FrontGaps(const std::vector<AccuracyRecord>& records, const std::string& case_name,
+                                double floor);
 
 Status WriteAccuracyJson(const std::vector<AccuracyRecord>& records, const std::vector<AccuracyCase>& cases,
                          const std::filesystem::path& path);

@@ -16,7 +16,7 @@ struct AccuracyOptions {
   std::vector<std::string> cases;  // empty = all
   bool quick = false;
   bool no_bullet = false;
-  int timing_runs = 3;
+  int timing_runs = 5;
 };
 
 int RunAccuracy(const AccuracyOptions& options) {
@@ -67,6 +67,16 @@ int RunAccuracy(const AccuracyOptions& options) {
                 r.passed ? "yes" : "NO");
     if (r.engine == "strata" && !r.passed) ++failed_defaults;
   }
+  int compared = 0, at_or_below = 0;
+  for (const AccuracyCase& c : cases) {
+    if (ParetoFront(*records, c.name, "bullet").empty()) continue;
+    ++compared;
+    if (FrontGaps(*records, c.name, c.tolerance * 0.1).empty()) ++at_or_below;
+  }
+  if (compared > 0)
+    std::printf(
+        "Strata's Pareto front is at or below Bullet's on %d of %d cases (accuracy.md says where not)\n",
+        at_or_below, compared);
   std::printf("wrote %s, %s, %s (%zu runs); %d case(s) fail at Strata's default setting\n",
               (out / "accuracy.json").c_str(), (out / "accuracy.md").c_str(), (out / "accuracy.png").c_str(),
               records->size(), failed_defaults);
