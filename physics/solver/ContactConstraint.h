@@ -18,12 +18,13 @@ namespace strata {
 
 /// One point of a ContactConstraint.
 struct ContactConstraintPoint {
-  Vec3 r_a;               ///< from A's centre of mass to the point on A, world axes, at the start of the step
-  Vec3 r_b;               ///< from B's centre of mass to the point on B
-  Vec3 warm_friction;     ///< last step's friction impulse, world (0 if the point is new)
-  float warm_normal;      ///< last step's normal impulse
-  float separation;       ///< along the normal at the start of the step; < 0 where the bodies overlap
-  float normal_velocity;  ///< of B relative to A along the normal, before the solve (< 0: approaching)
+  Vec3 r_a;            ///< from A's centre of mass to the point on A, world axes, at the start of the step
+  Vec3 r_b;            ///< from B's centre of mass to the point on B
+  Vec3 warm_friction;  ///< last step's friction impulse, world (0 if the point is new)
+  float warm_normal;   ///< last step's normal impulse
+  float separation;    ///< along the normal at the start of the step; < 0 where the bodies overlap
+  /// Of B relative to A along the normal when the points meet (< 0: approaching): what a bounce reverses.
+  float normal_velocity;
 };
 
 /// A manifold ready for the solver; its points follow it in memory.
@@ -93,7 +94,17 @@ struct ContactSide {
   std::uint32_t solver_index;  ///< 0 = the fixed body (static, sleeping, or not moved by the solver)
   bool dynamic;
   const SolverBody* body;  ///< velocities (after forces) of the solver body
+  /// What gravity and forces add to its velocity per substep (the first substep's share is already in the
+  /// velocities), and that substep's length: a bounce reverses the approach speed at impact (see
+  /// ContactConstraintPoint::normal_velocity).
+  Vec3 velocity_gain = Vec3::Zero();
+  float substep = 0.0f;
 };
+
+/// The approach speed along the normal when two points `separation` apart meet, from the relative normal
+/// velocity now (holding one substep's `gain_per_substep`, gained over `substep` seconds) at the step's
+/// start: the start velocity itself where the points touch already, separate, or are not pulled together.
+float ApproachAtImpact(float normal_velocity, float gain_per_substep, float substep, float separation);
 
 /// Builds the constraint for a manifold (unit normal A to B, its points) in `arena`, with warm-start impulses
 /// from `cache`, which holds last step's impulses for the same points in the same order.

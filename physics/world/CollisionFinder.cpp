@@ -83,6 +83,8 @@ ContactSide CollisionFinder::ContactInputSide(const Side& side) const {
   contact.solver_index = side.solver_index;
   contact.dynamic = side.dynamic;
   contact.body = &input_.solver_bodies[side.solver_index];
+  if (side.dynamic) contact.velocity_gain = ToVec3(input_.velocity_steps[side.solver_index].linear);
+  contact.substep = input_.dt / static_cast<float>(input_.settings->substeps);
   return contact;
 }
 

@@ -46,6 +46,7 @@ class CollisionFinder {
     std::span<const std::uint8_t> active_flags;   ///< by body index
     std::span<const std::uint32_t> solver_index;  ///< by body index: active index + 1, or 0
     const SolverBody* solver_bodies;
+    const SolverVelocityStep* velocity_steps;  ///< by solver index: what each substep adds
     const SolverPose* solver_poses;
     BodyPairCache* cache;
     IslandBuilder* islands;

@@ -304,6 +304,7 @@ void PhysicsSystem::PrepareStep() {
   input.active_flags = active_flags_;
   input.solver_index = solver_index_;
   input.solver_bodies = solver_bodies_.data();
+  input.velocity_steps = velocity_steps_.data();
   input.solver_poses = solver_poses_.data();
   input.cache = &pair_cache_;
   input.islands = &islands_;

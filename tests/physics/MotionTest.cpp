@@ -4,6 +4,7 @@
 
 #include "TestWorld.h"
 #include "physics/body/GyroscopicTorque.h"
+#include "physics/solver/ContactConstraint.h"
 
 namespace strata::test {
 namespace {
@@ -41,6 +42,19 @@ TEST(Gyroscopic, DiagonalAndGeneralInertiaGiveTheSameSpin) {
       EXPECT_LT((turn * spin - turned).norm(), 1e-5f * spin.norm()) << dt;
       EXPECT_GT((spin - start).norm(), 1e-3f * start.norm()) << dt;  // it did turn
     }
+}
+
+// What a bounce reverses: the approach speed when the points meet, from the step's start across the gap.
+TEST(Restitution, ApproachSpeedIsTakenAtImpact) {
+  constexpr float kSubstep = 1.0f / 60.0f, kGravity = 9.81f;
+  const float gain = -kGravity * kSubstep;  // the first substep's share, already in the velocity
+  // 0.1 m above the floor at 5 m/s: meets it at sqrt(25 + 2 g 0.1).
+  EXPECT_NEAR(ApproachAtImpact(-5.0f + gain, gain, kSubstep, 0.1f),
+              -std::sqrt(25.0f + 2.0f * kGravity * 0.1f), 1e-4f);
+  // Touching already: the speed at the step's start. Separating, or not pulled together: unchanged.
+  EXPECT_NEAR(ApproachAtImpact(-5.0f + gain, gain, kSubstep, 0.0f), -5.0f, 1e-5f);
+  EXPECT_NEAR(ApproachAtImpact(1.0f + gain, gain, kSubstep, 0.1f), 1.0f, 1e-5f);
+  EXPECT_NEAR(ApproachAtImpact(-5.0f, 0.0f, kSubstep, 0.1f), -5.0f, 1e-6f);
 }
 
 TEST(Gyroscopic, SwitchingItOffLeavesSpinConstantAndMomentumDrifting) {

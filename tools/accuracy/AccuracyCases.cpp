@@ -1,5 +1,6 @@
 #include "tools/accuracy/AccuracyCases.h"
 
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -99,25 +100,37 @@ Result<CaseOutcome> Incline(AccuracyEngine& engine, const AccuracySetting& setti
   return Outcome(ran, relative ? std::abs(moved - expected) / expected : std::abs(moved - expected));
 }
 
+// Balls with restitution 0.8 dropped from 1.3, 1.7 and 2 m side by side: the worst rebound against e^2 h.
+// Three heights, because where in a step the impact falls moves one drop's error by several percent either
+// way (one height measures that phase as much as the engine).
 Result<CaseOutcome> RestitutionApex(AccuracyEngine& engine, const AccuracySetting& setting) {
-  constexpr float kRestitution = 0.8f, kDrop = 2.0f;
+  constexpr float kRestitution = 0.8f;
+  constexpr std::array<float, 3> kDrops = {1.3f, 1.7f, 2.0f};
   AccuracyScene scene;
   scene.bodies.push_back(Floor());
-  AccuracyBody ball = DynamicSphere(0.5f, Vec3(0, 0.5f + kDrop, 0));
-  ball.restitution = kRestitution;
-  scene.bodies.push_back(ball);
-  bool bounced = false, falling_again = false;
-  double apex = 0.0;
+  for (std::size_t i = 0; i < kDrops.size(); ++i) {
+    AccuracyBody ball = DynamicSphere(0.5f, Vec3(3.0f * static_cast<float>(i), 0.5f + kDrops[i], 0));
+    ball.restitution = kRestitution;
+    scene.bodies.push_back(ball);
+  }
+  std::array<bool, 3> bounced{}, falling_again{};
+  std::array<double, 3> apex{};
   const Result<bool> ran = Run(engine, scene, setting, 2.0, [&](double) {
-    const AccuracyBodyState s = engine.State(1);
-    if (!bounced && s.linear_velocity.y() > 0.0f) bounced = true;
-    if (bounced && !falling_again) {
-      apex = std::max(apex, s.position.y() - 0.5);
-      falling_again = s.linear_velocity.y() < 0.0f;
+    for (std::size_t i = 0; i < kDrops.size(); ++i) {
+      const AccuracyBodyState s = engine.State(i + 1);
+      if (!bounced[i] && s.linear_velocity.y() > 0.0f) bounced[i] = true;
+      if (bounced[i] && !falling_again[i]) {
+        apex[i] = std::max(apex[i], s.position.y() - 0.5);
+        falling_again[i] = s.linear_velocity.y() < 0.0f;
+      }
     }
   });
-  const double expected = kRestitution * kRestitution * kDrop;
-  return Outcome(ran, bounced ? std::abs(apex - expected) / expected : kInfinite);
+  double worst = 0.0;
+  for (std::size_t i = 0; i < kDrops.size(); ++i) {
+    const double expected = kRestitution * kRestitution * kDrops[i];
+    worst = std::max(worst, bounced[i] ? std::abs(apex[i] - expected) / expected : kInfinite);
+  }
+  return Outcome(ran, worst);
 }
 
 // Two spheres meet head on in zero gravity; the error is the largest velocity error after, over the
@@ -322,8 +335,8 @@ std::vector<AccuracyCase> AccuracyCases() {
        [roll](AccuracyEngine& e, const AccuracySetting& s) {
          return Incline(e, s, 20.0f, 0.8f, true, roll, true);
        }},
-      {"restitution_apex", "a ball with restitution 0.8 dropped 2 m: rebound against e^2 h", "relative", 0.05,
-       RestitutionApex},
+      {"restitution_apex", "balls with restitution 0.8 dropped 1.3, 1.7, 2 m: worst rebound against e^2 h",
+       "relative", 0.05, RestitutionApex},
       {"elastic_collision", "spheres of 1 and 3 kg meet at 2 m/s, e = 1: velocities after", "relative", 0.02,
        [](AccuracyEngine& e, const AccuracySetting& s) { return Collision(e, s, 1.0f); }},
       {"inelastic_collision", "the same with e = 0: one common velocity", "relative", 0.02,
