@@ -19,11 +19,17 @@ inline float RowVelocity(const Vec4& axis, const Vec4& angular_a, const Vec4& an
   return (axis.cwiseProduct(vb - va) + angular_b.cwiseProduct(wb) - angular_a.cwiseProduct(wa)).sum();
 }
 
-inline float InverseEffectiveMass(const SolverBody& a, const SolverBody& b, const Vec4& angular_a,
-                                  const Vec4& angular_b, Vec4& response_a, Vec4& response_b) {
-  response_a = a.InverseInertiaTimes(angular_a);
-  response_b = b.InverseInertiaTimes(angular_b);
-  return a.inverse_mass + b.inverse_mass + angular_a.dot(response_a) + angular_b.dot(response_b);
+// A side the solver does not move (static, sleeping, kinematic) has no inverse inertia: its response is zero
+// without the product (most contacts of a level have one such side).
+inline float InverseEffectiveMass(const SolverBody& a, const SolverBody& b, bool dynamic_a, bool dynamic_b,
+                                  const Vec4& angular_a, const Vec4& angular_b, Vec4& response_a,
+                                  Vec4& response_b) {
+  response_a = dynamic_a ? a.InverseInertiaTimes(angular_a) : Vec4::Zero();
+  response_b = dynamic_b ? b.InverseInertiaTimes(angular_b) : Vec4::Zero();
+  float k = a.inverse_mass + b.inverse_mass;
+  if (dynamic_a) k += angular_a.dot(response_a);
+  if (dynamic_b) k += angular_b.dot(response_b);
+  return k;
 }
 
 // How a side moved and turned since the step began: its deltas if the solver moves it, else its velocity
@@ -193,8 +199,9 @@ SolverContact* SetupSolverContact(BlockArena& arena, ContactConstraint& constrai
     for (int axis = 0; axis < 3; ++axis) {
       p.angular_a[axis] = Cross(r_a, axes[axis]);
       p.angular_b[axis] = Cross(r_b, axes[axis]);
-      const float k = InverseEffectiveMass(a, b, p.angular_a[axis], p.angular_b[axis], p.response_a[axis],
-                                           p.response_b[axis]);
+      const float k =
+          InverseEffectiveMass(a, b, constraint.dynamic_a, constraint.dynamic_b, p.angular_a[axis],
+                               p.angular_b[axis], p.response_a[axis], p.response_b[axis]);
       masses[axis] = k > 0.0f ? 1.0f / k : 0.0f;
     }
     p.normal_mass = masses[kNormal];

@@ -100,7 +100,9 @@ bool IslandSolver::IsDirectIsland(std::uint32_t island) const {
   // which rows push every pass, and moving piles show no sag).
   if (!input_.settings->direct_small_islands) return false;
   const std::span<const std::uint32_t> bodies = input_.islands->bodies(island, island + 1);
-  if (bodies.size() < 2) return false;
+  // A load passes through a body only between two contacts; two bodies touching each other and nothing else
+  // (spheres that met in flight) gain nothing from it either.
+  if (bodies.size() < 2 || input_.islands->constraint_count(island, island + 1) < 2) return false;
   std::uint32_t points = 0;
   for (const std::uint32_t index : input_.islands->constraints(island))
     points += input_.constraints[index]->point_count;
@@ -184,8 +186,8 @@ void IslandSolver::PrepareGroup(std::uint32_t group_index, std::uint32_t job_ind
   group.round_count =
       1 + static_cast<std::uint32_t>(settings.substeps) * per_substep +
       (group.has_restitution ? splits * static_cast<std::uint32_t>(settings.restitution_iterations) : 0);
-  group.free_bodies_only =
-      constraint_count == 0 && islands.bodies(group.first_island, group.end_island).size() <= kBodyBatch;
+  group.one_job =
+      group.bundle_count == 0 && islands.bodies(group.first_island, group.end_island).size() <= kBodyBatch;
   group.processed.store(0, std::memory_order_relaxed);
   group.status.store(0, std::memory_order_release);
 }
@@ -375,25 +377,23 @@ void IslandSolver::SetupDirectSolvers(Group& group, JobState& job) {
   }
 }
 
-IslandSolver::BatchResult IslandSolver::TryRunFreeBodies(Group& group) {
+IslandSolver::BatchResult IslandSolver::TryRunWholeGroup(Group& group, JobState& job) {
   std::uint64_t status = group.status.load(std::memory_order_acquire);
   const std::uint64_t done = static_cast<std::uint64_t>(group.round_count) << 32;
   if (status == done || !group.status.compare_exchange_strong(status, done, std::memory_order_acq_rel))
     return BatchResult::kDone;
-  // What the rounds would do (each a single batch here), without stepping through the empty ones: per
-  // substep, the substep's forces (the first substep's came before the solve) and the integration.
-  const std::span<const std::uint32_t> bodies = input_.islands->bodies(group.first_island, group.end_island);
-  for (int substep = 0; substep < input_.settings->substeps; ++substep) {
-    if (substep > 0)
-      for (const std::uint32_t body : bodies) AddForces(body);
-    for (const std::uint32_t body : bodies) Integrate(body);
+  // The rounds in their order, each whole, as single batches would have run them.
+  for (std::uint32_t round_index = 0; round_index < group.round_count; ++round_index) {
+    const Round round = Describe(group, round_index);
+    const std::uint32_t items = RoundItems(group, round);
+    if (items > 0) RunBatch(group, round, 0, items, job);
   }
   groups_finished_.fetch_add(1, std::memory_order_release);
   return BatchResult::kRan;
 }
 
 IslandSolver::BatchResult IslandSolver::TryRunBatch(Group& group, JobState& job) {
-  if (group.free_bodies_only) return TryRunFreeBodies(group);
+  if (group.one_job) return TryRunWholeGroup(group, job);
   std::uint64_t status = group.status.load(std::memory_order_acquire);
   while (true) {
     const auto round_index = static_cast<std::uint32_t>(status >> 32);

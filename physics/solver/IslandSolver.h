@@ -96,8 +96,9 @@ class IslandSolver {
     bool direct = false;  // small islands only, each solved by its own DirectContactSolver
     DirectContactSolver** direct_solvers = nullptr;  // one per island, set up in the setup round
     bool has_restitution = false;
-    // No constraints and at most one body batch: only the bodies' substeps, run by one job at once.
-    bool free_bodies_only = false;
+    // No parallel split and at most one body batch: every round is one item, so one job runs them all in
+    // order at once instead of claiming them one by one.
+    bool one_job = false;
     std::uint32_t round_count = 0;
     std::atomic<std::uint64_t> status{0};  // round << 32 | next unclaimed item
     std::atomic<std::uint32_t> processed{0};
@@ -111,7 +112,7 @@ class IslandSolver {
   enum class BatchResult { kRan, kWaiting, kDone };
 
   BatchResult TryRunBatch(Group& group, JobState& job);
-  BatchResult TryRunFreeBodies(Group& group);
+  BatchResult TryRunWholeGroup(Group& group, JobState& job);
   Round Describe(const Group& group, std::uint32_t round) const;
   std::uint32_t RoundItems(const Group& group, const Round& round) const;
   void RunBatch(Group& group, const Round& round, std::uint32_t begin, std::uint32_t end, JobState& job);

@@ -46,6 +46,17 @@ TEST(DirectSolve, RestingStacksAreSolvedDirectlyLoneBodiesAndTheSwitchedOffWorld
   }
 }
 
+TEST(DirectSolve, ALonePairAtRestIsLeftToTheSequentialPasses) {
+  PhysicsSettings settings = Awake(true);
+  settings.gravity = Vec3::Zero();
+  auto world = MakeWorld(settings);
+  // Two boxes touching face to face, at rest, with nothing else: one contact, no load to carry through.
+  for (const float x : {0.0f, 1.0f}) Add(*world, Dynamic(Box(0.5f, 0.5f, 0.5f), Vec3(x, 0, 0)));
+  StepFor(*world, 3);
+  EXPECT_EQ(world->last_step_stats().islands, 1u);
+  EXPECT_EQ(world->last_step_stats().direct_islands, 0u);
+}
+
 TEST(DirectSolve, MovingPilesAreLeftToTheSequentialPasses) {
   PhysicsSettings settings = Awake(true);
   settings.gravity = Vec3::Zero();
