@@ -154,15 +154,22 @@ std::vector<AccuracyRecord> ParetoFront(const std::vector<AccuracyRecord>& recor
   return front;
 }
 
+namespace {
+// Whether run `s` is as accurate as `b` (errors under `floor` count as equal); Covers: and no slower.
+bool AsAccurate(const AccuracyRecord& s, const AccuracyRecord& b, double floor) {
+  return std::max(s.error, floor) <= std::max(b.error, floor);
+}
+bool Covers(const AccuracyRecord& s, const AccuracyRecord& b, double floor) {
+  return s.wall_ms <= b.wall_ms && AsAccurate(s, b, floor);
+}
+}  // namespace
+
 bool FrontAtOrBelow(const std::vector<AccuracyRecord>& strata, const std::vector<AccuracyRecord>& bullet,
                     double floor) {
-  for (const AccuracyRecord& b : bullet) {
-    const bool covered = std::any_of(strata.begin(), strata.end(), [&](const AccuracyRecord& s) {
-      return s.wall_ms <= b.wall_ms && std::max(s.error, floor) <= std::max(b.error, floor);
-    });
-    if (!covered) return false;
-  }
-  return true;
+  return std::all_of(bullet.begin(), bullet.end(), [&](const AccuracyRecord& b) {
+    return std::any_of(strata.begin(), strata.end(),
+                       [&](const AccuracyRecord& s) { return Covers(s, b, floor); });
+  });
 }
 
 std::vector<FrontGap> FrontGaps(const std::vector<AccuracyRecord>& records, const std::string& case_name,
@@ -172,14 +179,12 @@ std::vector<FrontGap> FrontGaps(const std::vector<AccuracyRecord>& records, cons
     if (r.case_name == case_name && r.engine == "strata" && std::isfinite(r.error)) strata.push_back(r);
   std::vector<FrontGap> gaps;
   for (const AccuracyRecord& b : ParetoFront(records, case_name, "bullet")) {
-    const double bar = std::max(b.error, floor);
-    const bool covered = std::any_of(strata.begin(), strata.end(), [&](const AccuracyRecord& s) {
-      return s.wall_ms <= b.wall_ms && std::max(s.error, floor) <= bar;
-    });
-    if (covered) continue;
+    if (std::any_of(strata.begin(), strata.end(),
+                    [&](const AccuracyRecord& s) { return Covers(s, b, floor); }))
+      continue;
     FrontGap gap{b, std::nullopt};
     for (const AccuracyRecord& s : strata)
-      if (std::max(s.error, floor) <= bar && (!gap.strata || s.wall_ms < gap.strata->wall_ms)) gap.strata = s;
+      if (AsAccurate(s, b, floor) && (!gap.strata || s.wall_ms < gap.strata->wall_ms)) gap.strata = s;
     gaps.push_back(gap);
   }
   return gaps;
