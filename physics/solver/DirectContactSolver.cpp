@@ -16,9 +16,6 @@ constexpr float kRigidSoftness = 1e-6f;
 // iterate, which is within the limits, and the next pass goes on from there.
 constexpr int kMaxActiveSetRounds = 16;
 constexpr double kUnbounded = 1e30;
-// Solves with friction limits updated from the normal impulses, until they move less than this fraction.
-constexpr int kMaxFrictionLimitUpdates = 3;
-constexpr double kFrictionLimitTolerance = 0.01;
 // A row held at a limit may pull away from it this fast (m/s) before it is freed.
 constexpr double kResidualTolerance = 1e-6;
 
@@ -104,6 +101,16 @@ float DirectContactSolver::RowCoupling(const Row& ri, const Row& rj, const Solve
   return sum;
 }
 
+struct DirectContactSolver::Layout {
+  std::span<SolverContact* const> contacts;
+  const std::uint32_t* order;  // contacts in banded order
+  // Banded position k's links (itself and the contacts that share a body the solver moves with it), as
+  // banded positions in increasing order: linked[linked_begin[k] .. linked_begin[k + 1]).
+  const std::uint32_t* linked_begin;
+  const std::uint32_t* linked;
+  float weight_per_impulse;
+};
+
 DirectContactSolver* DirectContactSolver::Create(BlockArena& arena, std::span<SolverContact* const> contacts,
                                                  const SolverBody* bodies, float weight_per_impulse) {
   std::uint32_t points = 0;
@@ -112,8 +119,6 @@ DirectContactSolver* DirectContactSolver::Create(BlockArena& arena, std::span<So
   auto* solver =
       new (arena.Allocate(sizeof(DirectContactSolver), alignof(DirectContactSolver))) DirectContactSolver;
   solver->contacts_ = contacts;
-  const std::uint32_t count = 3 * points;
-  solver->count_ = count;
   const auto contact_count = static_cast<std::uint32_t>(contacts.size());
   auto* adjacent = arena.AllocateArray<std::uint8_t>(static_cast<std::size_t>(contact_count) * contact_count);
   for (std::uint32_t i = 0; i < contact_count; ++i)
@@ -124,78 +129,28 @@ DirectContactSolver* DirectContactSolver::Create(BlockArena& arena, std::span<So
   auto* degree = arena.AllocateArray<std::uint32_t>(contact_count);
   auto* placed = arena.AllocateArray<std::uint8_t>(contact_count);
   BandedOrder(contact_count, adjacent, order, degree, placed);
-  // Rows contact by contact in the banded order; contact k's rows are [row_begin[k], row_begin[k + 1]).
-  auto* row_begin = arena.AllocateArray<std::uint32_t>(contact_count + 1);
-  solver->rows_ = arena.AllocateArray<Row>(count);
-  std::uint32_t row = 0;
+  auto* position = degree;  // reused: banded position of each contact
+  for (std::uint32_t k = 0; k < contact_count; ++k) position[order[k]] = k;
+  auto* linked_begin = arena.AllocateArray<std::uint32_t>(contact_count + 1);
+  std::uint32_t link_count = 0;
+  for (std::uint32_t i = 0; i < contact_count * contact_count; ++i) link_count += adjacent[i];
+  auto* linked = arena.AllocateArray<std::uint32_t>(link_count);
+  link_count = 0;
   for (std::uint32_t k = 0; k < contact_count; ++k) {
-    SolverContact* c = contacts[order[k]];
-    const ContactConstraint& constraint = *c->constraint;
-    const float load = LoadScale(*c, bodies, weight_per_impulse);
-    row_begin[k] = row;
-    for (int p = 0; p < c->point_count; ++p)
-      for (std::uint8_t axis = 0; axis < 3; ++axis)
-        solver->rows_[row++] = {c,
-                                &c->points()[p],
-                                constraint.dynamic_a ? constraint.body_a : 0u,
-                                constraint.dynamic_b ? constraint.body_b : 0u,
-                                axis,
-                                load};
+    linked_begin[k] = link_count;
+    for (std::uint32_t other = 0; other < contact_count; ++other)
+      if (adjacent[order[k] * contact_count + other]) linked[link_count++] = position[other];
+    std::sort(linked + linked_begin[k], linked + link_count);
   }
-  row_begin[contact_count] = row;
-  // Each row's neighbours: every row of every contact that shares a body with its contact (itself too), in
-  // row order.
-  solver->neighbour_begin_ = arena.AllocateArray<std::uint32_t>(count + 1);
-  std::uint32_t neighbour_count = 0;
-  for (std::uint32_t k = 0; k < contact_count; ++k)
-    for (std::uint32_t l = 0; l < contact_count; ++l)
-      if (adjacent[order[k] * contact_count + order[l]])
-        neighbour_count += (row_begin[k + 1] - row_begin[k]) * (row_begin[l + 1] - row_begin[l]);
-  solver->neighbours_ = arena.AllocateArray<std::uint32_t>(neighbour_count);
-  solver->coupling_ = arena.AllocateArray<float>(neighbour_count);
-  // Where contact l's rows start in the neighbour list of a row of contact k (when they share a body).
-  auto* block_offset =
-      arena.AllocateArray<std::uint32_t>(static_cast<std::size_t>(contact_count) * contact_count);
-  for (std::uint32_t k = 0; k < contact_count; ++k) {
-    std::uint32_t offset = 0;
-    for (std::uint32_t l = 0; l < contact_count; ++l) {
-      block_offset[k * contact_count + l] = offset;
-      if (adjacent[order[k] * contact_count + order[l]]) offset += row_begin[l + 1] - row_begin[l];
-    }
-  }
-  neighbour_count = 0;
-  for (std::uint32_t k = 0; k < contact_count; ++k)
-    for (std::uint32_t i = row_begin[k]; i < row_begin[k + 1]; ++i) {
-      solver->neighbour_begin_[i] = neighbour_count;
-      for (std::uint32_t l = 0; l < contact_count; ++l) {
-        if (!adjacent[order[k] * contact_count + order[l]]) continue;
-        for (std::uint32_t j = row_begin[l]; j < row_begin[l + 1]; ++j)
-          solver->neighbours_[neighbour_count++] = j;
-      }
-    }
-  solver->neighbour_begin_[count] = neighbour_count;
-  // The coupling is symmetric: each block of two contacts is computed once and stored on both sides.
-  for (std::uint32_t k = 0; k < contact_count; ++k)
-    for (std::uint32_t l = 0; l <= k; ++l) {
-      if (!adjacent[order[k] * contact_count + order[l]]) continue;
-      for (std::uint32_t i = row_begin[k]; i < row_begin[k + 1]; ++i)
-        for (std::uint32_t j = row_begin[l]; j < row_begin[l + 1] && (l < k || j <= i); ++j) {
-          const float value = RowCoupling(solver->rows_[i], solver->rows_[j], bodies);
-          solver->coupling_[solver->neighbour_begin_[i] + block_offset[k * contact_count + l] +
-                            (j - row_begin[l])] = value;
-          solver->coupling_[solver->neighbour_begin_[j] + block_offset[l * contact_count + k] +
-                            (i - row_begin[k])] = value;
-        }
-    }
-  solver->diagonal_ = arena.AllocateArray<float>(count);
-  for (std::uint32_t i = 0; i < count; ++i)
-    for (std::uint32_t k = solver->neighbour_begin_[i]; k < solver->neighbour_begin_[i + 1]; ++k)
-      if (solver->neighbours_[k] == i) solver->diagonal_[i] = solver->coupling_[k];
-  for (Factor& factor : solver->factors_) solver->AllocateFactor(arena, factor);
+  linked_begin[contact_count] = link_count;
+  const Layout layout{contacts, order, linked_begin, linked, weight_per_impulse};
+  BuildRowSet(arena, layout, bodies, false, solver->normals_);
+  BuildRowSet(arena, layout, bodies, true, solver->friction_);
+  const std::uint32_t count = solver->friction_.count;
   solver->offset_ = arena.AllocateArray<double>(count);
   solver->right_ = arena.AllocateArray<double>(count);
   solver->impulse_ = arena.AllocateArray<double>(count);
-  solver->bound_ = arena.AllocateArray<double>(count);
+  solver->start_ = arena.AllocateArray<double>(count);
   solver->lower_ = arena.AllocateArray<double>(count);
   solver->upper_ = arena.AllocateArray<double>(count);
   solver->target_ = arena.AllocateArray<double>(count);
@@ -208,22 +163,106 @@ DirectContactSolver* DirectContactSolver::Create(BlockArena& arena, std::span<So
   return solver;
 }
 
-void DirectContactSolver::AllocateFactor(BlockArena& arena, Factor& factor) const {
+void DirectContactSolver::BuildRowSet(BlockArena& arena, const Layout& layout, const SolverBody* bodies,
+                                      bool friction, RowSet& set) {
+  const auto contact_count = static_cast<std::uint32_t>(layout.contacts.size());
+  const std::uint32_t* order = layout.order;
+  const std::uint8_t first_axis = friction ? 1 : 0;
+  const std::uint8_t end_axis = friction ? 3 : 1;
+  // Rows contact by contact in the banded order; contact k's rows are [row_begin[k], row_begin[k + 1]).
+  auto* row_begin = arena.AllocateArray<std::uint32_t>(contact_count + 1);
+  std::uint32_t count = 0;
+  for (const SolverContact* c : layout.contacts) count += (end_axis - first_axis) * c->point_count;
+  set.count = count;
+  set.rows = arena.AllocateArray<Row>(count);
+  std::uint32_t row = 0;
+  for (std::uint32_t k = 0; k < contact_count; ++k) {
+    SolverContact* c = layout.contacts[order[k]];
+    const ContactConstraint& constraint = *c->constraint;
+    const float load = LoadScale(*c, bodies, layout.weight_per_impulse);
+    row_begin[k] = row;
+    for (int p = 0; p < c->point_count; ++p)
+      for (std::uint8_t axis = first_axis; axis < end_axis; ++axis)
+        set.rows[row++] = {c,
+                           &c->points()[p],
+                           constraint.dynamic_a ? constraint.body_a : 0u,
+                           constraint.dynamic_b ? constraint.body_b : 0u,
+                           axis,
+                           load};
+  }
+  row_begin[contact_count] = row;
+  // Each row's neighbours: every row of every contact linked to its contact (itself too), in row order.
+  // Where contact k's e-th link's rows start in the neighbour list of a row of k: link_offset[e].
+  const std::uint32_t* linked_begin = layout.linked_begin;
+  const std::uint32_t* linked = layout.linked;
+  auto* link_offset = arena.AllocateArray<std::uint32_t>(linked_begin[contact_count]);
+  auto rows_of = [&](std::uint32_t k) { return row_begin[k + 1] - row_begin[k]; };
+  std::uint32_t neighbour_count = 0;
+  for (std::uint32_t k = 0; k < contact_count; ++k) {
+    std::uint32_t offset = 0;
+    for (std::uint32_t e = linked_begin[k]; e < linked_begin[k + 1]; ++e) {
+      link_offset[e] = offset;
+      offset += rows_of(linked[e]);
+    }
+    neighbour_count += rows_of(k) * offset;
+  }
+  set.neighbour_begin = arena.AllocateArray<std::uint32_t>(count + 1);
+  set.neighbours = arena.AllocateArray<std::uint32_t>(neighbour_count);
+  set.coupling = arena.AllocateArray<float>(neighbour_count);
+  // Every row of a contact has the same neighbours: the first row's list is written, the others copy it.
+  neighbour_count = 0;
+  for (std::uint32_t k = 0; k < contact_count; ++k) {
+    const std::uint32_t first = neighbour_count;
+    for (std::uint32_t e = linked_begin[k]; e < linked_begin[k + 1]; ++e) {
+      const std::uint32_t begin = row_begin[linked[e]], end = row_begin[linked[e] + 1];
+      for (std::uint32_t j = begin; j < end; ++j) set.neighbours[neighbour_count++] = j;
+    }
+    const std::uint32_t length = neighbour_count - first;
+    set.neighbour_begin[row_begin[k]] = first;
+    for (std::uint32_t i = row_begin[k] + 1; i < row_begin[k + 1]; ++i) {
+      set.neighbour_begin[i] = neighbour_count;
+      std::copy_n(set.neighbours + first, length, set.neighbours + neighbour_count);
+      neighbour_count += length;
+    }
+  }
+  set.neighbour_begin[count] = neighbour_count;
+  // The coupling is symmetric: each block of two contacts is computed once (l <= k) and stored on both
+  // sides (k's entry in l's links found by a short search).
+  set.diagonal = arena.AllocateArray<float>(count);
+  for (std::uint32_t k = 0; k < contact_count; ++k)
+    for (std::uint32_t e = linked_begin[k]; e < linked_begin[k + 1] && linked[e] <= k; ++e) {
+      const std::uint32_t l = linked[e];
+      std::uint32_t back = linked_begin[l];
+      while (linked[back] != k) ++back;
+      for (std::uint32_t i = row_begin[k]; i < row_begin[k + 1]; ++i)
+        for (std::uint32_t j = row_begin[l]; j < row_begin[l + 1] && (l < k || j <= i); ++j) {
+          const float value = RowCoupling(set.rows[i], set.rows[j], bodies);
+          set.coupling[set.neighbour_begin[i] + link_offset[e] + (j - row_begin[l])] = value;
+          set.coupling[set.neighbour_begin[j] + link_offset[back] + (i - row_begin[k])] = value;
+          if (i == j) set.diagonal[i] = value;
+        }
+    }
+  // The friction rows' softness is the same in velocity and relax passes: one factor serves both.
+  AllocateFactor(arena, set, set.factors[0]);
+  if (!friction) AllocateFactor(arena, set, set.factors[1]);
+}
+
+void DirectContactSolver::AllocateFactor(BlockArena& arena, const RowSet& set, Factor& factor) {
   // The envelope of any subset of rows is no wider than that of all rows: row i reaches back to its first
   // neighbour.
   std::size_t capacity = 0;
-  for (std::uint32_t i = 0; i < count_; ++i) capacity += i - neighbours_[neighbour_begin_[i]] + 1;
+  for (std::uint32_t i = 0; i < set.count; ++i) capacity += i - set.neighbours[set.neighbour_begin[i]] + 1;
   factor.lower = arena.AllocateArray<double>(capacity);
-  factor.start = arena.AllocateArray<std::uint32_t>(count_ + 1);
-  factor.rows = arena.AllocateArray<std::uint32_t>(count_);
-  factor.first = arena.AllocateArray<std::uint32_t>(count_);
-  factor.free = arena.AllocateArray<std::uint8_t>(count_);
-  factor.softness = arena.AllocateArray<float>(count_);
+  factor.start = arena.AllocateArray<std::uint32_t>(set.count + 1);
+  factor.rows = arena.AllocateArray<std::uint32_t>(set.count);
+  factor.first = arena.AllocateArray<std::uint32_t>(set.count);
+  factor.free = arena.AllocateArray<std::uint8_t>(set.count);
+  factor.softness = arena.AllocateArray<float>(set.count);
   factor.valid = false;
 }
 
-bool DirectContactSolver::Refactor(Factor& factor) {
-  const std::uint32_t n = count_;
+bool DirectContactSolver::Refactor(const RowSet& set, Factor& factor) {
+  const std::uint32_t n = set.count;
   if (factor.valid && std::equal(free_, free_ + n, factor.free) &&
       std::equal(softness_, softness_ + n, factor.softness))
     return true;
@@ -239,9 +278,9 @@ bool DirectContactSolver::Refactor(Factor& factor) {
   for (std::uint32_t r = 0; r < m; ++r) {
     const std::uint32_t i = factor.rows[r];
     std::uint32_t first = r;
-    for (std::uint32_t k = neighbour_begin_[i]; k < neighbour_begin_[i + 1]; ++k)
-      if (free_[neighbours_[k]]) {
-        first = std::min(first, packed_of_[neighbours_[k]]);
+    for (std::uint32_t k = set.neighbour_begin[i]; k < set.neighbour_begin[i + 1]; ++k)
+      if (free_[set.neighbours[k]]) {
+        first = std::min(first, packed_of_[set.neighbours[k]]);
         break;  // neighbours are in row order
       }
     factor.first[r] = first;
@@ -253,8 +292,8 @@ bool DirectContactSolver::Refactor(Factor& factor) {
   bool positive = true;
   for (std::uint32_t r = 0; r < m && positive; ++r) {
     const std::uint32_t i = factor.rows[r];
-    for (std::uint32_t k = neighbour_begin_[i]; k < neighbour_begin_[i + 1]; ++k)
-      dense_row_[neighbours_[k]] = coupling_[k];
+    for (std::uint32_t k = set.neighbour_begin[i]; k < set.neighbour_begin[i + 1]; ++k)
+      dense_row_[set.neighbours[k]] = set.coupling[k];
     double* const row = row_of(r);
     const std::uint32_t row_first = factor.first[r];
     for (std::uint32_t c = row_first; c < r; ++c) {
@@ -269,8 +308,8 @@ bool DirectContactSolver::Refactor(Factor& factor) {
       row[r] = std::sqrt(diagonal);
     else
       positive = false;  // never seen: the softness keeps the matrix positive definite
-    for (std::uint32_t k = neighbour_begin_[i]; k < neighbour_begin_[i + 1]; ++k)
-      dense_row_[neighbours_[k]] = 0.0;
+    for (std::uint32_t k = set.neighbour_begin[i]; k < set.neighbour_begin[i + 1]; ++k)
+      dense_row_[set.neighbours[k]] = 0.0;
   }
   return factor.valid = positive;
 }
@@ -294,25 +333,34 @@ void DirectContactSolver::SolveWith(const Factor& factor, const double* right, d
   for (std::uint32_t r = 0; r < m; ++r) out[factor.rows[r]] = packed[r];
 }
 
-double DirectContactSolver::Residual(std::uint32_t row, const double* impulse) const {
+double DirectContactSolver::Residual(const RowSet& set, std::uint32_t row, const double* impulse) const {
   double sum = offset_[row] + softness_[row] * impulse[row];
-  for (std::uint32_t k = neighbour_begin_[row]; k < neighbour_begin_[row + 1]; ++k)
-    sum += coupling_[k] * impulse[neighbours_[k]];
+  for (std::uint32_t k = set.neighbour_begin[row]; k < set.neighbour_begin[row + 1]; ++k)
+    sum += set.coupling[k] * (impulse[set.neighbours[k]] - start_[set.neighbours[k]]);
   return sum;
 }
 
-bool DirectContactSolver::FreeRowsStep(Factor& factor) {
-  const std::uint32_t n = count_;
-  // Where the free rows would go with the others held: the equality-constrained minimum.
+bool DirectContactSolver::FreeRowsStep(const RowSet& set, Factor& factor) {
+  const std::uint32_t n = set.count;
+  // Where the free rows would go with the others held: the equality-constrained minimum, solved for the
+  // change from the pass's starting impulses (whose effect the velocities already carry). Only a held row
+  // that moved off its start couples into the free rows' right-hand side.
+  bool held_moved = false;
+  for (std::uint32_t i = 0; i < n && !held_moved; ++i) held_moved = !free_[i] && impulse_[i] != start_[i];
   for (std::uint32_t i = 0; i < n; ++i) {
     if (!free_[i]) continue;
-    double sum = -offset_[i];
-    for (std::uint32_t k = neighbour_begin_[i]; k < neighbour_begin_[i + 1]; ++k)
-      if (!free_[neighbours_[k]]) sum -= coupling_[k] * impulse_[neighbours_[k]];
+    double sum = -(offset_[i] + softness_[i] * start_[i]);
+    if (held_moved)
+      for (std::uint32_t k = set.neighbour_begin[i]; k < set.neighbour_begin[i + 1]; ++k) {
+        const std::uint32_t j = set.neighbours[k];
+        if (!free_[j]) sum -= set.coupling[k] * (impulse_[j] - start_[j]);
+      }
     right_[i] = sum;
   }
-  if (!Refactor(factor)) return false;
+  if (!Refactor(set, factor)) return false;
   SolveWith(factor, right_, target_);
+  for (std::uint32_t i = 0; i < n; ++i)
+    if (free_[i]) target_[i] += start_[i];
   // Go there as far as the limits allow; the first row to reach a limit is held at it.
   double step = 1.0;
   std::uint32_t blocking = n;
@@ -336,7 +384,7 @@ bool DirectContactSolver::FreeRowsStep(Factor& factor) {
   bool freed = false;
   for (std::uint32_t i = 0; i < n; ++i) {
     if (free_[i] || lower_[i] == upper_[i]) continue;
-    const double residual = Residual(i, impulse_);
+    const double residual = Residual(set, i, impulse_);
     const bool at_lower = impulse_[i] <= lower_[i];
     if ((at_lower && residual < -kResidualTolerance) || (!at_lower && residual > kResidualTolerance))
       free_[i] = 1, freed = true;
@@ -344,22 +392,22 @@ bool DirectContactSolver::FreeRowsStep(Factor& factor) {
   return freed;
 }
 
-void DirectContactSolver::Solve(SolverBody* bodies, const SubstepContext& context, bool use_bias,
-                                float* deepest) {
-  const std::uint32_t n = count_;
-  float lowest = kLargeFloat;
+bool DirectContactSolver::SolveRows(RowSet& set, SolverBody* bodies, const SubstepContext& context,
+                                    bool use_bias, float* lowest) {
+  const std::uint32_t n = set.count;
   // Each free row aims for residual = velocity + bias + softness * impulse = 0: the fixed point of the
-  // sequential soft update, with a normal row's spring scaled by its load.
+  // sequential soft update, with a normal row's spring scaled by its load. A friction row is held within
+  // the friction of the normal impulse solved last.
   for (std::uint32_t i = 0; i < n; ++i) {
-    const Row& r = rows_[i];
+    const Row& r = set.rows[i];
     const SolverContact& c = *r.contact;
-    SolverContactPoint& p = *r.point;
-    const float stiffness = diagonal_[i];
+    const SolverContactPoint& p = *r.point;
+    const float stiffness = set.diagonal[i];
     float softness = kRigidSoftness * stiffness;
     float bias = 0.0f;
     if (r.axis == kNormal) {
       const float separation = SeparationNow(p, MotionSinceStepBegan(c, bodies, context.elapsed));
-      lowest = std::min(lowest, separation);
+      *lowest = std::min(*lowest, separation);
       // The softness depends only on the pass, so one factorisation serves every pass of its kind while the
       // same rows are free (a gap that may close is as soft as an overlap).
       if (use_bias && c.softness.mass_scale > 0.0f)
@@ -376,85 +424,69 @@ void DirectContactSolver::Solve(SolverBody* bodies, const SubstepContext& contex
                             p.angular_b[r.axis].cwiseProduct(b.angular_velocity) -
                             p.angular_a[r.axis].cwiseProduct(a.angular_velocity))
                                .sum();
+    const double bound = c.friction * std::max(p.normal_impulse, 0.0f);
+    lower_[i] = r.axis == kNormal ? 0.0 : -bound;
+    upper_[i] = r.axis == kNormal ? kUnbounded : bound;
     softness_[i] = softness;
-    impulse_[i] = Accumulated(p, r.axis);
-    // Friction is bounded by the normal impulse the pass starts from: with bounds that moved with the
-    // solution, opposed friction at the limits and the normal impulses feeding them could grow together.
-    bound_[i] = r.axis == kNormal ? 0.0 : r.contact->friction * std::max(p.normal_impulse, 0.0f);
+    // The velocity carries the accumulated impulses: residual = coupling (impulse - start) + softness
+    // impulse + offset.
+    start_[i] = Accumulated(*r.point, r.axis);
+    impulse_[i] = std::clamp(start_[i], lower_[i], upper_[i]);
+    free_[i] = impulse_[i] > lower_[i] && impulse_[i] < upper_[i];
     offset_[i] = static_cast<double>(velocity) + bias;
   }
-  // q = velocity + bias - coupling * impulse0, so that residual = (coupling + softness) impulse + q.
-  for (std::uint32_t i = 0; i < n; ++i) {
-    double sum = 0.0;
-    for (std::uint32_t k = neighbour_begin_[i]; k < neighbour_begin_[i + 1]; ++k)
-      sum += coupling_[k] * impulse_[neighbours_[k]];
-    scratch_[i] = sum;
-  }
-  for (std::uint32_t i = 0; i < n; ++i) offset_[i] -= scratch_[i];
   // A primal active-set method on the convex problem min 1/2 x'(coupling + softness)x + q'x within the rows'
   // limits: every iterate stays within the limits (a round that cannot finish leaves a usable answer) and
-  // the objective falls each round, so it cannot cycle. Rows strictly inside their limits are free. The
-  // friction limits follow the normal impulses: solved with the pass's starting ones, then again with the
-  // new ones while they still move (as the sequential solver bounds friction by the normal impulse just
-  // solved).
-  Factor& factor = factors_[use_bias ? 1 : 0];
-  bool converged = true;
-  for (int limits = 0; limits < kMaxFrictionLimitUpdates; ++limits) {
-    for (std::uint32_t i = 0; i < n; ++i) {
-      lower_[i] = rows_[i].axis == kNormal ? 0.0 : -bound_[i];
-      upper_[i] = rows_[i].axis == kNormal ? kUnbounded : bound_[i];
-      impulse_[i] = std::clamp(impulse_[i], lower_[i], upper_[i]);
-      free_[i] = impulse_[i] > lower_[i] && impulse_[i] < upper_[i];
-    }
-    int round = 0;
-    while (round < kMaxActiveSetRounds && FreeRowsStep(factor)) ++round;
-    converged = round < kMaxActiveSetRounds;
-    // Only a row held at its limit, or one the new limit would cut, needs another solve.
-    bool moved = false;
-    for (std::uint32_t i = 0; i < n; ++i) {
-      if (rows_[i].axis == kNormal) continue;
-      const double bound = rows_[i].contact->friction * impulse_[i - rows_[i].axis];
-      moved |= (!free_[i] && std::abs(bound - bound_[i]) > kFrictionLimitTolerance * (bound + bound_[i])) ||
-               std::abs(impulse_[i]) > bound;
-      bound_[i] = bound;
-    }
-    if (!moved) break;
-  }
-  for (std::uint32_t i = 0; i < n; i += 3) {
-    const Row& r = rows_[i];
+  // the objective falls each round, so it cannot cycle. Rows strictly inside their limits are free.
+  // Only the normals' softness differs between velocity and relax passes.
+  Factor& factor = set.factors[use_bias && &set == &normals_ ? 1 : 0];
+  int round = 0;
+  while (round < kMaxActiveSetRounds && FreeRowsStep(set, factor)) ++round;
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const Row& r = set.rows[i];
     SolverContactPoint& p = *r.point;
-    const double normal = impulse_[i];
-    double first = impulse_[i + 1];
-    double second = impulse_[i + 2];
-    // The active set holds friction inside a box; the sequential solver's limit is the circle.
-    const double limit = r.contact->friction * normal;
-    const double length = std::sqrt(first * first + second * second);
-    if (length > limit) {
-      const double scale = length > 0.0 ? limit / length : 0.0;
-      first *= scale;
-      second *= scale;
+    double value = impulse_[i];
+    if (r.axis == 1) {
+      // The active set holds friction inside a box; the sequential solver's limit is the circle.
+      const double second = impulse_[i + 1];
+      const double limit = r.contact->friction * std::max(p.normal_impulse, 0.0f);
+      const double length = std::sqrt(value * value + second * second);
+      if (length > limit) {
+        const double scale = length > 0.0 ? limit / length : 0.0;
+        impulse_[i] = value * scale;
+        impulse_[i + 1] = second * scale;
+        value = impulse_[i];
+      }
     }
-    const double values[3] = {normal, first, second};
-    for (int axis = 0; axis < 3; ++axis) {
-      const float value = static_cast<float>(values[axis]);
-      const float delta = value - Accumulated(p, axis);
-      Accumulated(p, axis) = value;
-      if (axis == kNormal) p.max_normal_impulse = std::max(p.max_normal_impulse, delta);
-      const Vec4& direction = Direction(*r.contact, axis);
-      if (r.body_a != 0) {
-        SolverBody& a = bodies[r.body_a];
-        a.linear_velocity -= (a.inverse_mass * delta) * direction;
-        a.angular_velocity -= delta * p.response_a[axis];
-      }
-      if (r.body_b != 0) {
-        SolverBody& b = bodies[r.body_b];
-        b.linear_velocity += (b.inverse_mass * delta) * direction;
-        b.angular_velocity += delta * p.response_b[axis];
-      }
+    const float delta = static_cast<float>(value) - Accumulated(p, r.axis);
+    Accumulated(p, r.axis) = static_cast<float>(value);
+    if (r.axis == kNormal) p.max_normal_impulse = std::max(p.max_normal_impulse, delta);
+    const Vec4& direction = Direction(*r.contact, r.axis);
+    if (r.body_a != 0) {
+      SolverBody& a = bodies[r.body_a];
+      a.linear_velocity -= (a.inverse_mass * delta) * direction;
+      a.angular_velocity -= delta * p.response_a[r.axis];
+    }
+    if (r.body_b != 0) {
+      SolverBody& b = bodies[r.body_b];
+      b.linear_velocity += (b.inverse_mass * delta) * direction;
+      b.angular_velocity += delta * p.response_b[r.axis];
     }
   }
+  return round < kMaxActiveSetRounds;
+}
+
+void DirectContactSolver::Solve(SolverBody* bodies, const SubstepContext& context, bool use_bias,
+                                float* deepest) {
+  // Friction first, within the normal impulses so far, then the normals against the velocities friction
+  // left: the pass ends with every point's non-penetration exact (friction turning a light box under a heavy
+  // one afterwards would open or close its contacts again). The two sets are a block Gauss-Seidel step on
+  // the whole problem; solving each set exactly keeps what carries load through a stack.
+  float lowest = kLargeFloat;
+  const bool friction_settled = SolveRows(friction_, bodies, context, use_bias, &lowest);
+  const bool normals_settled = SolveRows(normals_, bodies, context, use_bias, &lowest);
   // An unfinished active set (a pile landing at once) leaves no row worse than a sequential pass would.
-  if (!converged)
+  if (!friction_settled || !normals_settled)
     for (SolverContact* c : contacts_) SolveContactVelocity(*c, bodies, context, use_bias, false, nullptr);
   if (deepest != nullptr) *deepest = std::min(*deepest, lowest);
 }

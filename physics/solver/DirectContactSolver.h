@@ -1,10 +1,12 @@
-// DirectContactSolver: one small island's contact rows (per point: non-penetration and two friction axes)
-// solved together, exactly, instead of one row at a time. Gauss-Seidel passes move momentum through a stack
-// one contact per pass, and between a heavy and a light body a thousandth at a time, so a tall tower sags and
-// buckles and a 1000 kg box squeezes out the 1 kg box under it; solving the rows' coupling matrix (a banded
+// DirectContactSolver: one small island's contact rows solved together, exactly, instead of one row at a
+// time: first all friction axes, then all normals. Gauss-Seidel passes move momentum through a stack one
+// contact per pass, and between a heavy and a light body a thousandth at a time, so a tall tower sags and
+// buckles and a 1000 kg box squeezes out the 1 kg box under it; solving each set's coupling matrix (a banded
 // Cholesky factor of the rows that are not at a limit, those found by a few active-set rounds) lands where
-// unlimited passes would. Because the solve is exact, each contact's spring can be as stiff as the load it
-// carries needs (see Create). One island per solver; IslandSolver runs a solver on one thread at a time.
+// unlimited passes would. Two sets of one and two rows per point cost a third of one set of three (the
+// factorisation goes with the cube). Because the solve is exact, each contact's spring can be as stiff as
+// the load it carries needs (see Create). One island per solver; IslandSolver runs a solver on one thread
+// at a time.
 #pragma once
 
 #include <cstdint>
@@ -29,9 +31,10 @@ class DirectContactSolver {
   static DirectContactSolver* Create(BlockArena& arena, std::span<SolverContact* const> contacts,
                                      const SolverBody* bodies, float weight_per_impulse);
 
-  /// One pass (replacing SolveContactVelocity over the island's contacts): the impulses with which, all
-  /// together, no point sinks (softly with `use_bias`, rigidly in relax passes), none pulls, and friction
-  /// holds each point still within its limit. `deepest` as in SolveContactVelocity.
+  /// One pass (replacing SolveContactVelocity over the island's contacts): the friction impulses with which,
+  /// all together, each point holds still within the friction of its normal impulse so far, then the normal
+  /// impulses with which, all together, no point sinks (softly with `use_bias`, rigidly in relax passes)
+  /// and none pulls. `deepest` as in SolveContactVelocity.
   void Solve(SolverBody* bodies, const SubstepContext& context, bool use_bias, float* deepest);
 
  private:
@@ -55,32 +58,45 @@ class DirectContactSolver {
     std::uint32_t size = 0;
     bool valid = false;
   };
+  // The rows of one kind (the normals, or the friction axes) and how they couple. The coupling matrix is
+  // kept by row, non-zero entries only (a row touches the rows of contacts that share a body with its own):
+  // row i's entries are [neighbour_begin[i], neighbour_begin[i + 1]), coupling[k] the velocity change of
+  // row i per unit impulse on row neighbours[k].
+  struct RowSet {
+    Row* rows = nullptr;
+    std::uint32_t count = 0;
+    std::uint32_t* neighbour_begin = nullptr;  // count + 1
+    std::uint32_t* neighbours = nullptr;
+    float* coupling = nullptr;
+    float* diagonal = nullptr;  // each row's own entry: its inverse effective mass
+    Factor factors[2];          // [use_bias]
+  };
+  // What Create orders and shares between the two sets.
+  struct Layout;
 
   static float RowCoupling(const Row& i, const Row& j, const SolverBody* bodies);
-  void AllocateFactor(BlockArena& arena, Factor& factor) const;
-  bool Refactor(Factor& factor);
+  static void BuildRowSet(BlockArena& arena, const Layout& layout, const SolverBody* bodies, bool friction,
+                          RowSet& set);
+  static void AllocateFactor(BlockArena& arena, const RowSet& set, Factor& factor);
+  bool Refactor(const RowSet& set, Factor& factor);
   void SolveWith(const Factor& factor, const double* right, double* out) const;
-  double Residual(std::uint32_t row, const double* impulse) const;
+  double Residual(const RowSet& set, std::uint32_t row, const double* impulse) const;
   // One round: move the free rows towards their minimum, stopping at the first limit hit (that row is then
   // held), or, at the minimum, free the held rows that would move off their limits. False when done.
-  bool FreeRowsStep(Factor& factor);
+  bool FreeRowsStep(const RowSet& set, Factor& factor);
+  // The set's impulses, all together, against the bodies' velocities now; applies them. False if the active
+  // set did not settle within its rounds.
+  bool SolveRows(RowSet& set, SolverBody* bodies, const SubstepContext& context, bool use_bias,
+                 float* lowest);
 
   std::span<SolverContact* const> contacts_;
-  Row* rows_ = nullptr;
-  std::uint32_t count_ = 0;
-  // The coupling matrix by row, non-zero entries only (a row touches the rows of contacts that share a body
-  // with its own): row i's entries are [neighbour_begin_[i], neighbour_begin_[i + 1]), coupling_[k] the
-  // velocity change of row i per unit impulse on row neighbours_[k].
-  std::uint32_t* neighbour_begin_ = nullptr;  // count + 1
-  std::uint32_t* neighbours_ = nullptr;
-  float* coupling_ = nullptr;
-  float* diagonal_ = nullptr;  // each row's own entry: its inverse effective mass
-  Factor factors_[2];          // [use_bias]
-  // Scratch of one pass.
-  double* offset_ = nullptr;   // q: residual = (coupling + softness) * impulse + q
-  double* right_ = nullptr;    // right-hand side of the free rows
+  RowSet normals_;
+  RowSet friction_;
+  // Scratch of one pass, as long as the longer set.
+  double* offset_ = nullptr;   // velocity + bias, with the start impulses applied
+  double* start_ = nullptr;    // the accumulated impulses the pass starts from
+  double* right_ = nullptr;    // right-hand side of the free rows (for the change from start)
   double* impulse_ = nullptr;  // the pass's solution
-  double* bound_ = nullptr;    // friction rows' limit this pass (normal rows: 0)
   double* lower_ = nullptr;
   double* upper_ = nullptr;
   double* target_ = nullptr;  // the free rows' equality-constrained minimum
