@@ -1,5 +1,6 @@
 #include "physics/narrowphase/CollideShapes.h"
 
+#include "physics/narrowphase/BoxBoxCollider.h"
 #include "physics/narrowphase/ClosestPoints.h"
 #include "physics/narrowphase/Epa.h"
 #include "physics/narrowphase/ManifoldBuilder.h"
@@ -232,6 +233,9 @@ bool CollideConvexConvex(const ConvexShape& a, const Pose& pose_a, const ConvexS
     std::swap(manifold.points[0].position_a, manifold.points[0].position_b);
     return true;
   }
+  if (a.type() == ShapeType::kBox && b.type() == ShapeType::kBox)
+    return CollideBoxes(static_cast<const BoxShape&>(a), pose_a, static_cast<const BoxShape&>(b), pose_b,
+                        max_separation, manifold);
   if (IsPolyhedron(a) && IsPolyhedron(b)) {
     thread_local Polyhedron polyhedron_a, polyhedron_b;
     if (MakePolyhedron(a, pose_a, polyhedron_a) && MakePolyhedron(b, pose_b, polyhedron_b))

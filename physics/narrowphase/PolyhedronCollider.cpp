@@ -156,9 +156,8 @@ void Polyhedron::Face(int f, SupportingFace& face) const {
 
 namespace {
 
-// Box topology: corner i has coordinate signs (bit 0: x, bit 1: y, bit 2: z).
-constexpr int kBoxFaces[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4},
-                                 {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
+// Box topology: corners and faces as BoxShape numbers them.
+constexpr const int (&kBoxFaces)[6][4] = BoxShape::kFaceCorners;
 constexpr int kBoxEdges[12][2] = {{0, 1}, {2, 3}, {4, 5}, {6, 7}, {0, 2}, {1, 3},
                                   {4, 6}, {5, 7}, {0, 4}, {1, 5}, {2, 6}, {3, 7}};
 

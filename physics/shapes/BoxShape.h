@@ -14,6 +14,11 @@ class BoxShape final : public ConvexShape {
   static Result<ShapeRef> Create(const Vec3& half_extents);
   explicit BoxShape(const Vec3& half_extents);
 
+  /// Corner c of the box has the signs of its coordinates in its bits (bit 0: x, bit 1: y, bit 2: z); face f
+  /// (-x, +x, -y, +y, -z, +z) lists its corners counter-clockwise seen from outside.
+  static constexpr int kFaceCorners[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4},
+                                             {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
+
   const Vec3& half_extents() const { return half_extents_; }
 
   AABB LocalBounds() const override { return {-half_extents_, half_extents_}; }
