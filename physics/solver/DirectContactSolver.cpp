@@ -155,8 +155,6 @@ DirectContactSolver* DirectContactSolver::Create(BlockArena& arena, std::span<So
   solver->upper_ = arena.AllocateArray<double>(count);
   solver->target_ = arena.AllocateArray<double>(count);
   solver->scratch_ = arena.AllocateArray<double>(count);
-  solver->dense_row_ = arena.AllocateArray<double>(count);
-  std::fill(solver->dense_row_, solver->dense_row_ + count, 0.0);
   solver->softness_ = arena.AllocateArray<float>(count);
   solver->free_ = arena.AllocateArray<std::uint8_t>(count);
   solver->packed_of_ = arena.AllocateArray<std::uint32_t>(count);
@@ -253,6 +251,7 @@ void DirectContactSolver::AllocateFactor(BlockArena& arena, const RowSet& set, F
   std::size_t capacity = 0;
   for (std::uint32_t i = 0; i < set.count; ++i) capacity += i - set.neighbours[set.neighbour_begin[i]] + 1;
   factor.lower = arena.AllocateArray<double>(capacity);
+  factor.inverse_diagonal = arena.AllocateArray<double>(set.count);
   factor.start = arena.AllocateArray<std::uint32_t>(set.count + 1);
   factor.rows = arena.AllocateArray<std::uint32_t>(set.count);
   factor.first = arena.AllocateArray<std::uint32_t>(set.count);
@@ -287,29 +286,34 @@ bool DirectContactSolver::Refactor(const RowSet& set, Factor& factor) {
     factor.start[r + 1] = factor.start[r] + (r - first + 1);
   }
   // Row r of the factor as an array indexed by packed column (valid from first[r] to r), so the inner loop
-  // is a plain dot product over contiguous memory.
+  // is a plain dot product over contiguous memory. It starts as the row of the matrix: zero, then the free
+  // neighbours left of the diagonal (in row order, so the scan stops at the diagonal).
   auto row_of = [&](std::uint32_t r) { return factor.lower + factor.start[r] - factor.first[r]; };
   bool positive = true;
   for (std::uint32_t r = 0; r < m && positive; ++r) {
     const std::uint32_t i = factor.rows[r];
-    for (std::uint32_t k = set.neighbour_begin[i]; k < set.neighbour_begin[i + 1]; ++k)
-      dense_row_[set.neighbours[k]] = set.coupling[k];
     double* const row = row_of(r);
     const std::uint32_t row_first = factor.first[r];
+    std::fill(row + row_first, row + r + 1, 0.0);
+    for (std::uint32_t k = set.neighbour_begin[i]; k < set.neighbour_begin[i + 1]; ++k) {
+      const std::uint32_t j = set.neighbours[k];
+      if (j > i) break;
+      if (free_[j]) row[packed_of_[j]] = set.coupling[k];
+    }
     for (std::uint32_t c = row_first; c < r; ++c) {
       const double* const column = row_of(c);
-      double sum = dense_row_[factor.rows[c]];
+      double sum = row[c];
       for (std::uint32_t k = std::max(row_first, factor.first[c]); k < c; ++k) sum -= row[k] * column[k];
-      row[c] = sum / column[c];
+      row[c] = sum * factor.inverse_diagonal[c];
     }
-    double diagonal = dense_row_[i] + softness_[i];
+    double diagonal = row[r] + softness_[i];
     for (std::uint32_t k = row_first; k < r; ++k) diagonal -= row[k] * row[k];
-    if (diagonal > 0.0)
+    if (diagonal > 0.0) {
       row[r] = std::sqrt(diagonal);
-    else
+      factor.inverse_diagonal[r] = 1.0 / row[r];
+    } else {
       positive = false;  // never seen: the softness keeps the matrix positive definite
-    for (std::uint32_t k = set.neighbour_begin[i]; k < set.neighbour_begin[i + 1]; ++k)
-      dense_row_[set.neighbours[k]] = 0.0;
+    }
   }
   return factor.valid = positive;
 }
@@ -322,11 +326,11 @@ void DirectContactSolver::SolveWith(const Factor& factor, const double* right, d
     const double* const row = row_of(r);
     double sum = right[factor.rows[r]];
     for (std::uint32_t k = factor.first[r]; k < r; ++k) sum -= row[k] * packed[k];
-    packed[r] = sum / row[r];
+    packed[r] = sum * factor.inverse_diagonal[r];
   }
   for (std::uint32_t r = m; r-- > 0;) {
     const double* const row = row_of(r);
-    packed[r] /= row[r];
+    packed[r] *= factor.inverse_diagonal[r];
     const double value = packed[r];
     for (std::uint32_t k = factor.first[r]; k < r; ++k) packed[k] -= row[k] * value;
   }

@@ -49,11 +49,12 @@ class DirectContactSolver {
   // A Cholesky factor of the free rows' block of (coupling + softness) in skyline storage, kept while the
   // same rows are free with the same softness (velocity and relax passes each keep one).
   struct Factor {
-    double* lower = nullptr;         // packed row r's entries from column first[r] to r at start[r]
-    std::uint32_t* start = nullptr;  // packed rows + 1
-    std::uint32_t* rows = nullptr;   // packed row -> row
-    std::uint32_t* first = nullptr;  // first packed column of each packed row's envelope
-    std::uint8_t* free = nullptr;    // what it was made of
+    double* lower = nullptr;             // packed row r's entries from column first[r] to r at start[r]
+    double* inverse_diagonal = nullptr;  // 1 / the factor's diagonal, by packed row
+    std::uint32_t* start = nullptr;      // packed rows + 1
+    std::uint32_t* rows = nullptr;       // packed row -> row
+    std::uint32_t* first = nullptr;      // first packed column of each packed row's envelope
+    std::uint8_t* free = nullptr;        // what it was made of
     float* softness = nullptr;
     std::uint32_t size = 0;
     bool valid = false;
@@ -101,7 +102,6 @@ class DirectContactSolver {
   double* upper_ = nullptr;
   double* target_ = nullptr;  // the free rows' equality-constrained minimum
   double* scratch_ = nullptr;
-  double* dense_row_ = nullptr;  // zero between uses
   float* softness_ = nullptr;
   std::uint8_t* free_ = nullptr;
   std::uint32_t* packed_of_ = nullptr;
