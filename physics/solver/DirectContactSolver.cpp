@@ -79,26 +79,16 @@ float& Accumulated(SolverContactPoint& p, int axis) {
 
 }  // namespace
 
-float DirectContactSolver::RowCoupling(const Row& ri, const Row& rj, const SolverBody* bodies) {
-  const SolverContactPoint& pi = *ri.point;
-  const SolverContactPoint& pj = *rj.point;
-  const Vec4& di = Direction(*ri.contact, ri.axis);
-  const Vec4& dj = Direction(*rj.contact, rj.axis);
-  // Through each body both rows move: side signs (-1 on A's side, +1 on B's) times the body's response.
-  auto through = [&](std::uint32_t body, float side_i, const Vec4& angular_i, float side_j,
-                     const Vec4& response_j) {
-    return side_i * side_j * (bodies[body].inverse_mass * di.dot(dj) + angular_i.dot(response_j));
-  };
-  float sum = 0.0f;
-  if (ri.body_a != 0 && ri.body_a == rj.body_a)
-    sum += through(ri.body_a, -1, pi.angular_a[ri.axis], -1, pj.response_a[rj.axis]);
-  if (ri.body_a != 0 && ri.body_a == rj.body_b)
-    sum += through(ri.body_a, -1, pi.angular_a[ri.axis], 1, pj.response_b[rj.axis]);
-  if (ri.body_b != 0 && ri.body_b == rj.body_a)
-    sum += through(ri.body_b, 1, pi.angular_b[ri.axis], -1, pj.response_a[rj.axis]);
-  if (ri.body_b != 0 && ri.body_b == rj.body_b)
-    sum += through(ri.body_b, 1, pi.angular_b[ri.axis], 1, pj.response_b[rj.axis]);
-  return sum;
+int DirectContactSolver::SharedBodies(const Row& ri, const Row& rj, const SolverBody* bodies,
+                                      SharedBody shared[2]) {
+  int count = 0;
+  const std::uint32_t sides_i[2] = {ri.body_a, ri.body_b}, sides_j[2] = {rj.body_a, rj.body_b};
+  for (std::uint8_t side_i = 0; side_i < 2; ++side_i)
+    for (std::uint8_t side_j = 0; side_j < 2; ++side_j)
+      if (sides_i[side_i] != 0 && sides_i[side_i] == sides_j[side_j])
+        shared[count++] = {bodies[sides_i[side_i]].inverse_mass, side_i == side_j ? 1.0f : -1.0f, side_i,
+                           side_j};
+  return count;
 }
 
 struct DirectContactSolver::Layout {
@@ -232,14 +222,48 @@ void DirectContactSolver::BuildRowSet(BlockArena& arena, const Layout& layout, c
       const std::uint32_t l = linked[e];
       std::uint32_t back = linked_begin[l];
       while (linked[back] != k) ++back;
-      for (std::uint32_t i = row_begin[k]; i < row_begin[k + 1]; ++i)
-        for (std::uint32_t j = row_begin[l]; j < row_begin[l + 1] && (l < k || j <= i); ++j) {
-          const float value = RowCoupling(set.rows[i], set.rows[j], bodies);
-          set.coupling[set.neighbour_begin[i] + link_offset[e] + (j - row_begin[l])] = value;
-          set.coupling[set.neighbour_begin[j] + link_offset[back] + (i - row_begin[k])] = value;
-          if (i == j) set.diagonal[i] = value;
+      // Every row of a contact has the same bodies: which ones the two contacts share is found once.
+      SharedBody shared[2];
+      const int shared_count = SharedBodies(set.rows[row_begin[k]], set.rows[row_begin[l]], bodies, shared);
+      // Row j's direction and, per shared body, its response on that body's side (a contact has at most
+      // four points, two friction rows each).
+      constexpr std::uint32_t kMaxRows = 2 * ContactManifold::kMaxPoints;
+      const Vec4* directions_j[kMaxRows];
+      const Vec4* responses_j[2][kMaxRows];
+      for (std::uint32_t j = row_begin[l]; j < row_begin[l + 1]; ++j) {
+        const Row& rj = set.rows[j];
+        directions_j[j - row_begin[l]] = &Direction(*rj.contact, rj.axis);
+        for (int b = 0; b < shared_count; ++b)
+          responses_j[b][j - row_begin[l]] =
+              shared[b].side_j ? &rj.point->response_b[rj.axis] : &rj.point->response_a[rj.axis];
+      }
+      for (std::uint32_t i = row_begin[k]; i < row_begin[k + 1]; ++i) {
+        const Row& ri = set.rows[i];
+        const Vec4& direction_i = Direction(*ri.contact, ri.axis);
+        const Vec4* angular_i[2];
+        for (int b = 0; b < shared_count; ++b)
+          angular_i[b] = shared[b].side_i ? &ri.point->angular_b[ri.axis] : &ri.point->angular_a[ri.axis];
+        float* const row_i = set.coupling + set.neighbour_begin[i] + link_offset[e];
+        const std::uint32_t end = (l < k ? row_begin[l + 1] : i + 1) - row_begin[l];
+        for (std::uint32_t j = 0; j < end; ++j) {
+          // Through each body both rows move: the side signs times the body's response.
+          const float directions = direction_i.dot(*directions_j[j]);
+          float value = 0.0f;
+          for (int b = 0; b < shared_count; ++b)
+            value += shared[b].sign *
+                     (shared[b].inverse_mass * directions + angular_i[b]->dot(*responses_j[b][j]));
+          row_i[j] = value;
+          set.coupling[set.neighbour_begin[row_begin[l] + j] + link_offset[back] + (i - row_begin[k])] =
+              value;
         }
+      }
     }
+  for (std::uint32_t k = 0; k < contact_count; ++k) {
+    std::uint32_t self = linked_begin[k];
+    while (linked[self] != k) ++self;
+    for (std::uint32_t i = row_begin[k]; i < row_begin[k + 1]; ++i)
+      set.diagonal[i] = set.coupling[set.neighbour_begin[i] + link_offset[self] + (i - row_begin[k])];
+  }
   // The friction rows' softness is the same in velocity and relax passes: one factor serves both.
   AllocateFactor(arena, set, set.factors[0]);
   if (!friction) AllocateFactor(arena, set, set.factors[1]);

@@ -75,7 +75,14 @@ class DirectContactSolver {
   // What Create orders and shares between the two sets.
   struct Layout;
 
-  static float RowCoupling(const Row& i, const Row& j, const SolverBody* bodies);
+  // A body two contacts both move: its inverse mass, the product of the side signs (-1 on A's side, +1 on
+  // B's) and each contact's side (0: A, 1: B).
+  struct SharedBody {
+    float inverse_mass;
+    float sign;
+    std::uint8_t side_i, side_j;
+  };
+  static int SharedBodies(const Row& i, const Row& j, const SolverBody* bodies, SharedBody shared[2]);
   static void BuildRowSet(BlockArena& arena, const Layout& layout, const SolverBody* bodies, bool friction,
                           RowSet& set);
   static void AllocateFactor(BlockArena& arena, const RowSet& set, Factor& factor);
