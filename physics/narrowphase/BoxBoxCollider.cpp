@@ -1,5 +1,6 @@
 #include "physics/narrowphase/BoxBoxCollider.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "physics/narrowphase/ClosestPoints.h"
@@ -35,11 +36,6 @@ struct PosedBox {
   }
   // Face f (-x, +x, -y, +y, -z, +z): outward normal.
   Vec3 FaceNormal(int face) const { return (face % 2 ? 1.0f : -1.0f) * axes.col(face / 2); }
-  void Face(int face, SupportingFace& out) const {
-    out.count = 0;
-    out.normal = FaceNormal(face);
-    for (const int corner : BoxShape::kFaceCorners[face]) out.Add(Corner(corner));
-  }
   // The face whose normal is most aligned with `direction` (the first of equals, as MostAlignedFace).
   int MostAlignedFace(const Vec3& direction) const {
     int best = 0;
@@ -132,6 +128,100 @@ EdgeAxis BestEdges(const Relative& relative, const PosedBox& a, const PosedBox& 
   return best;
 }
 
+// A point of the incident face in the reference face's frame: along its two edge axes and its normal.
+struct FacePoint {
+  float u, v, height;
+};
+
+// Corners this close outside a side (relative to the rectangle's half extent) count as on it: stacked boxes
+// of one size meet corner to corner, and clipping at rounding level would add near-copies of a corner that
+// the reduction to four points may keep instead of a real one.
+constexpr float kOnSide = 1e-5f;
+// A quad clipped by four sides has at most eight corners; the room beyond is for rounding.
+constexpr int kMaxFacePoints = 16;
+
+// Sutherland-Hodgman against one side of the reference rectangle: keeps sign * coordinate <= limit.
+int ClipSide(const FacePoint* in, int count, bool along_u, float sign, float limit, FacePoint* out) {
+  int written = 0;
+  const float tolerance = kOnSide * limit;
+  auto distance = [&](const FacePoint& p) {
+    const float beyond = sign * (along_u ? p.u : p.v) - limit;
+    return beyond <= tolerance ? std::min(beyond, 0.0f) : beyond;
+  };
+  FacePoint previous = in[count - 1];
+  float previous_distance = distance(previous);
+  for (int i = 0; i < count; ++i) {
+    const FacePoint& current = in[i];
+    const float current_distance = distance(current);
+    // Only an edge that crosses the side makes a new point (one that ends on it has the point already).
+    if ((previous_distance < 0.0f && current_distance > 0.0f) ||
+        (previous_distance > 0.0f && current_distance < 0.0f)) {
+      const float t = previous_distance / (previous_distance - current_distance);
+      if (written < kMaxFacePoints)
+        out[written++] = {previous.u + t * (current.u - previous.u),
+                          previous.v + t * (current.v - previous.v),
+                          previous.height + t * (current.height - previous.height)};
+    }
+    if (current_distance <= 0.0f && written < kMaxFacePoints) out[written++] = current;
+    previous = current;
+    previous_distance = current_distance;
+  }
+  return written;
+}
+
+// The face manifold: the incident face (a quad) clipped to the reference face's rectangle in the rectangle's
+// own coordinates, each point then carried onto the reference plane along the contact normal `n` (A to B).
+// The reference is the face more aligned with the normal (A's on a tie), as BuildManifold chooses.
+void FaceManifold(const PosedBox& a, int face_a, const PosedBox& b, int face_b, const Vec3& n,
+                  float max_separation, ContactManifold& manifold) {
+  const bool reference_is_a = a.FaceNormal(face_a).dot(n) >= -b.FaceNormal(face_b).dot(n);
+  const PosedBox& reference = reference_is_a ? a : b;
+  const PosedBox& incident = reference_is_a ? b : a;
+  const int reference_face = reference_is_a ? face_a : face_b;
+  const int incident_face = reference_is_a ? face_b : face_a;
+  const int axis = reference_face / 2;
+  const Vec3 normal = reference.FaceNormal(reference_face);
+  const Vec3 centre = reference.center + reference.half[axis] * normal;
+  const Vec3 u = reference.axes.col((axis + 1) % 3), v = reference.axes.col((axis + 2) % 3);
+  const float half_u = reference.half[(axis + 1) % 3], half_v = reference.half[(axis + 2) % 3];
+  // At most four corners, one more per side clipped.
+  FacePoint buffers[2][kMaxFacePoints];
+  int count = 0;
+  for (const int corner : BoxShape::kFaceCorners[incident_face]) {
+    const Vec3 offset = incident.Corner(corner) - centre;
+    buffers[0][count++] = {u.dot(offset), v.dot(offset), normal.dot(offset)};
+  }
+  // The sides in the order of the reference face's loop (the edge from each corner to the next), as
+  // BuildManifold clips them, so that the points come out in the same order: an edge runs along one axis,
+  // its side faces along the other, by that coordinate's sign at its corners.
+  int current = 0;
+  const int(&loop)[4] = BoxShape::kFaceCorners[reference_face];
+  for (int edge = 0; edge < 4 && count > 0; ++edge) {
+    const int corner = loop[edge], runs_along = loop[edge] ^ loop[(edge + 1) % 4];
+    const int side_axis = (runs_along & (1 << ((axis + 1) % 3))) != 0 ? (axis + 2) % 3 : (axis + 1) % 3;
+    const bool along_u = side_axis == (axis + 1) % 3;
+    const float sign = (corner >> side_axis) & 1 ? 1.0f : -1.0f;
+    count = ClipSide(buffers[current], count, along_u, sign, along_u ? half_u : half_v, buffers[1 - current]);
+    current = 1 - current;
+  }
+  const float denominator = n.dot(normal);
+  ContactPoint points[kMaxFacePoints];
+  int point_count = 0;
+  for (int i = 0; i < count; ++i) {
+    const FacePoint& p = buffers[current][i];
+    const Vec3 incident_point = centre + p.u * u + p.v * v + p.height * normal;
+    const Vec3 on_reference = incident_point - (p.height / denominator) * n;
+    ContactPoint point;
+    point.position_a = reference_is_a ? on_reference : incident_point;
+    point.position_b = reference_is_a ? incident_point : on_reference;
+    point.separation = (point.position_b - point.position_a).dot(n);
+    if (point.separation <= max_separation) points[point_count++] = point;
+  }
+  point_count = ReduceContactPoints(points, point_count, n);
+  for (int i = 0; i < point_count; ++i) manifold.points[i] = points[i];
+  manifold.count = point_count;
+}
+
 }  // namespace
 
 bool CollideBoxes(const BoxShape& box_a, const Pose& pose_a, const BoxShape& box_b, const Pose& pose_b,
@@ -162,13 +252,17 @@ bool CollideBoxes(const BoxShape& box_a, const Pose& pose_a, const BoxShape& box
   // The normal from A to B: A's face normal, or B's negated.
   const Vec3 n = on_b ? Vec3(-b.FaceNormal(face_b.face)) : a.FaceNormal(face_a.face);
   manifold.normal = n;
-  SupportingFace face_of_a, face_of_b;
-  a.Face(on_b ? a.MostAlignedFace(n) : face_a.face, face_of_a);
-  b.Face(on_b ? face_b.face : b.MostAlignedFace(-n), face_of_b);
-  const Vec3 deepest_a = a.Support(n), deepest_b = b.Support(-n);
-  BuildManifold(face_of_a, face_of_b, {deepest_a, deepest_b, (deepest_b - deepest_a).dot(n)}, max_separation,
-                manifold);
-  return manifold.count > 0;
+  FaceManifold(a, on_b ? a.MostAlignedFace(n) : face_a.face, b, on_b ? face_b.face : b.MostAlignedFace(-n), n,
+               max_separation, manifold);
+  if (manifold.count == 0) {
+    // Nothing of the incident face within the margin over the reference face: the deepest corners.
+    const Vec3 deepest_a = a.Support(n), deepest_b = b.Support(-n);
+    const float separation = (deepest_b - deepest_a).dot(n);
+    if (separation > max_separation) return false;
+    manifold.points[0] = {deepest_a, deepest_b, separation};
+    manifold.count = 1;
+  }
+  return true;
 }
 
 }  // namespace strata
