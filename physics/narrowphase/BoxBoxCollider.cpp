@@ -210,16 +210,10 @@ void FaceManifold(const PosedBox& a, int face_a, const PosedBox& b, int face_b, 
   for (int i = 0; i < count; ++i) {
     const FacePoint& p = buffers[current][i];
     const Vec3 incident_point = centre + p.u * u + p.v * v + p.height * normal;
-    const Vec3 on_reference = incident_point - (p.height / denominator) * n;
-    ContactPoint point;
-    point.position_a = reference_is_a ? on_reference : incident_point;
-    point.position_b = reference_is_a ? incident_point : on_reference;
-    point.separation = (point.position_b - point.position_a).dot(n);
-    if (point.separation <= max_separation) points[point_count++] = point;
+    AppendFacePoint(incident_point, incident_point - (p.height / denominator) * n, reference_is_a, n,
+                    max_separation, points, point_count);
   }
-  point_count = ReduceContactPoints(points, point_count, n);
-  for (int i = 0; i < point_count; ++i) manifold.points[i] = points[i];
-  manifold.count = point_count;
+  SetManifoldPoints(points, point_count, manifold);
 }
 
 }  // namespace

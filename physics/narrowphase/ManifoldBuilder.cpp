@@ -87,6 +87,21 @@ int ReduceContactPoints(ContactPoint* points, int count, const Vec3& normal) {
   return kept_count;
 }
 
+void AppendFacePoint(const Vec3& incident, const Vec3& on_reference, bool reference_is_a, const Vec3& normal,
+                     float max_separation, ContactPoint* points, int& count) {
+  ContactPoint point;
+  point.position_a = reference_is_a ? on_reference : incident;
+  point.position_b = reference_is_a ? incident : on_reference;
+  point.separation = (point.position_b - point.position_a).dot(normal);
+  if (point.separation <= max_separation) points[count++] = point;
+}
+
+void SetManifoldPoints(ContactPoint* points, int count, ContactManifold& manifold) {
+  count = ReduceContactPoints(points, count, manifold.normal);
+  for (int i = 0; i < count; ++i) manifold.points[i] = points[i];
+  manifold.count = count;
+}
+
 void BuildManifold(const SupportingFace& face_a, const SupportingFace& face_b, const ContactPoint& deepest,
                    float max_separation, ContactManifold& manifold) {
   const Vec3& n = manifold.normal;
@@ -141,16 +156,10 @@ void BuildManifold(const SupportingFace& face_a, const SupportingFace& face_b, c
       // Project the incident point onto the reference plane along the contact normal.
       const Vec3& incident_point = (*polygon)[i];
       const float t = (plane_point - incident_point).dot(reference_normal) / denominator;
-      const Vec3 on_reference = incident_point + t * n;
-      ContactPoint point;
-      point.position_a = reference_is_a ? on_reference : incident_point;
-      point.position_b = reference_is_a ? incident_point : on_reference;
-      point.separation = (point.position_b - point.position_a).dot(n);
-      if (point.separation <= max_separation) points[point_count++] = point;
+      AppendFacePoint(incident_point, incident_point + t * n, reference_is_a, n, max_separation, points,
+                      point_count);
     }
-    point_count = ReduceContactPoints(points, point_count, n);
-    for (int i = 0; i < point_count; ++i) manifold.points[i] = points[i];
-    manifold.count = point_count;
+    SetManifoldPoints(points, point_count, manifold);
   }
   if (manifold.count == 0 && deepest.separation <= max_separation) {
     manifold.points[0] = deepest;

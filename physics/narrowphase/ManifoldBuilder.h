@@ -13,6 +13,13 @@ namespace strata {
 void BuildManifold(const SupportingFace& face_a, const SupportingFace& face_b, const ContactPoint& deepest,
                    float max_separation, ContactManifold& manifold);
 
+/// A clipped incident point and where it meets the reference face along `normal` (A to B), as a contact
+/// point with A's side first; appended to `points` when it is within `max_separation`.
+void AppendFacePoint(const Vec3& incident, const Vec3& on_reference, bool reference_is_a, const Vec3& normal,
+                     float max_separation, ContactPoint* points, int& count);
+/// Reduces `points` to at most four (ReduceContactPoints) and makes them the manifold's.
+void SetManifoldPoints(ContactPoint* points, int count, ContactManifold& manifold);
+
 /// Keeps at most four of `points`: the deepest, then the ones spanning the largest area.
 int ReduceContactPoints(ContactPoint* points, int count, const Vec3& normal);
 
