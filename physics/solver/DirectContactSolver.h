@@ -47,7 +47,7 @@ class DirectContactSolver {
     float load;         // the contact's spring scale: carried mass over its heavier body's mass, >= 1
   };
   // A Cholesky factor of the free rows' block of (coupling + softness) in skyline storage, kept while the
-  // same rows are free with the same softness (velocity and relax passes each keep one).
+  // same rows are free with the same softness.
   struct Factor {
     double* lower = nullptr;             // packed row r's entries from column first[r] to r at start[r]
     double* inverse_diagonal = nullptr;  // 1 / the factor's diagonal, by packed row
@@ -70,7 +70,7 @@ class DirectContactSolver {
     std::uint32_t* neighbours = nullptr;
     float* coupling = nullptr;
     float* diagonal = nullptr;  // each row's own entry: its inverse effective mass
-    Factor factors[2];          // [use_bias]
+    Factor factors[2];          // [use_bias] for the normals; friction's softness is one for both: [0]
   };
   // What Create orders and shares between the two sets.
   struct Layout;
