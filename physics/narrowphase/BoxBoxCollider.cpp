@@ -36,11 +36,16 @@ struct PosedBox {
   }
   // Face f (-x, +x, -y, +y, -z, +z): outward normal.
   Vec3 FaceNormal(int face) const { return (face % 2 ? 1.0f : -1.0f) * axes.col(face / 2); }
-  // The face whose normal is most aligned with `direction` (the first of equals, as MostAlignedFace).
+  // The face whose normal is most aligned with `direction` (the first of equals, as MostAlignedFace). Face
+  // 2k+1 scores axis k's dot and face 2k its negation, which is exact, so three dots decide all six.
   int MostAlignedFace(const Vec3& direction) const {
+    const Vec3 along = axes.transpose() * direction;
     int best = 0;
-    for (int face = 1; face < 6; ++face)
-      if (FaceNormal(face).dot(direction) > FaceNormal(best).dot(direction)) best = face;
+    float best_score = -along.x();
+    for (int face = 1; face < 6; ++face) {
+      const float score = face % 2 ? along[face / 2] : -along[face / 2];
+      if (score > best_score) best = face, best_score = score;
+    }
     return best;
   }
   // The edge along axis `axis` farthest along `direction`, as its two ends.
@@ -71,19 +76,17 @@ struct FaceAxis {
 };
 
 // The face of A (`of_a`) or of B that the other box is farthest beyond: each face's separation is the gap
-// between the other box's deepest corner and the face plane.
+// between the other box's deepest corner and the face plane. Of an axis's two faces the one facing the other
+// box's centre is the farther (the negative face on a tie, as a scan of all six in order keeps the first).
 FaceAxis BestFace(const Relative& relative, const PosedBox& a, const PosedBox& b, bool of_a) {
+  // The other box's centre along this box's axes (seen from B, A's centre is at -offset).
+  const Vec3 centre = of_a ? relative.offset : Vec3(-(relative.rotation.transpose() * relative.offset));
+  const Vec3 reach = of_a ? Vec3(relative.absolute * b.half) : Vec3(relative.absolute.transpose() * a.half);
+  const Vec3& half = of_a ? a.half : b.half;
   FaceAxis best;
-  const Vec3 along = of_a ? relative.offset : Vec3(relative.rotation.transpose() * relative.offset);
-  for (int face = 0; face < 6; ++face) {
-    const int axis = face / 2;
-    const float sign = face % 2 ? 1.0f : -1.0f;
-    // Seen from B, A's centre is at -offset.
-    const float centre = of_a ? sign * along[axis] : -sign * along[axis];
-    const float reach =
-        of_a ? relative.absolute.row(axis).dot(b.half) : relative.absolute.col(axis).dot(a.half);
-    const float separation = centre - reach - (of_a ? a.half[axis] : b.half[axis]);
-    if (separation > best.separation) best = {face, separation};
+  for (int axis = 0; axis < 3; ++axis) {
+    const float separation = std::abs(centre[axis]) - reach[axis] - half[axis];
+    if (separation > best.separation) best = {2 * axis + (centre[axis] > 0.0f ? 1 : 0), separation};
   }
   return best;
 }

@@ -80,6 +80,21 @@ TEST(AccuracyReport, GapsNameEachUncoveredBulletRunAndTheCheapestStrataRunAsAccu
   EXPECT_FALSE(gaps[1].strata.has_value());
 }
 
+TEST(AccuracyReport, SettingsOnlyStrataHasRunOnStrataAlone) {
+  if (MakeBulletEngine() == nullptr) GTEST_SKIP() << "built without Bullet";
+  AccuracySetting exact{"exact", 1.0f / 60.0f, 1, 1, 1, true, true};
+  AccuracySetting passes_only = exact;
+  passes_only.name = "passes only";
+  passes_only.direct_small_islands = false;
+  const Result<std::vector<AccuracyRecord>> records =
+      RunAccuracySuite({Case("free_fall")}, {exact, passes_only}, {"strata", "bullet"}, 1);
+  ASSERT_TRUE(records.ok()) << records.error().message;
+  std::map<std::string, std::vector<std::string>> settings_by_engine;
+  for (const AccuracyRecord& record : *records) settings_by_engine[record.engine].push_back(record.setting);
+  EXPECT_EQ(settings_by_engine["strata"], (std::vector<std::string>{"exact", "passes only"}));
+  EXPECT_EQ(settings_by_engine["bullet"], (std::vector<std::string>{"exact"}));
+}
+
 TEST(AccuracyCases, ClosedFormCasesHoldAtEveryDtAndSubstepCount) {
   for (const char* name : {"incline_slide", "incline_stick", "rolling_sphere", "elastic_collision",
                            "inelastic_collision", "intermediate_axis_flip", "fast_thin_wall"})

@@ -57,6 +57,12 @@ class AccuracyEngine {
  public:
   virtual ~AccuracyEngine() = default;
   virtual std::string name() const = 0;
+  /// Whether the setting means something to this engine: a switch the engine does not have would only repeat
+  /// another setting's run (Bullet has no exact small-island solve).
+  virtual bool Runs(const AccuracySetting& setting) const {
+    (void)setting;
+    return true;
+  }
   /// Creates the scene's bodies (in order) with the setting's solver parameters.
   virtual Status Build(const AccuracyScene& scene, const AccuracySetting& setting) = 0;
   /// One step of the setting's dt; its wall time is added to step_ms().

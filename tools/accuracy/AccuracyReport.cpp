@@ -107,6 +107,7 @@ Result<std::vector<AccuracyRecord>> RunAccuracySuite(const std::vector<AccuracyC
           std::unique_ptr<AccuracyEngine> engine = MakeEngine(engine_name);
           if (!engine)
             return MakeError(ErrorCode::kInvalidArgument, "no engine '" + engine_name + "' in this build");
+          if (!engine->Runs(setting)) continue;
           Result<CaseOutcome> outcome = c.run(*engine, setting);
           if (!outcome)
             return MakeError(outcome.error().code, c.name + " at " + setting.name + " on " + engine_name +
