@@ -4,12 +4,12 @@
 // circle, then soft non-penetration, points alternating direction per pass), a register of lanes at a time.
 // A point's separation is tracked through the substeps from the bodies' motion since the step began, not
 // from their poses.
-// The lanes are stored compactly, as Box2D stores its anchors: per point only the lever arms, masses, separation
-// and impulses; a row's velocity is the contact point's relative velocity along the axis, and an impulse
-// turns a body by its inverse inertia times (arm x impulse), with the two inverse inertias kept once per
-// bundle. The solve then streams a third of the bytes precomputed Jacobians would need. Bodies are gathered
-// into lanes at the start of a pass and scattered back (dynamic sides only) at its end. A bundle belongs to
-// one job at a time.
+// The lanes are stored compactly, as Box2D stores its anchors: per point only the lever arms, masses,
+// separation and impulses; a row's velocity is the contact point's relative velocity along the axis, and an
+// impulse turns a body by its inverse inertia times (arm x impulse), with the two inverse inertias kept once
+// per bundle. The solve then streams a third of the bytes precomputed Jacobians would need. Bodies are
+// gathered into lanes at the start of a pass and scattered back (dynamic sides only) at its end. A bundle
+// belongs to one job at a time.
 #pragma once
 
 #include <cstdint>

@@ -69,12 +69,21 @@ float LoadScale(const SolverContact& c, const SolverBody* bodies, float weight_p
   return std::max(1.0f, impulse * weight_per_impulse * lighter);
 }
 
-const Vec4& Direction(const SolverContact& c, int axis) {
-  return axis == kNormal ? c.normal : c.tangent[axis - 1];
-}
+constexpr int kTwist = 3;
+// Patches whose points are closer together than this (summed squared offsets, m^2) get no twist row: one
+// point, or points at one place, cannot resist a turn about the normal.
+constexpr float kMinSpread = 1e-8f;
+const Vec4 kNoDirection = Vec4::Zero();
 
-float& Accumulated(SolverContactPoint& p, int axis) {
-  return axis == kNormal ? p.normal_impulse : p.tangent_impulse[axis - 1];
+// The patch's bound on friction axis `axis` (1, 2) or on the twist: friction times the points' normal
+// impulses, for the twist each times the point's distance from the centre.
+float PatchBound(const SolverContact& c, const Vec4* turn, int axis) {
+  float bound = 0.0f;
+  for (int k = 0; k < c.point_count; ++k) {
+    const float pushed = std::max(c.points()[k].normal_impulse, 0.0f);
+    bound += axis == kTwist ? pushed * turn[k].norm() : pushed;
+  }
+  return c.friction * bound;
 }
 
 }  // namespace
@@ -93,6 +102,7 @@ int DirectContactSolver::SharedBodies(const Row& ri, const Row& rj, const Solver
 
 struct DirectContactSolver::Layout {
   std::span<SolverContact* const> contacts;
+  Patch* patches;              // by contact
   const std::uint32_t* order;  // contacts in banded order
   // Banded position k's links (itself and the contacts that share a body the solver moves with it), as
   // banded positions in increasing order: linked[linked_begin[k] .. linked_begin[k + 1]).
@@ -133,10 +143,13 @@ DirectContactSolver* DirectContactSolver::Create(BlockArena& arena, std::span<So
     std::sort(linked + linked_begin[k], linked + link_count);
   }
   linked_begin[contact_count] = link_count;
-  const Layout layout{contacts, order, linked_begin, linked, weight_per_impulse};
+  solver->patches_ = arena.AllocateArray<Patch>(contact_count);
+  for (std::uint32_t k = 0; k < contact_count; ++k) MakePatch(*contacts[k], bodies, solver->patches_[k]);
+  const Layout layout{contacts, solver->patches_, order, linked_begin, linked, weight_per_impulse};
   BuildRowSet(arena, layout, bodies, false, solver->normals_);
   BuildRowSet(arena, layout, bodies, true, solver->friction_);
-  const std::uint32_t count = solver->friction_.count;
+  // Scratch for the longer set.
+  const std::uint32_t count = std::max(solver->normals_.count, solver->friction_.count);
   solver->offset_ = arena.AllocateArray<double>(count);
   solver->right_ = arena.AllocateArray<double>(count);
   solver->impulse_ = arena.AllocateArray<double>(count);
@@ -151,32 +164,121 @@ DirectContactSolver* DirectContactSolver::Create(BlockArena& arena, std::span<So
   return solver;
 }
 
+void DirectContactSolver::MakePatch(const SolverContact& c, const SolverBody* bodies, Patch& patch) {
+  const int count = c.point_count;
+  const float share = 1.0f / static_cast<float>(count);
+  // The arm to the centre crossed with an axis is the mean of the points' (the cross product is linear).
+  for (int axis = 0; axis < 2; ++axis) {
+    Vec4 angular_a = Vec4::Zero(), angular_b = Vec4::Zero(), response_a = Vec4::Zero(),
+         response_b = Vec4::Zero();
+    for (int k = 0; k < count; ++k) {
+      const SolverContactPoint& p = c.points()[k];
+      angular_a += p.angular_a[axis + 1];
+      angular_b += p.angular_b[axis + 1];
+      response_a += p.response_a[axis + 1];
+      response_b += p.response_b[axis + 1];
+    }
+    patch.angular_a[axis] = share * angular_a;
+    patch.angular_b[axis] = share * angular_b;
+    patch.response_a[axis] = share * response_a;
+    patch.response_b[axis] = share * response_b;
+  }
+  patch.angular_a[2] = patch.angular_b[2] = c.normal;
+  patch.response_a[2] = bodies[c.constraint->body_a].InverseInertiaTimes(c.normal);
+  patch.response_b[2] = bodies[c.constraint->body_b].InverseInertiaTimes(c.normal);
+  const ContactConstraintPoint* points = c.constraint->points();
+  Vec3 centre = Vec3::Zero();
+  for (int k = 0; k < count; ++k) centre += points[k].r_b;
+  centre *= share;
+  const Vec3 normal = ToVec3(c.normal);
+  patch.spread = 0.0f;
+  for (int k = 0; k < count; ++k) {
+    Vec3 offset = points[k].r_b - centre;
+    offset -= offset.dot(normal) * normal;
+    patch.turn[k] = ToVec4(normal.cross(offset));
+    patch.spread += offset.squaredNorm();
+  }
+}
+
+void DirectContactSolver::GatherPatch(const SolverContact& c, Patch& patch) {
+  // The points' friction impulses as the patch's: their sum along each axis, and their turn about the centre.
+  patch.accumulated[0] = patch.accumulated[1] = patch.accumulated[2] = 0.0f;
+  for (int k = 0; k < c.point_count; ++k) {
+    const SolverContactPoint& p = c.points()[k];
+    patch.accumulated[0] += p.tangent_impulse[0];
+    patch.accumulated[1] += p.tangent_impulse[1];
+    patch.accumulated[2] += p.tangent_impulse[0] * patch.turn[k].dot(c.tangent[0]) +
+                            p.tangent_impulse[1] * patch.turn[k].dot(c.tangent[1]);
+  }
+}
+
+void DirectContactSolver::SpreadPatch(SolverContact& c, const Patch& patch, int axis, float delta) {
+  // A change of the patch's impulse shared out over its points so that their sum and their turn about the
+  // centre change by as much (the smallest such change of each point): the points keep the impulses that
+  // warm start the next step and any sequential pass.
+  SolverContactPoint* points = c.points();
+  if (axis != kTwist) {
+    const float share = delta / static_cast<float>(c.point_count);
+    for (int k = 0; k < c.point_count; ++k) points[k].tangent_impulse[axis - 1] += share;
+    return;
+  }
+  const float per_spread = delta / patch.spread;
+  for (int k = 0; k < c.point_count; ++k)
+    for (int t = 0; t < 2; ++t) points[k].tangent_impulse[t] += per_spread * patch.turn[k].dot(c.tangent[t]);
+}
+
 void DirectContactSolver::BuildRowSet(BlockArena& arena, const Layout& layout, const SolverBody* bodies,
                                       bool friction, RowSet& set) {
   const auto contact_count = static_cast<std::uint32_t>(layout.contacts.size());
   const std::uint32_t* order = layout.order;
-  const std::uint8_t first_axis = friction ? 1 : 0;
-  const std::uint8_t end_axis = friction ? 3 : 1;
+  // Normals: one row per point. Friction: the patch's two axes, and its twist if its points are apart.
+  auto rows_for = [&](std::uint32_t contact) -> std::uint32_t {
+    if (!friction) return layout.contacts[contact]->point_count;
+    return layout.patches[contact].spread > kMinSpread ? 3 : 2;
+  };
   // Rows contact by contact in the banded order; contact k's rows are [row_begin[k], row_begin[k + 1]).
   auto* row_begin = arena.AllocateArray<std::uint32_t>(contact_count + 1);
   std::uint32_t count = 0;
-  for (const SolverContact* c : layout.contacts) count += (end_axis - first_axis) * c->point_count;
+  for (std::uint32_t k = 0; k < contact_count; ++k) count += rows_for(k);
   set.count = count;
   set.rows = arena.AllocateArray<Row>(count);
   std::uint32_t row = 0;
   for (std::uint32_t k = 0; k < contact_count; ++k) {
     SolverContact* c = layout.contacts[order[k]];
+    Patch* patch = &layout.patches[order[k]];
     const ContactConstraint& constraint = *c->constraint;
     const float load = LoadScale(*c, bodies, layout.weight_per_impulse);
+    const std::uint32_t body_a = constraint.dynamic_a ? constraint.body_a : 0u;
+    const std::uint32_t body_b = constraint.dynamic_b ? constraint.body_b : 0u;
     row_begin[k] = row;
-    for (int p = 0; p < c->point_count; ++p)
-      for (std::uint8_t axis = first_axis; axis < end_axis; ++axis)
+    if (!friction) {
+      for (int point = 0; point < c->point_count; ++point) {
+        SolverContactPoint* p = &c->points()[point];
         set.rows[row++] = {c,
-                           &c->points()[p],
-                           constraint.dynamic_a ? constraint.body_a : 0u,
-                           constraint.dynamic_b ? constraint.body_b : 0u,
-                           axis,
+                           p,
+                           nullptr,
+                           &c->normal,
+                           {&p->angular_a[0], &p->angular_b[0]},
+                           {&p->response_a[0], &p->response_b[0]},
+                           body_a,
+                           body_b,
+                           kNormal,
                            load};
+      }
+      continue;
+    }
+    const std::uint32_t axes = rows_for(order[k]);
+    for (std::uint8_t axis = 1; axis <= axes; ++axis)
+      set.rows[row++] = {c,
+                         nullptr,
+                         patch,
+                         axis == kTwist ? &kNoDirection : &c->tangent[axis - 1],
+                         {&patch->angular_a[axis - 1], &patch->angular_b[axis - 1]},
+                         {&patch->response_a[axis - 1], &patch->response_b[axis - 1]},
+                         body_a,
+                         body_b,
+                         axis,
+                         load};
   }
   row_begin[contact_count] = row;
   // Each row's neighbours: every row of every contact linked to its contact (itself too), in row order.
@@ -226,23 +328,22 @@ void DirectContactSolver::BuildRowSet(BlockArena& arena, const Layout& layout, c
       SharedBody shared[2];
       const int shared_count = SharedBodies(set.rows[row_begin[k]], set.rows[row_begin[l]], bodies, shared);
       // Row j's direction and, per shared body, its response on that body's side (a contact has at most
-      // four points, two friction rows each).
-      constexpr std::uint32_t kMaxRows = 2 * ContactManifold::kMaxPoints;
+      // four normal rows and three friction rows).
+      constexpr std::uint32_t kMaxRows = ContactManifold::kMaxPoints;
+      static_assert(kMaxRows >= 3);
       const Vec4* directions_j[kMaxRows];
       const Vec4* responses_j[2][kMaxRows];
       for (std::uint32_t j = row_begin[l]; j < row_begin[l + 1]; ++j) {
         const Row& rj = set.rows[j];
-        directions_j[j - row_begin[l]] = &Direction(*rj.contact, rj.axis);
+        directions_j[j - row_begin[l]] = rj.direction;
         for (int b = 0; b < shared_count; ++b)
-          responses_j[b][j - row_begin[l]] =
-              shared[b].side_j ? &rj.point->response_b[rj.axis] : &rj.point->response_a[rj.axis];
+          responses_j[b][j - row_begin[l]] = rj.response[shared[b].side_j];
       }
       for (std::uint32_t i = row_begin[k]; i < row_begin[k + 1]; ++i) {
         const Row& ri = set.rows[i];
-        const Vec4& direction_i = Direction(*ri.contact, ri.axis);
+        const Vec4& direction_i = *ri.direction;
         const Vec4* angular_i[2];
-        for (int b = 0; b < shared_count; ++b)
-          angular_i[b] = shared[b].side_i ? &ri.point->angular_b[ri.axis] : &ri.point->angular_a[ri.axis];
+        for (int b = 0; b < shared_count; ++b) angular_i[b] = ri.angular[shared[b].side_i];
         float* const row_i = set.coupling + set.neighbour_begin[i] + link_offset[e];
         const std::uint32_t end = (l < k ? row_begin[l + 1] : i + 1) - row_begin[l];
         for (std::uint32_t j = 0; j < end; ++j) {
@@ -423,18 +524,20 @@ bool DirectContactSolver::FreeRowsStep(const RowSet& set, Factor& factor) {
 bool DirectContactSolver::SolveRows(RowSet& set, SolverBody* bodies, const SubstepContext& context,
                                     bool use_bias, float* lowest) {
   const std::uint32_t n = set.count;
+  const bool friction = &set == &friction_;
+  if (friction)
+    for (std::size_t k = 0; k < contacts_.size(); ++k) GatherPatch(*contacts_[k], patches_[k]);
   // Each free row aims for residual = velocity + bias + softness * impulse = 0: the fixed point of the
   // sequential soft update, with a normal row's spring scaled by its load. A friction row is held within
-  // the friction of the normal impulse solved last.
+  // the friction of the normal impulses solved last.
   for (std::uint32_t i = 0; i < n; ++i) {
     const Row& r = set.rows[i];
     const SolverContact& c = *r.contact;
-    const SolverContactPoint& p = *r.point;
     const float stiffness = set.diagonal[i];
     float softness = kRigidSoftness * stiffness;
     float bias = 0.0f;
     if (r.axis == kNormal) {
-      const float separation = SeparationNow(p, MotionSinceStepBegan(c, bodies, context.elapsed));
+      const float separation = SeparationNow(*r.point, MotionSinceStepBegan(c, bodies, context.elapsed));
       *lowest = std::min(*lowest, separation);
       // The softness depends only on the pass, so one factorisation serves every pass of its kind while the
       // same rows are free (a gap that may close is as soft as an overlap).
@@ -448,17 +551,17 @@ bool DirectContactSolver::SolveRows(RowSet& set, SolverBody* bodies, const Subst
     }
     const SolverBody& a = bodies[c.constraint->body_a];
     const SolverBody& b = bodies[c.constraint->body_b];
-    const float velocity = (Direction(c, r.axis).cwiseProduct(b.linear_velocity - a.linear_velocity) +
-                            p.angular_b[r.axis].cwiseProduct(b.angular_velocity) -
-                            p.angular_a[r.axis].cwiseProduct(a.angular_velocity))
-                               .sum();
-    const double bound = c.friction * std::max(p.normal_impulse, 0.0f);
+    const float velocity =
+        (r.direction->cwiseProduct(b.linear_velocity - a.linear_velocity) +
+         r.angular[1]->cwiseProduct(b.angular_velocity) - r.angular[0]->cwiseProduct(a.angular_velocity))
+            .sum();
+    const double bound = r.axis == kNormal ? 0.0 : PatchBound(c, r.patch->turn, r.axis);
     lower_[i] = r.axis == kNormal ? 0.0 : -bound;
     upper_[i] = r.axis == kNormal ? kUnbounded : bound;
     softness_[i] = softness;
     // The velocity carries the accumulated impulses: residual = coupling (impulse - start) + softness
     // impulse + offset.
-    start_[i] = Accumulated(*r.point, r.axis);
+    start_[i] = r.axis == kNormal ? r.point->normal_impulse : r.patch->accumulated[r.axis - 1];
     impulse_[i] = std::clamp(start_[i], lower_[i], upper_[i]);
     free_[i] = impulse_[i] > lower_[i] && impulse_[i] < upper_[i];
     offset_[i] = static_cast<double>(velocity) + bias;
@@ -467,17 +570,16 @@ bool DirectContactSolver::SolveRows(RowSet& set, SolverBody* bodies, const Subst
   // limits: every iterate stays within the limits (a round that cannot finish leaves a usable answer) and
   // the objective falls each round, so it cannot cycle. Rows strictly inside their limits are free.
   // Only the normals' softness differs between velocity and relax passes.
-  Factor& factor = set.factors[use_bias && &set == &normals_ ? 1 : 0];
+  Factor& factor = set.factors[use_bias && !friction ? 1 : 0];
   int round = 0;
   while (round < kMaxActiveSetRounds && FreeRowsStep(set, factor)) ++round;
   for (std::uint32_t i = 0; i < n; ++i) {
     const Row& r = set.rows[i];
-    SolverContactPoint& p = *r.point;
     double value = impulse_[i];
     if (r.axis == 1) {
       // The active set holds friction inside a box; the sequential solver's limit is the circle.
       const double second = impulse_[i + 1];
-      const double limit = r.contact->friction * std::max(p.normal_impulse, 0.0f);
+      const double limit = PatchBound(*r.contact, r.patch->turn, 1);
       const double length = std::sqrt(value * value + second * second);
       if (length > limit) {
         const double scale = length > 0.0 ? limit / length : 0.0;
@@ -486,19 +588,22 @@ bool DirectContactSolver::SolveRows(RowSet& set, SolverBody* bodies, const Subst
         value = impulse_[i];
       }
     }
-    const float delta = static_cast<float>(value) - Accumulated(p, r.axis);
-    Accumulated(p, r.axis) = static_cast<float>(value);
-    if (r.axis == kNormal) p.max_normal_impulse = std::max(p.max_normal_impulse, delta);
-    const Vec4& direction = Direction(*r.contact, r.axis);
+    float& accumulated = r.axis == kNormal ? r.point->normal_impulse : r.patch->accumulated[r.axis - 1];
+    const float delta = static_cast<float>(value) - accumulated;
+    accumulated = static_cast<float>(value);
+    if (r.axis == kNormal)
+      r.point->max_normal_impulse = std::max(r.point->max_normal_impulse, delta);
+    else
+      SpreadPatch(*r.contact, *r.patch, r.axis, delta);
     if (r.body_a != 0) {
       SolverBody& a = bodies[r.body_a];
-      a.linear_velocity -= (a.inverse_mass * delta) * direction;
-      a.angular_velocity -= delta * p.response_a[r.axis];
+      a.linear_velocity -= (a.inverse_mass * delta) * *r.direction;
+      a.angular_velocity -= delta * *r.response[0];
     }
     if (r.body_b != 0) {
       SolverBody& b = bodies[r.body_b];
-      b.linear_velocity += (b.inverse_mass * delta) * direction;
-      b.angular_velocity += delta * p.response_b[r.axis];
+      b.linear_velocity += (b.inverse_mass * delta) * *r.direction;
+      b.angular_velocity += delta * *r.response[1];
     }
   }
   return round < kMaxActiveSetRounds;

@@ -3,10 +3,10 @@
 // contact per pass, and between a heavy and a light body a thousandth at a time, so a tall tower sags and
 // buckles and a 1000 kg box squeezes out the 1 kg box under it; solving each set's coupling matrix (a banded
 // Cholesky factor of the rows that are not at a limit, those found by a few active-set rounds) lands where
-// unlimited passes would. Two sets of one and two rows per point cost much less than one set of three (the
-// factorisation goes with the cube of the rows; the 30-box tower's step halved). Because the solve is exact,
-// each contact's spring can be as stiff as the load it carries needs (see Create). One island per solver;
-// IslandSolver runs a solver on one thread at a time.
+// unlimited passes would. Two sets, one row per point and three friction rows per contact, cost much less
+// than one set of three rows per point (the factorisation goes with the cube of the rows). Because the solve
+// is exact, each contact's spring can be as stiff as the load it carries needs (see Create). One island per
+// solver; IslandSolver runs a solver on one thread at a time.
 #pragma once
 
 #include <cstdint>
@@ -32,18 +32,38 @@ class DirectContactSolver {
                                      const SolverBody* bodies, float weight_per_impulse);
 
   /// One pass (replacing SolveContactVelocity over the island's contacts): the friction impulses with which,
-  /// all together, each point holds still within the friction of its normal impulse so far, then the normal
-  /// impulses with which, all together, no point sinks (softly with `use_bias`, rigidly in relax passes)
-  /// and none pulls. `deepest` as in SolveContactVelocity.
+  /// all together, each contact holds still within the friction of its normal impulses so far, then the
+  /// normal impulses with which, all together, no point sinks (softly with `use_bias`, rigidly in relax
+  /// passes) and none pulls. `deepest` as in SolveContactVelocity.
   void Solve(SolverBody* bodies, const SubstepContext& context, bool use_bias, float* deepest);
 
  private:
+  // A contact's friction as one patch (as PhysX has it): both friction axes at the centre of its points and a
+  // twist about the normal. For points on one plane these three rows span what two rows per point span, so
+  // the exact solve moves the bodies as per-point rows would, with at most three friction rows a contact
+  // instead of eight: the factorisation, which goes with the cube of the rows, costs a fraction. The bounds
+  // are the patch's: the tangent impulse within friction times the contact's normal impulse, the twist
+  // within friction times each point's normal impulse times its distance from the centre.
+  struct Patch {
+    Vec4
+        angular_a[3];  // the rows' angular parts on A: the centre's arm x each friction axis, then the normal
+    Vec4 angular_b[3];
+    Vec4 response_a[3];  // inverse inertia of A times angular_a
+    Vec4 response_b[3];
+    Vec4 turn[ContactManifold::kMaxPoints];  // normal x each point's offset from the centre (in the plane)
+    float spread;                            // the offsets' squared lengths summed; no twist row when ~0
+    float accumulated[3];                    // the rows' impulses, gathered from the points' each pass
+  };
   struct Row {
     SolverContact* contact;
-    SolverContactPoint* point;
+    SolverContactPoint* point;  // a normal row's point
+    Patch* patch;               // a friction row's patch
+    const Vec4* direction;      // linear part (zero for the twist)
+    const Vec4* angular[2];     // on A's side, on B's
+    const Vec4* response[2];
     std::uint32_t body_a;  // 0 unless the solver moves that side
     std::uint32_t body_b;
-    std::uint8_t axis;  // 0: the normal, 1 and 2: the friction axes
+    std::uint8_t axis;  // 0: the normal, 1 and 2: the friction axes, 3: the twist
     float load;         // the contact's spring scale: carried mass over its heavier body's mass, >= 1
   };
   // A Cholesky factor of the free rows' block of (coupling + softness) in skyline storage, kept while the
@@ -82,6 +102,9 @@ class DirectContactSolver {
     float sign;
     std::uint8_t side_i, side_j;
   };
+  static void MakePatch(const SolverContact& c, const SolverBody* bodies, Patch& patch);
+  static void GatherPatch(const SolverContact& c, Patch& patch);
+  static void SpreadPatch(SolverContact& c, const Patch& patch, int axis, float delta);
   static int SharedBodies(const Row& i, const Row& j, const SolverBody* bodies, SharedBody shared[2]);
   static void BuildRowSet(BlockArena& arena, const Layout& layout, const SolverBody* bodies, bool friction,
                           RowSet& set);
@@ -98,6 +121,7 @@ class DirectContactSolver {
                  float* lowest);
 
   std::span<SolverContact* const> contacts_;
+  Patch* patches_ = nullptr;  // by contact
   RowSet normals_;
   RowSet friction_;
   // Scratch of one pass, as long as the longer set.

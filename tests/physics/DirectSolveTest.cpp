@@ -136,6 +136,44 @@ TEST(DirectSolve, FrictionHoldsABoxOnASlopeAndLetsOneSlideAtTheClosedFormRate) {
   }
 }
 
+TEST(DirectSolve, FrictionHoldsATwistBelowItsTorqueAndTurnsABoxAboveAtTheClosedFormRate) {
+  // A 0.5 m box rests on a 1000 kg slab (an island of two resting bodies) and is twisted about the vertical.
+  // Its four corners each carry a quarter of its weight at r = 0.25 sqrt 2 from the centre, so friction
+  // resists up to mu m g r; above that it spins up at (torque - mu m g r) / I, I = m (0.5^2 + 0.5^2) / 12.
+  const float mu = 0.5f, mass = 125.0f, arm = 0.25f * std::sqrt(2.0f);
+  const float limit = mu * mass * 9.81f * arm, inertia = mass * 0.5f / 12.0f;
+  for (const float factor : {0.5f, 2.0f}) {
+    auto world = MakeWorld(Awake(true));
+    BodyCreationSettings floor = Static(Box(20, 1, 20), Vec3(0, -1, 0));
+    floor.friction = 1.0f;
+    Add(*world, floor);
+    BodyCreationSettings slab = Dynamic(Box(4, 0.5f, 2), Vec3(0, 0.5f, 0));
+    slab.mass = 1000.0f;
+    slab.friction = 1.0f;
+    Add(*world, slab);
+    BodyCreationSettings box = Dynamic(Box(0.25f, 0.25f, 0.25f), Vec3(0, 1.25f, 0));
+    box.friction = mu * mu;  // the pair's is sqrt(a * b)
+    box.mass = mass;
+    box.angular_damping = 0.0f;
+    const BodyID id = Add(*world, box);
+    StepFor(*world, kSecond / 2);  // settled
+    EXPECT_EQ(world->last_step_stats().direct_islands, 1u);
+    const Quat start = *world->bodies().GetRotation(id);
+    const int steps = kSecond / 2;
+    for (int i = 0; i < steps; ++i) {
+      ASSERT_TRUE(world->bodies().AddTorque(id, Vec3(0, factor * limit, 0)).ok());
+      StepFor(*world, 1);
+    }
+    if (factor < 1.0f) {
+      EXPECT_LT(start.angularDistance(*world->bodies().GetRotation(id)), 0.002f);
+    } else {
+      const float time = static_cast<float>(steps) / kSecond;
+      const float expected = (factor - 1.0f) * limit / inertia * time;
+      EXPECT_NEAR(world->bodies().GetAngularVelocity(id)->y(), expected, 0.02f * expected);
+    }
+  }
+}
+
 TEST(DirectSolve, SameInputsGiveTheSameTowerToTheBit) {
   std::vector<Vec3> tops;
   for (int run = 0; run < 2; ++run) {
