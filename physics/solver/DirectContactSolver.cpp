@@ -77,6 +77,18 @@ const Vec4 kNoDirection = Vec4::Zero();
 
 // The patch's bound on friction axis `axis` (1, 2) or on the twist: friction times the points' normal
 // impulses, for the twist each times the point's distance from the centre.
+// Sum of x[k] y[k] for k in [begin, end), in two chains so that the adds overlap.
+double Dot(const double* x, const double* y, std::uint32_t begin, std::uint32_t end) {
+  double even = 0.0, odd = 0.0;
+  std::uint32_t k = begin;
+  for (; k + 1 < end; k += 2) {
+    even += x[k] * y[k];
+    odd += x[k + 1] * y[k + 1];
+  }
+  if (k < end) even += x[k] * y[k];
+  return even + odd;
+}
+
 float PatchBound(const SolverContact& c, const Vec4* turn, int axis) {
   float bound = 0.0f;
   for (int k = 0; k < c.point_count; ++k) {
@@ -380,6 +392,7 @@ void DirectContactSolver::AllocateFactor(BlockArena& arena, const RowSet& set, F
   factor.start = arena.AllocateArray<std::uint32_t>(set.count + 1);
   factor.rows = arena.AllocateArray<std::uint32_t>(set.count);
   factor.first = arena.AllocateArray<std::uint32_t>(set.count);
+  factor.base = arena.AllocateArray<double*>(set.count);
   factor.free = arena.AllocateArray<std::uint8_t>(set.count);
   factor.softness = arena.AllocateArray<float>(set.count);
   factor.valid = false;
@@ -409,30 +422,27 @@ bool DirectContactSolver::Refactor(const RowSet& set, Factor& factor) {
       }
     factor.first[r] = first;
     factor.start[r + 1] = factor.start[r] + (r - first + 1);
+    // Row r of the factor as an array indexed by packed column (valid from first[r] to r), so the inner
+    // loops are plain dot products over contiguous memory.
+    factor.base[r] = factor.lower + factor.start[r] - first;
   }
-  // Row r of the factor as an array indexed by packed column (valid from first[r] to r), so the inner loop
-  // is a plain dot product over contiguous memory. It starts as the row of the matrix: zero, then the free
-  // neighbours left of the diagonal (in row order, so the scan stops at the diagonal).
-  auto row_of = [&](std::uint32_t r) { return factor.lower + factor.start[r] - factor.first[r]; };
   bool positive = true;
   for (std::uint32_t r = 0; r < m && positive; ++r) {
     const std::uint32_t i = factor.rows[r];
-    double* const row = row_of(r);
+    double* const row = factor.base[r];
     const std::uint32_t row_first = factor.first[r];
+    // The row of the matrix: zero, then the free neighbours left of the diagonal (in row order, so the scan
+    // stops at the diagonal).
     std::fill(row + row_first, row + r + 1, 0.0);
     for (std::uint32_t k = set.neighbour_begin[i]; k < set.neighbour_begin[i + 1]; ++k) {
       const std::uint32_t j = set.neighbours[k];
       if (j > i) break;
       if (free_[j]) row[packed_of_[j]] = set.coupling[k];
     }
-    for (std::uint32_t c = row_first; c < r; ++c) {
-      const double* const column = row_of(c);
-      double sum = row[c];
-      for (std::uint32_t k = std::max(row_first, factor.first[c]); k < c; ++k) sum -= row[k] * column[k];
-      row[c] = sum * factor.inverse_diagonal[c];
-    }
-    double diagonal = row[r] + softness_[i];
-    for (std::uint32_t k = row_first; k < r; ++k) diagonal -= row[k] * row[k];
+    for (std::uint32_t c = row_first; c < r; ++c)
+      row[c] = (row[c] - Dot(row, factor.base[c], std::max(row_first, factor.first[c]), c)) *
+               factor.inverse_diagonal[c];
+    const double diagonal = row[r] + softness_[i] - Dot(row, row, row_first, r);
     if (diagonal > 0.0) {
       row[r] = std::sqrt(diagonal);
       factor.inverse_diagonal[r] = 1.0 / row[r];
@@ -445,16 +455,12 @@ bool DirectContactSolver::Refactor(const RowSet& set, Factor& factor) {
 
 void DirectContactSolver::SolveWith(const Factor& factor, const double* right, double* out) const {
   const std::uint32_t m = factor.size;
-  auto row_of = [&](std::uint32_t r) { return factor.lower + factor.start[r] - factor.first[r]; };
   double* packed = scratch_;
-  for (std::uint32_t r = 0; r < m; ++r) {
-    const double* const row = row_of(r);
-    double sum = right[factor.rows[r]];
-    for (std::uint32_t k = factor.first[r]; k < r; ++k) sum -= row[k] * packed[k];
-    packed[r] = sum * factor.inverse_diagonal[r];
-  }
+  for (std::uint32_t r = 0; r < m; ++r)
+    packed[r] = (right[factor.rows[r]] - Dot(factor.base[r], packed, factor.first[r], r)) *
+                factor.inverse_diagonal[r];
   for (std::uint32_t r = m; r-- > 0;) {
-    const double* const row = row_of(r);
+    const double* const row = factor.base[r];
     packed[r] *= factor.inverse_diagonal[r];
     const double value = packed[r];
     for (std::uint32_t k = factor.first[r]; k < r; ++k) packed[k] -= row[k] * value;

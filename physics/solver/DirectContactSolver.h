@@ -74,6 +74,7 @@ class DirectContactSolver {
     std::uint32_t* start = nullptr;      // packed rows + 1
     std::uint32_t* rows = nullptr;       // packed row -> row
     std::uint32_t* first = nullptr;      // first packed column of each packed row's envelope
+    double** base = nullptr;             // packed row r as an array by packed column: lower + start - first
     std::uint8_t* free = nullptr;        // what it was made of
     float* softness = nullptr;
     std::uint32_t size = 0;
