@@ -19,23 +19,61 @@ constexpr double kUnbounded = 1e30;
 // A row held at a limit may pull away from it this fast (m/s) before it is freed.
 constexpr double kResidualTolerance = 1e-6;
 
-bool ShareBody(const SolverContact& x, const SolverContact& y) {
-  const ContactConstraint& a = *x.constraint;
-  const ContactConstraint& b = *y.constraint;
-  auto moved = [](std::uint32_t body, bool dynamic) { return dynamic ? body : 0u; };
-  const std::uint32_t xa = moved(a.body_a, a.dynamic_a), xb = moved(a.body_b, a.dynamic_b);
-  const std::uint32_t ya = moved(b.body_a, b.dynamic_a), yb = moved(b.body_b, b.dynamic_b);
-  return (xa != 0 && (xa == ya || xa == yb)) || (xb != 0 && (xb == ya || xb == yb));
+// Each contact's links: itself and the contacts that share a body the solver moves with it, in increasing
+// order, as lists: links[begin[k] .. begin[k + 1]). Found through each body's contacts (a sort of (body,
+// contact) pairs), not by testing every pair of contacts.
+void LinkContacts(BlockArena& arena, std::span<SolverContact* const> contacts, std::uint32_t*& begin,
+                  std::uint32_t*& links) {
+  const auto count = static_cast<std::uint32_t>(contacts.size());
+  auto* by_body = arena.AllocateArray<std::uint64_t>(2 * count);
+  std::uint32_t pairs = 0;
+  for (std::uint32_t k = 0; k < count; ++k) {
+    const ContactConstraint& c = *contacts[k]->constraint;
+    if (c.dynamic_a) by_body[pairs++] = (std::uint64_t{c.body_a} << 32) | k;
+    if (c.dynamic_b && !(c.dynamic_a && c.body_a == c.body_b))
+      by_body[pairs++] = (std::uint64_t{c.body_b} << 32) | k;
+  }
+  std::sort(by_body, by_body + pairs);
+  // Where each contact's bodies' runs of contacts start and end in by_body.
+  auto* run_begin = arena.AllocateArray<std::uint32_t>(2 * count);
+  auto* run_end = arena.AllocateArray<std::uint32_t>(2 * count);
+  auto* run_count = arena.AllocateArray<std::uint8_t>(count);
+  std::fill(run_count, run_count + count, std::uint8_t{0});
+  std::uint32_t capacity = count;  // itself
+  for (std::uint32_t first = 0; first < pairs;) {
+    std::uint32_t last = first + 1;
+    while (last < pairs && (by_body[last] >> 32) == (by_body[first] >> 32)) ++last;
+    for (std::uint32_t e = first; e < last; ++e) {
+      const auto k = static_cast<std::uint32_t>(by_body[e] & 0xffffffffu);
+      run_begin[2 * k + run_count[k]] = first;
+      run_end[2 * k + run_count[k]] = last;
+      ++run_count[k];
+      capacity += last - first;
+    }
+    first = last;
+  }
+  begin = arena.AllocateArray<std::uint32_t>(count + 1);
+  links = arena.AllocateArray<std::uint32_t>(capacity);
+  std::uint32_t written = 0;
+  for (std::uint32_t k = 0; k < count; ++k) {
+    begin[k] = written;
+    links[written++] = k;
+    for (std::uint8_t run = 0; run < run_count[k]; ++run)
+      for (std::uint32_t e = run_begin[2 * k + run]; e < run_end[2 * k + run]; ++e)
+        links[written++] = static_cast<std::uint32_t>(by_body[e] & 0xffffffffu);
+    std::sort(links + begin[k], links + written);
+    written = static_cast<std::uint32_t>(std::unique(links + begin[k], links + written) - links);
+  }
+  begin[count] = written;
 }
 
-// Reverse Cuthill-McKee over contacts (`adjacent`: share a body the solver moves), each component starting
-// from a contact with the fewest neighbours: a stack comes out end to end, so its coupling is banded.
-void BandedOrder(std::uint32_t count, const std::uint8_t* adjacent, std::uint32_t* order,
-                 std::uint32_t* degree, std::uint8_t* placed) {
+// Reverse Cuthill-McKee over contacts (linked: share a body the solver moves), each component starting from
+// a contact with the fewest links: a stack comes out end to end, so its coupling is banded.
+void BandedOrder(std::uint32_t count, const std::uint32_t* begin, const std::uint32_t* links,
+                 std::uint32_t* order, std::uint32_t* degree, std::uint8_t* placed) {
   for (std::uint32_t i = 0; i < count; ++i) {
-    degree[i] = 0;
+    degree[i] = begin[i + 1] - begin[i] - 1;
     placed[i] = 0;
-    for (std::uint32_t j = 0; j < count; ++j) degree[i] += j != i && adjacent[i * count + j];
   }
   std::uint32_t filled = 0;
   while (filled < count) {
@@ -46,12 +84,12 @@ void BandedOrder(std::uint32_t count, const std::uint8_t* adjacent, std::uint32_
     order[filled++] = start;
     for (std::uint32_t head = filled - 1; head < filled; ++head) {
       const std::uint32_t from = order[head];
-      const std::uint32_t begin = filled;
-      for (std::uint32_t j = 0; j < count; ++j)
-        if (!placed[j] && adjacent[from * count + j]) placed[j] = 1, order[filled++] = j;
+      const std::uint32_t first_new = filled;
+      for (std::uint32_t e = begin[from]; e < begin[from + 1]; ++e)
+        if (!placed[links[e]]) placed[links[e]] = 1, order[filled++] = links[e];
       // Insertion sort by degree, stable (and no buffer to allocate, unlike std::stable_sort).
-      for (std::uint32_t k = begin + 1; k < filled; ++k)
-        for (std::uint32_t m = k; m > begin && degree[order[m]] < degree[order[m - 1]]; --m)
+      for (std::uint32_t k = first_new + 1; k < filled; ++k)
+        for (std::uint32_t m = k; m > first_new && degree[order[m]] < degree[order[m - 1]]; --m)
           std::swap(order[m], order[m - 1]);
     }
   }
@@ -132,26 +170,23 @@ DirectContactSolver* DirectContactSolver::Create(BlockArena& arena, std::span<So
       new (arena.Allocate(sizeof(DirectContactSolver), alignof(DirectContactSolver))) DirectContactSolver;
   solver->contacts_ = contacts;
   const auto contact_count = static_cast<std::uint32_t>(contacts.size());
-  auto* adjacent = arena.AllocateArray<std::uint8_t>(static_cast<std::size_t>(contact_count) * contact_count);
-  for (std::uint32_t i = 0; i < contact_count; ++i)
-    for (std::uint32_t j = 0; j <= i; ++j)
-      adjacent[i * contact_count + j] = adjacent[j * contact_count + i] =
-          i == j || ShareBody(*contacts[i], *contacts[j]);
+  std::uint32_t* links_begin = nullptr;
+  std::uint32_t* links = nullptr;
+  LinkContacts(arena, contacts, links_begin, links);
   auto* order = arena.AllocateArray<std::uint32_t>(contact_count);
   auto* degree = arena.AllocateArray<std::uint32_t>(contact_count);
   auto* placed = arena.AllocateArray<std::uint8_t>(contact_count);
-  BandedOrder(contact_count, adjacent, order, degree, placed);
+  BandedOrder(contact_count, links_begin, links, order, degree, placed);
   auto* position = degree;  // reused: banded position of each contact
   for (std::uint32_t k = 0; k < contact_count; ++k) position[order[k]] = k;
+  // The links again, by banded position.
   auto* linked_begin = arena.AllocateArray<std::uint32_t>(contact_count + 1);
+  auto* linked = arena.AllocateArray<std::uint32_t>(links_begin[contact_count]);
   std::uint32_t link_count = 0;
-  for (std::uint32_t i = 0; i < contact_count * contact_count; ++i) link_count += adjacent[i];
-  auto* linked = arena.AllocateArray<std::uint32_t>(link_count);
-  link_count = 0;
   for (std::uint32_t k = 0; k < contact_count; ++k) {
     linked_begin[k] = link_count;
-    for (std::uint32_t other = 0; other < contact_count; ++other)
-      if (adjacent[order[k] * contact_count + other]) linked[link_count++] = position[other];
+    for (std::uint32_t e = links_begin[order[k]]; e < links_begin[order[k] + 1]; ++e)
+      linked[link_count++] = position[links[e]];
     std::sort(linked + linked_begin[k], linked + link_count);
   }
   linked_begin[contact_count] = link_count;
