@@ -571,6 +571,8 @@ bool DirectContactSolver::SolveRows(RowSet& set, SolverBody* bodies, const Subst
   // Each free row aims for residual = velocity + bias + softness * impulse = 0: the fixed point of the
   // sequential soft update, with a normal row's spring scaled by its load. A friction row is held within
   // the friction of the normal impulses solved last.
+  const SolverContact* moved = nullptr;  // whose motion `motion` is (a contact's rows are consecutive)
+  ContactMotion motion;
   for (std::uint32_t i = 0; i < n; ++i) {
     const Row& r = set.rows[i];
     const SolverContact& c = *r.contact;
@@ -578,7 +580,8 @@ bool DirectContactSolver::SolveRows(RowSet& set, SolverBody* bodies, const Subst
     float softness = kRigidSoftness * stiffness;
     float bias = 0.0f;
     if (r.axis == kNormal) {
-      const float separation = SeparationNow(*r.point, MotionSinceStepBegan(c, bodies, context.elapsed));
+      if (moved != &c) motion = MotionSinceStepBegan(c, bodies, context.elapsed), moved = &c;
+      const float separation = SeparationNow(*r.point, motion);
       *lowest = std::min(*lowest, separation);
       // The softness depends only on the pass, so one factorisation serves every pass of its kind while the
       // same rows are free (a gap that may close is as soft as an overlap).
