@@ -102,6 +102,18 @@ TEST(DirectSolve, HeavyBoxOnALightOneSinksLessThanAMillimetreUpToAThousandToOne)
     }
 }
 
+// A 1000 kg slab (8 x 1 x 4 m) on a static floor, both with friction 1: what a small box rests on to make an
+// island of two resting bodies.
+void AddSlabOnFloor(PhysicsSystem& world) {
+  BodyCreationSettings floor = Static(Box(20, 1, 20), Vec3(0, -1, 0));
+  floor.friction = 1.0f;
+  Add(world, floor);
+  BodyCreationSettings slab = Dynamic(Box(4, 0.5f, 2), Vec3(0, 0.5f, 0));
+  slab.mass = 1000.0f;
+  slab.friction = 1.0f;
+  Add(world, slab);
+}
+
 TEST(DirectSolve, FrictionHoldsABoxOnASlopeAndLetsOneSlideAtTheClosedFormRate) {
   // Gravity tilted by 20 degrees makes the floor a slope. A heavy slab holds fast on it (friction 1); a small
   // box rests on the slab: an island of two resting bodies. Pair friction is sqrt(a * b), so the small box's
@@ -111,13 +123,7 @@ TEST(DirectSolve, FrictionHoldsABoxOnASlopeAndLetsOneSlideAtTheClosedFormRate) {
     PhysicsSettings settings = Awake(true);
     settings.gravity = 9.81f * Vec3(std::sin(angle), -std::cos(angle), 0);
     auto world = MakeWorld(settings);
-    BodyCreationSettings floor = Static(Box(20, 1, 20), Vec3(0, -1, 0));
-    floor.friction = 1.0f;
-    Add(*world, floor);
-    BodyCreationSettings slab = Dynamic(Box(4, 0.5f, 2), Vec3(0, 0.5f, 0));
-    slab.mass = 1000.0f;
-    slab.friction = 1.0f;
-    Add(*world, slab);
+    AddSlabOnFloor(*world);
     BodyCreationSettings box = Dynamic(Box(0.25f, 0.25f, 0.25f), Vec3(-2, 1.25f, 0));
     box.friction = friction * friction;
     box.linear_damping = 0.0f;
@@ -144,13 +150,7 @@ TEST(DirectSolve, FrictionHoldsATwistBelowItsTorqueAndTurnsABoxAboveAtTheClosedF
   const float limit = mu * mass * 9.81f * arm, inertia = mass * 0.5f / 12.0f;
   for (const float factor : {0.5f, 2.0f}) {
     auto world = MakeWorld(Awake(true));
-    BodyCreationSettings floor = Static(Box(20, 1, 20), Vec3(0, -1, 0));
-    floor.friction = 1.0f;
-    Add(*world, floor);
-    BodyCreationSettings slab = Dynamic(Box(4, 0.5f, 2), Vec3(0, 0.5f, 0));
-    slab.mass = 1000.0f;
-    slab.friction = 1.0f;
-    Add(*world, slab);
+    AddSlabOnFloor(*world);
     BodyCreationSettings box = Dynamic(Box(0.25f, 0.25f, 0.25f), Vec3(0, 1.25f, 0));
     box.friction = mu * mu;  // the pair's is sqrt(a * b)
     box.mass = mass;
