@@ -30,8 +30,7 @@ void LinkContacts(BlockArena& arena, std::span<SolverContact* const> contacts, s
   for (std::uint32_t k = 0; k < count; ++k) {
     const ContactConstraint& c = *contacts[k]->constraint;
     if (c.dynamic_a) by_body[pairs++] = (std::uint64_t{c.body_a} << 32) | k;
-    if (c.dynamic_b && !(c.dynamic_a && c.body_a == c.body_b))
-      by_body[pairs++] = (std::uint64_t{c.body_b} << 32) | k;
+    if (c.dynamic_b) by_body[pairs++] = (std::uint64_t{c.body_b} << 32) | k;
   }
   std::sort(by_body, by_body + pairs);
   // Where each contact's bodies' runs of contacts start and end in by_body.
@@ -113,8 +112,6 @@ constexpr int kTwist = 3;
 constexpr float kMinSpread = 1e-8f;
 const Vec4 kNoDirection = Vec4::Zero();
 
-// The patch's bound on friction axis `axis` (1, 2) or on the twist: friction times the points' normal
-// impulses, for the twist each times the point's distance from the centre.
 // Sum of x[k] y[k] for k in [begin, end), in two chains so that the adds overlap.
 double Dot(const double* x, const double* y, std::uint32_t begin, std::uint32_t end) {
   double even = 0.0, odd = 0.0;
@@ -127,6 +124,8 @@ double Dot(const double* x, const double* y, std::uint32_t begin, std::uint32_t 
   return even + odd;
 }
 
+// The patch's bound on friction axis `axis` (1, 2) or on the twist: friction times the points' normal
+// impulses, for the twist each times the point's distance from the centre.
 float PatchBound(const SolverContact& c, const Vec4* turn, int axis) {
   float bound = 0.0f;
   for (int k = 0; k < c.point_count; ++k) {
@@ -272,6 +271,10 @@ void DirectContactSolver::SpreadPatch(SolverContact& c, const Patch& patch, int 
   const float per_spread = delta / patch.spread;
   for (int k = 0; k < c.point_count; ++k)
     for (int t = 0; t < 2; ++t) points[k].tangent_impulse[t] += per_spread * patch.turn[k].dot(c.tangent[t]);
+}
+
+float& DirectContactSolver::Accumulated(const Row& row) {
+  return row.axis == kNormal ? row.point->normal_impulse : row.patch->accumulated[row.axis - 1];
 }
 
 void DirectContactSolver::BuildRowSet(BlockArena& arena, const Layout& layout, const SolverBody* bodies,
@@ -605,7 +608,7 @@ bool DirectContactSolver::SolveRows(RowSet& set, SolverBody* bodies, const Subst
     softness_[i] = softness;
     // The velocity carries the accumulated impulses: residual = coupling (impulse - start) + softness
     // impulse + offset.
-    start_[i] = r.axis == kNormal ? r.point->normal_impulse : r.patch->accumulated[r.axis - 1];
+    start_[i] = Accumulated(r);
     impulse_[i] = std::clamp(start_[i], lower_[i], upper_[i]);
     free_[i] = impulse_[i] > lower_[i] && impulse_[i] < upper_[i];
     offset_[i] = static_cast<double>(velocity) + bias;
@@ -632,7 +635,7 @@ bool DirectContactSolver::SolveRows(RowSet& set, SolverBody* bodies, const Subst
         value = impulse_[i];
       }
     }
-    float& accumulated = r.axis == kNormal ? r.point->normal_impulse : r.patch->accumulated[r.axis - 1];
+    float& accumulated = Accumulated(r);
     const float delta = static_cast<float>(value) - accumulated;
     accumulated = static_cast<float>(value);
     if (r.axis == kNormal)

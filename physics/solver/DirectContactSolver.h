@@ -106,6 +106,8 @@ class DirectContactSolver {
   static void MakePatch(const SolverContact& c, const SolverBody* bodies, Patch& patch);
   static void GatherPatch(const SolverContact& c, Patch& patch);
   static void SpreadPatch(SolverContact& c, const Patch& patch, int axis, float delta);
+  // A row's impulse so far: its point's normal impulse, or its patch's along the row's axis.
+  static float& Accumulated(const Row& row);
   static int SharedBodies(const Row& i, const Row& j, const SolverBody* bodies, SharedBody shared[2]);
   static void BuildRowSet(BlockArena& arena, const Layout& layout, const SolverBody* bodies, bool friction,
                           RowSet& set);
