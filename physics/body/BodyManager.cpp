@@ -87,7 +87,8 @@ void BodyManager::LockAll() {
   // Only the mutexes of slots handed out so far guard anything: a small world takes as many as it has
   // bodies. A slot handed out after this point is outside the world until a writer adds it, and writers
   // wait for the step, so nothing the step touches is left unlocked.
-  locked_count_ = std::min(mutex_count(), std::max(slot_limit(), 1u));
+  locked_slot_limit_ = slot_limit();
+  locked_count_ = std::min(mutex_count(), std::max(locked_slot_limit_, 1u));
   // Timed like any other contended acquisition, so tools can see a step waiting for readers.
   for (std::uint32_t i = 0; i < locked_count_; ++i) {
     std::unique_lock lock(mutexes_[i], std::defer_lock);

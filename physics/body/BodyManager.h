@@ -52,8 +52,11 @@ class BodyManager {
   void EndStep();
   bool stepping() const { return stepping_.load(std::memory_order_acquire); }
 
-  /// Every body index handed out so far is below this (the step scans [0, slot_limit)).
+  /// Every body index handed out so far is below this.
   std::uint32_t slot_limit() const { return slot_limit_.load(std::memory_order_acquire); }
+  /// The slot limit when LockAll ran: the slots its locks guard, and so the ones the step may scan. A slot
+  /// handed out later may be under a mutex LockAll did not take while its creator fills it in.
+  std::uint32_t locked_slot_limit() const { return locked_slot_limit_; }
 
  private:
   friend class BodyLockWrite;
@@ -66,7 +69,8 @@ class BodyManager {
   std::atomic<bool> stepping_{false};
   std::atomic<std::uint32_t> waiting_writers_{0};  // writers blocked by the step that is ending
   std::atomic<std::uint32_t> slot_limit_{0};
-  std::uint32_t locked_count_ = 0;  // mutexes held by LockAll
+  std::uint32_t locked_count_ = 0;       // mutexes held by LockAll
+  std::uint32_t locked_slot_limit_ = 0;  // slot_limit() when LockAll ran
 };
 
 /// Time this thread has spent blocked on body mutexes (ns) since it started. Only contended acquisitions are

@@ -257,8 +257,9 @@ void PhysicsSystem::PrepareStep() {
   }
   active_.clear();
   linear_cast_bodies_.clear();
-  // Index order: the same bodies give the same order, whatever order threads added them in.
-  const std::uint32_t limit = body_manager_.slot_limit();
+  // Index order: the same bodies give the same order, whatever order threads added them in. Only the slots
+  // LockAll guarded: a later one is outside the world and may be filled in by its creator right now.
+  const std::uint32_t limit = body_manager_.locked_slot_limit();
   for (std::uint32_t index = 0; index < limit; ++index) {
     Body& body = body_manager_.BodyAt(index);
     if (body.sleeping_ && !wake_keys_.empty() &&
