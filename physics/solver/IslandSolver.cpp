@@ -128,6 +128,10 @@ void IslandSolver::PrepareGroup(std::uint32_t group_index, std::uint32_t job_ind
   Group& group = groups_[group_index];
   const IslandBuilder& islands = *input_.islands;
   const std::uint32_t constraint_count = islands.constraint_count(group.first_island, group.end_island);
+  if (constraint_count == 0) {
+    PrepareFreeGroup(group);
+    return;
+  }
   const std::span<ContactConstraint*> ordered =
       std::span(ordered_).subspan(group.first_constraint, constraint_count);
   std::size_t k = 0;
@@ -190,6 +194,27 @@ void IslandSolver::PrepareGroup(std::uint32_t group_index, std::uint32_t job_ind
       group.bundle_count == 0 && islands.bodies(group.first_island, group.end_island).size() <= kBodyBatch;
   group.processed.store(0, std::memory_order_relaxed);
   group.status.store(0, std::memory_order_release);
+}
+
+void IslandSolver::PrepareFreeGroup(Group& group) {
+  group.splits = IslandSplits{};
+  group.bundle_count = 0;
+  group.sequential_count = 0;
+  group.has_restitution = false;
+  // Per substep its forces (but the first's) and its integration: the rounds of a group without splits.
+  group.round_count = 1 + 2 * static_cast<std::uint32_t>(input_.settings->substeps);
+  group.one_job = input_.islands->bodies(group.first_island, group.end_island).size() <= kBodyBatch;
+  group.processed.store(0, std::memory_order_relaxed);
+  group.status.store(0, std::memory_order_release);
+}
+
+void IslandSolver::RunFreeGroup(const Group& group) const {
+  const std::span<const std::uint32_t> bodies = input_.islands->bodies(group.first_island, group.end_island);
+  for (int substep = 0; substep < input_.settings->substeps; ++substep) {
+    if (substep > 0)
+      for (const std::uint32_t body : bodies) AddForces(body);
+    for (const std::uint32_t body : bodies) Integrate(body);
+  }
 }
 
 IslandSolver::Round IslandSolver::Describe(const Group& group, std::uint32_t round) const {
@@ -382,11 +407,15 @@ IslandSolver::BatchResult IslandSolver::TryRunWholeGroup(Group& group, JobState&
   const std::uint64_t done = static_cast<std::uint64_t>(group.round_count) << 32;
   if (status == done || !group.status.compare_exchange_strong(status, done, std::memory_order_acq_rel))
     return BatchResult::kDone;
-  // The rounds in their order, each whole, as single batches would have run them.
-  for (std::uint32_t round_index = 0; round_index < group.round_count; ++round_index) {
-    const Round round = Describe(group, round_index);
-    const std::uint32_t items = RoundItems(group, round);
-    if (items > 0) RunBatch(group, round, 0, items, job);
+  if (group.splits.split_count == 0) {
+    RunFreeGroup(group);  // the same work as its rounds, without describing each
+  } else {
+    // The rounds in their order, each whole, as single batches would have run them.
+    for (std::uint32_t round_index = 0; round_index < group.round_count; ++round_index) {
+      const Round round = Describe(group, round_index);
+      const std::uint32_t items = RoundItems(group, round);
+      if (items > 0) RunBatch(group, round, 0, items, job);
+    }
   }
   groups_finished_.fetch_add(1, std::memory_order_release);
   return BatchResult::kRan;

@@ -120,6 +120,9 @@ class IslandSolver {
     return group.splits.last_is_sequential && s + 1 == group.splits.split_count;
   }
   void AddGroup(std::uint32_t first_island, std::uint32_t end_island, bool direct);
+  // A group of islands without constraints (bodies in free flight) needs no ordering, splits or set-up.
+  void PrepareFreeGroup(Group& group);
+  void RunFreeGroup(const Group& group) const;
   bool IsDirectIsland(std::uint32_t island) const;
   void SetupDirectSolvers(Group& group, JobState& job);
   void Integrate(std::uint32_t island_body) const;  // positions and deltas of a dynamic body

@@ -361,14 +361,15 @@ void PhysicsSystem::ApplyForces(std::uint32_t job) {
 }
 
 void PhysicsSystem::ClampVelocities(Body& body, FinishCounters& counters) {
-  const float speed = body.linear_velocity_.norm();
-  if (speed > body.max_linear_velocity_) {
-    body.linear_velocity_ *= body.max_linear_velocity_ / speed;
+  // Squares first: nearly every body is under its limits, and then no square root is taken.
+  const float max_speed = body.max_linear_velocity_;
+  if (body.linear_velocity_.squaredNorm() > max_speed * max_speed) {
+    body.linear_velocity_ *= max_speed / body.linear_velocity_.norm();
     ++counters.linear_velocity_clamps;
   }
-  const float spin = body.angular_velocity_.norm();
-  if (spin > body.max_angular_velocity_) {
-    body.angular_velocity_ *= body.max_angular_velocity_ / spin;
+  const float max_spin = body.max_angular_velocity_;
+  if (body.angular_velocity_.squaredNorm() > max_spin * max_spin) {
+    body.angular_velocity_ *= max_spin / body.angular_velocity_.norm();
     ++counters.angular_velocity_clamps;
   }
 }
@@ -495,8 +496,10 @@ void PhysicsSystem::FinishIslands(std::uint32_t job) {
       body.pose_.rotation = pose.rotation;
       body.AddToPosition(ToVec3(solved.delta_position) + turned_offset);
       body.UpdateWorldBounds();
-      const bool resting = body.linear_velocity_.norm() < settings_.sleep_linear_velocity &&
-                           body.angular_velocity_.norm() < settings_.sleep_angular_velocity;
+      const float sleep_speed = settings_.sleep_linear_velocity,
+                  sleep_spin = settings_.sleep_angular_velocity;
+      const bool resting = body.linear_velocity_.squaredNorm() < sleep_speed * sleep_speed &&
+                           body.angular_velocity_.squaredNorm() < sleep_spin * sleep_spin;
       body.sleep_timer_ = resting ? body.sleep_timer_ + dt : 0.0f;
       awake |= !(settings_.allow_sleeping && body.allow_sleeping_ &&
                  body.sleep_timer_ >= settings_.time_before_sleep);
