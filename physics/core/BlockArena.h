@@ -1,8 +1,8 @@
 // BlockArena and BlockPool: bump allocation over blocks that are kept between uses. Each step job bumps
 // through its own arena (no shared allocator in the hot path); arenas take their blocks from one pool and
-// give them back on Reset, so a steady world allocates nothing however the jobs split the work, and
-// memory follows the total the step needs, not each job's largest share. Addresses never move, so pointers
-// into an arena stay valid until its Reset. An arena has one owner thread at a time; the pool is
+// give them back on Reset (Recycle keeps one), so a steady world allocates nothing however the jobs split
+// the work, and memory follows the total the step needs, not each job's largest share. Addresses never move,
+// so pointers into an arena stay valid until its Reset. An arena has one owner thread at a time; the pool is
 // thread-safe (a mutex, taken once per block).
 #pragma once
 
@@ -96,6 +96,20 @@ class BlockArena {
   void Reset() {
     if (current_ != nullptr) pool_->Give(current_);
     current_ = nullptr;
+    used_ = 0;
+    bytes_in_use_ = 0;
+  }
+
+  /// Forgets everything allocated, as Reset, but keeps the newest block when it has the pool's standard size:
+  /// an arena refilled every step then takes no block from the pool (and its mutex) while one is enough.
+  void Recycle() {
+    if (current_ != nullptr && current_->size == pool_->block_bytes()) {
+      pool_->Give(current_->next);
+      current_->next = nullptr;
+    } else {
+      if (current_ != nullptr) pool_->Give(current_);
+      current_ = nullptr;
+    }
     used_ = 0;
     bytes_in_use_ = 0;
   }

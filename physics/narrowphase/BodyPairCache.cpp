@@ -18,7 +18,7 @@ void BodyPairCache::BeginStep(std::uint32_t job_count) {
     for (JobSlot& job : generation.jobs) job.arena.SetPool(pool_);
   }
   for (JobSlot& job : generation.jobs) {
-    job.arena.Reset();
+    job.arena.Recycle();
     job.pairs = 0;
   }
 }

@@ -86,7 +86,7 @@ void IslandSolver::BeginStep(const Input& input, std::uint32_t job_count) {
   for (std::uint32_t g = 0; g < group_count_; ++g)
     largest = std::max(largest, islands.constraint_count(groups_[g].first_island, groups_[g].end_island));
   for (JobState& job : jobs_) {
-    job.arena.Reset();
+    job.arena.Recycle();
     job.split_of.reserve(largest);
     job.scratch.reserve(largest);
     job.deepest = 0.0f;

@@ -57,7 +57,7 @@ void CollisionFinder::BeginStep(const Input& input, std::uint32_t job_count) {
     for (Job& job : jobs_) job.arena.SetPool(pool_);
   }
   for (Job& job : jobs_) {
-    job.arena.Reset();
+    job.arena.Recycle();
     job.constraints.clear();
     job.island_body.clear();
     job.wake_keys.clear();
