@@ -5,11 +5,15 @@
 #include <bit>
 #include <cmath>
 #include <cstring>
-#include <fstream>
 #include <iterator>
 #include <map>
 #include <mutex>
+#include <span>
+#include <sstream>
 #include <string>
+
+#include "physics/core/InputFile.h"
+#include "physics/core/OutputFile.h"
 
 namespace strata::navmesh {
 
@@ -30,6 +34,9 @@ struct SetTileHeader {
   std::int32_t size;
 };
 static_assert(sizeof(SetHeader) == 40 && sizeof(SetTileHeader) == 8, "must match RecastDemo's layout");
+
+// A navmesh set of the most tiles Detour's references allow, each of a large tile's size, is far below this.
+constexpr std::uint64_t kMaxFileBytes = std::uint64_t{1} << 30;
 
 Error FileError(const std::filesystem::path& path, const std::string& why) {
   return MakeError(ErrorCode::kParseError, path.string() + ": " + why);
@@ -210,27 +217,29 @@ double NavMesh::WalkableArea() const {
 }
 
 Status NavMesh::Save(const std::filesystem::path& path) const {
-  std::ofstream file(path, std::ios::binary);
-  if (!file) return FileError(path, "cannot open for writing");
+  std::string bytes;
+  auto append = [&](const void* data, std::size_t size) {
+    bytes.append(static_cast<const char*>(data), size);
+  };
   Read([&](const dtNavMesh& mesh) {
     SetHeader header{kSetMagic, kSetVersion, 0, *mesh.getParams()};
     ForEachTile(mesh, [&](const dtMeshTile&) { ++header.tile_count; });
-    file.write(reinterpret_cast<const char*>(&header), sizeof(header));
+    append(&header, sizeof(header));
     ForEachTile(mesh, [&](const dtMeshTile& tile) {
       const SetTileHeader tile_header{mesh.getTileRef(&tile), tile.dataSize};
-      file.write(reinterpret_cast<const char*>(&tile_header), sizeof(tile_header));
-      file.write(reinterpret_cast<const char*>(tile.data), tile.dataSize);
+      append(&tile_header, sizeof(tile_header));
+      append(tile.data, static_cast<std::size_t>(tile.dataSize));
     });
   });
-  if (!file.flush()) return FileError(path, "write failed");
-  return Status::Ok();
+  // Beside the target and renamed over it: a kill or a full disk never leaves half a navmesh there.
+  return WriteOutputFile(path, bytes);
 }
 
 Result<std::unique_ptr<NavMesh>> NavMesh::Load(const std::filesystem::path& path) {
-  std::ifstream file(path, std::ios::binary);
-  if (!file) return FileError(path, "cannot open (missing or unreadable)");
-  const std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(file)),
-                                         std::istreambuf_iterator<char>());
+  Result<std::string> read = ReadInputFile(path, kMaxFileBytes);
+  if (!read) return read.error();
+  const std::span<const unsigned char> bytes(reinterpret_cast<const unsigned char*>(read->data()),
+                                             read->size());
   if (bytes.size() < sizeof(SetHeader)) return FileError(path, "too short for a navmesh set header");
   SetHeader header;
   std::memcpy(&header, bytes.data(), sizeof(header));
@@ -273,8 +282,7 @@ Result<std::unique_ptr<NavMesh>> NavMesh::Load(const std::filesystem::path& path
 }
 
 Status NavMesh::WriteObj(const std::filesystem::path& path) const {
-  std::ofstream file(path);
-  if (!file) return FileError(path, "cannot open for writing");
+  std::ostringstream file;
   file << "# Strata navmesh: detail triangles of every walkable polygon\n";
   Read([&](const dtNavMesh& mesh) {
     int written = 0;
@@ -297,8 +305,7 @@ Status NavMesh::WriteObj(const std::filesystem::path& path) const {
       }
     });
   });
-  if (!file.flush()) return FileError(path, "write failed");
-  return Status::Ok();
+  return WriteOutputFile(path, file.str());
 }
 
 }  // namespace strata::navmesh

@@ -1,5 +1,7 @@
 #include "navmesh/NavMeshService.h"
 
+#include <cstdio>
+
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -81,6 +83,20 @@ Status NavMeshServiceConfig::Validate() const {
   return Status::Ok();
 }
 
+Result<int> NavMeshService::MaxTilesToCover(const AABB& box, float tile_size) {
+  if (!box.IsValid()) return MakeError(ErrorCode::kInvalidArgument, "navmesh: the box to cover is not valid");
+  const std::uint64_t tiles = TileGrid(tile_size).TileCount(box);
+  if (tiles <= static_cast<std::uint64_t>(kMaxTiles)) return static_cast<int>(tiles);
+  const Vec3 size = box.Size();
+  char extent[128];
+  std::snprintf(extent, sizeof(extent), "%.4g m x %.4g m, %llu tiles of %.4g m",
+                static_cast<double>(size.x()), static_cast<double>(size.z()),
+                static_cast<unsigned long long>(tiles), static_cast<double>(tile_size));
+  return MakeError(ErrorCode::kInvalidArgument, std::string("navmesh: the level spans ") + extent +
+                                                    ", more than a navmesh holds (" +
+                                                    std::to_string(kMaxTiles) + ")");
+}
+
 Result<std::unique_ptr<NavMeshService>> NavMeshService::Create(const PhysicsSystem& world,
                                                                const NavMeshServiceConfig& config) {
   if (Status status = config.Validate(); !status.ok()) return status.error();
@@ -132,9 +148,12 @@ Status NavMeshService::RequestAround(const Vec3& position, float radius) {
 
 Status NavMeshService::RequestBox(const AABB& box) {
   if (!box.IsValid()) return MakeError(ErrorCode::kInvalidArgument, "navmesh request: box is not valid");
-  const Vec3 size = box.Size() / grid_.tile_size();
-  if ((size.x() + 1.0f) * (size.z() + 1.0f) > static_cast<float>(config_.max_tiles))
-    return MakeError(ErrorCode::kInvalidArgument, "navmesh request: box covers more tiles than max_tiles");
+  // The same count as the listing below (an estimate here once refused boxes the listing fits).
+  const std::uint64_t tiles = grid_.TileCount(box);
+  if (tiles > static_cast<std::uint64_t>(config_.max_tiles))
+    return MakeError(ErrorCode::kInvalidArgument, "navmesh request: box covers " + std::to_string(tiles) +
+                                                      " tiles, more than max_tiles (" +
+                                                      std::to_string(config_.max_tiles) + ")");
   const Clock::time_point now = Clock::now();
   std::vector<PendingRequest> requests;
   for (const TileCoord tile : grid_.TilesInBox(box))

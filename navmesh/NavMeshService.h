@@ -78,6 +78,11 @@ class NavMeshService {
  public:
   static Result<std::unique_ptr<NavMeshService>> Create(const PhysicsSystem& world,
                                                         const NavMeshServiceConfig& config);
+  /// The most tiles a navmesh holds (Detour's reference bits).
+  static constexpr int kMaxTiles = 1 << 16;
+  /// The `max_tiles` that lets RequestBox(box) cover `box` with tiles of `tile_size`: its tile count, or an
+  /// error naming the box's extent when that is more than a navmesh holds (a corrupt level, a unit mix-up).
+  static Result<int> MaxTilesToCover(const AABB& box, float tile_size);
   /// Stops the threads; a job in progress finishes its current tile first.
   ~NavMeshService();
   NavMeshService(const NavMeshService&) = delete;

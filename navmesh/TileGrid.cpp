@@ -1,12 +1,23 @@
 #include "navmesh/TileGrid.h"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace strata::navmesh {
 
+namespace {
+// A tile index for `coordinate`, held inside int (a converted float beyond it would be undefined).
+int TileIndex(float coordinate, float tile_size) {
+  constexpr double kLimit = 1 << 30;
+  const double index = std::floor(static_cast<double>(coordinate) / tile_size);
+  if (std::isnan(index)) return 0;
+  return static_cast<int>(std::clamp(index, -kLimit, kLimit));
+}
+}  // namespace
+
 TileCoord TileGrid::TileAt(const Vec3& position) const {
-  return {static_cast<int>(std::floor(position.x() / tile_size_)),
-          static_cast<int>(std::floor(position.z() / tile_size_))};
+  return {TileIndex(position.x(), tile_size_), TileIndex(position.z(), tile_size_)};
 }
 
 AABB TileGrid::Bounds(TileCoord tile, float border, float min_y, float max_y) const {
@@ -38,9 +49,20 @@ std::vector<TileCoord> TileGrid::TilesInCircle(const Vec3& center, float radius)
   return tiles;
 }
 
+std::uint64_t TileGrid::TileCount(const AABB& box) const {
+  if (!box.IsValid()) return 0;
+  // In double: a box millions of kilometres wide has more tiles than an int holds.
+  auto span = [&](float low, float high) {
+    return std::floor(static_cast<double>(high) / tile_size_) -
+           std::floor(static_cast<double>(low) / tile_size_) + 1.0;
+  };
+  const double count = span(box.min.x(), box.max.x()) * span(box.min.z(), box.max.z());
+  return count >= 1.8e19 ? std::numeric_limits<std::uint64_t>::max() : static_cast<std::uint64_t>(count);
+}
+
 std::vector<TileCoord> TileGrid::TilesInBox(const AABB& box) const {
   std::vector<TileCoord> tiles;
-  if (!box.IsValid()) return tiles;
+  if (!box.IsValid() || TileCount(box) > kMaxListedTiles) return tiles;
   const TileCoord low = TileAt(box.min);
   const TileCoord high = TileAt(box.max);
   for (int z = low.z; z <= high.z; ++z)

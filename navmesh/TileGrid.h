@@ -31,8 +31,14 @@ class TileGrid {
   float SquaredDistance(TileCoord tile, const Vec3& position) const;
   /// Tiles whose x-z square the circle (x-z plane) touches, in row order.
   std::vector<TileCoord> TilesInCircle(const Vec3& center, float radius) const;
-  /// Tiles whose x-z square overlaps `box`, in row order.
+  /// How many tiles TilesInBox(box) lists, computed without listing them (0 for an invalid box), so a caller
+  /// can refuse a box too large to list before anything is allocated.
+  std::uint64_t TileCount(const AABB& box) const;
+  /// Tiles whose x-z square overlaps `box`, in row order. Call with a box whose TileCount was checked:
+  /// a box of more than kMaxListedTiles tiles lists none.
   std::vector<TileCoord> TilesInBox(const AABB& box) const;
+  /// The most tiles TilesInBox lists (a navmesh holds at most 2^16, Detour's limit with our reference bits).
+  static constexpr std::uint64_t kMaxListedTiles = std::uint64_t{1} << 20;
 
  private:
   float tile_size_;

@@ -3,6 +3,7 @@
 // Stateless; safe to call from any thread (each call owns its assimp importer).
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <vector>
 
@@ -23,8 +24,12 @@ struct MeshImportOptions {
   bool z_up = false;   ///< the file is Z-up; rotate it to Y-up
 };
 
+/// Mesh files larger than this are refused before assimp reads them.
+constexpr std::uint64_t kMaxMeshFileBytes = std::uint64_t{1} << 30;
+
 /// Loads every mesh of `path`. Fails (naming the file and why) for a missing, unsupported or corrupt file,
-/// a file with no triangles, or non-finite vertices.
+/// anything but a regular file, a file over kMaxMeshFileBytes, a PLY header declaring more elements than
+/// the file could hold, a file with no triangles, or non-finite vertices.
 Result<ImportedMesh> ImportMesh(const std::filesystem::path& path, const MeshImportOptions& options = {});
 
 }  // namespace strata

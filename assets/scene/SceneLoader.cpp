@@ -10,6 +10,7 @@
 
 #include "assets/import/MeshImporter.h"
 #include "physics/body/BodyInterface.h"
+#include "physics/core/InputFile.h"
 #include "physics/shapes/BoxShape.h"
 #include "physics/shapes/CapsuleShape.h"
 #include "physics/shapes/ConvexHullShape.h"
@@ -152,9 +153,14 @@ Result<ShapeRef> ParseMesh(const Reader& reader, const Json& shape, const std::f
   for (std::size_t i = 0; i < indices.size(); i += 3) {
     TriangleMeshShape::Indices triangle;
     for (std::size_t k = 0; k < 3; ++k) {
-      if (!indices[i + k].is_number_unsigned())
-        return reader.Fail("indices/" + std::to_string(i + k), "must be a non-negative integer");
-      triangle[k] = indices[i + k].get<std::uint32_t>();
+      const std::string key = "indices/" + std::to_string(i + k);
+      if (!indices[i + k].is_number_unsigned()) return reader.Fail(key, "must be a non-negative integer");
+      // Read wide: get<std::uint32_t>() would wrap 4294967298 to 2, a valid index of another vertex.
+      const auto index = indices[i + k].get<std::uint64_t>();
+      if (index >= vertices->size())
+        return reader.Fail(key, std::to_string(index) + " is not a vertex index (there are " +
+                                    std::to_string(vertices->size()) + " vertices)");
+      triangle[k] = static_cast<std::uint32_t>(index);
     }
     triangles.push_back(triangle);
   }
@@ -326,11 +332,9 @@ Result<Scene> ParseScene(const std::string& text, const std::string& source,
 }
 
 Result<Scene> LoadScene(const std::filesystem::path& path) {
-  std::ifstream file(path, std::ios::binary);
-  if (!file) return MakeError(ErrorCode::kParseError, path.string() + ": cannot open file");
-  std::stringstream text;
-  text << file.rdbuf();
-  return ParseScene(text.str(), path.string(), path.parent_path());
+  Result<std::string> text = ReadInputFile(path, kMaxSceneFileBytes);
+  if (!text) return text.error();
+  return ParseScene(*text, path.string(), path.parent_path());
 }
 
 Result<SceneWorld> BuildSceneWorld(const Scene& scene, PhysicsSystemConfig config) {

@@ -3,6 +3,7 @@
 // and why; nothing is created. Stateless; safe from any thread.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -25,6 +26,9 @@ struct Scene {
   float dt = 1.0f / 60.0f;  ///< seconds per step
   std::vector<SceneBody> bodies;
 };
+
+/// Scene files larger than this are refused before they are read (a scene lists bodies, not geometry).
+constexpr std::uint64_t kMaxSceneFileBytes = std::uint64_t{64} << 20;
 
 /// Reads and validates `path` (mesh `file` entries are resolved relative to it).
 Result<Scene> LoadScene(const std::filesystem::path& path);

@@ -15,6 +15,8 @@ bool NonNegative(float value) {
 
 Status PhysicsSettings::Validate() const {
   if (!IsFinite(gravity)) return Bad("gravity", "is not finite");
+  // A thousand g: beyond it a step's velocity change dwarfs every body's velocity limit.
+  if (gravity.norm() > kMaxGravity) return Bad("gravity", "must be at most 1e4 m/s^2 in magnitude");
   if (substeps < 1 || substeps > 64) return Bad("substeps", "must be in [1, 64]");
   if (velocity_iterations < 1 || velocity_iterations > 1000)
     return Bad("velocity_iterations", "must be in [1, 1000]");

@@ -8,6 +8,9 @@
 namespace strata {
 
 /// Step tunables. Units: metres, seconds.
+/// The largest gravity PhysicsSettings accepts (m/s^2).
+constexpr float kMaxGravity = 1.0e4f;
+
 struct PhysicsSettings {
   Vec3 gravity = Vec3(0.0f, -9.81f, 0.0f);  ///< m/s^2
   /// The step is solved as this many substeps (Box2D v3's soft step): per substep gravity, warm start,

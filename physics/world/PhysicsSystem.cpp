@@ -364,12 +364,13 @@ void PhysicsSystem::ClampVelocities(Body& body, FinishCounters& counters) {
   // Squares first: nearly every body is under its limits, and then no square root is taken.
   const float max_speed = body.max_linear_velocity_;
   if (body.linear_velocity_.squaredNorm() > max_speed * max_speed) {
-    body.linear_velocity_ *= max_speed / body.linear_velocity_.norm();
+    // stableNorm: a velocity near float's limit squares to infinity, and 1/inf would stop the body dead.
+    body.linear_velocity_ *= max_speed / body.linear_velocity_.stableNorm();
     ++counters.linear_velocity_clamps;
   }
   const float max_spin = body.max_angular_velocity_;
   if (body.angular_velocity_.squaredNorm() > max_spin * max_spin) {
-    body.angular_velocity_ *= max_spin / body.angular_velocity_.norm();
+    body.angular_velocity_ *= max_spin / body.angular_velocity_.stableNorm();
     ++counters.angular_velocity_clamps;
   }
 }

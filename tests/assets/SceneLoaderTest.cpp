@@ -99,7 +99,23 @@ TEST(SceneLoader, ErrorsNameTheFileAndJsonPath) {
                                        {"name": "x", "shape": {"type": "sphere", "radius": 1}}]})")
                 .find("duplicate"),
             std::string::npos);
-  EXPECT_NE(LoadScene(kScenes / "nope.json").error().message.find("cannot open"), std::string::npos);
+  EXPECT_NE(LoadScene(kScenes / "nope.json").error().message.find("file not found"), std::string::npos);
+}
+
+TEST(SceneLoader, MeshIndicesAndGravityOutsideTheirRangesAreErrors) {
+  // 4294967298 read as 32 bits is 2, a valid index of another vertex: refused, with its JSON path.
+  const std::string wrapped = ParseError(R"({"bodies": [{"motion": "static", "shape": {"type": "mesh",
+      "vertices": [[0, 0, 0], [1, 0, 0], [0, 0, 1]], "indices": [0, 1, 4294967298]}}]})");
+  EXPECT_NE(wrapped.find("/bodies/0/shape/indices/2: 4294967298 is not a vertex index (there are 3"),
+            std::string::npos)
+      << wrapped;
+  EXPECT_NE(ParseError(R"({"bodies": [{"motion": "static", "shape": {"type": "mesh",
+      "vertices": [[0, 0, 0], [1, 0, 0], [0, 0, 1]], "indices": [0, 1, 3]}}]})")
+                .find("indices/2: 3 is not a vertex index"),
+            std::string::npos);
+  const std::string gravity = ParseError(R"({"settings": {"gravity": [0, -1e30, 0]}, "bodies": []})");
+  EXPECT_NE(gravity.find("gravity"), std::string::npos) << gravity;
+  EXPECT_NE(gravity.find("at most 1e4"), std::string::npos) << gravity;
 }
 
 TEST(SceneLoader, NumbersOutsideTheirTypesAreErrorsNotAborts) {

@@ -116,6 +116,46 @@ TEST(NavMeshService, RejectsBadConfigAndRequests) {
   EXPECT_FALSE(query->FindNearestPoly(Vec3(1, 0, 1)).ok());  // nothing built yet
 }
 
+TEST(TileGrid, TileCountMatchesTheListingForOddAndFarBoxes) {
+  const navmesh::TileGrid grid(kTile);
+  // A 20 m floor, a 6 m floor at x 3..9, an 80 x 90 m level off the grid, a box far from the origin.
+  const AABB boxes[] = {{Vec3(-10, 0, -10), Vec3(10, 1, 10)},
+                        {Vec3(3, 0, 3), Vec3(9, 1, 9)},
+                        {Vec3(-41.3f, -2, 7.7f), Vec3(38.9f, 5, 97.9f)},
+                        {Vec3(1.0e5f, 0, -2.0e5f), Vec3(1.0e5f + 50.0f, 1, -2.0e5f + 30.0f)}};
+  for (const AABB& box : boxes) EXPECT_EQ(grid.TileCount(box), grid.TilesInBox(box).size());
+  EXPECT_EQ(grid.TileCount(AABB()), 0u);
+  // A level one corrupt vertex made 3e16 m long: counted without listing, then refused with its extent.
+  const AABB corrupt(Vec3(-12.8f, 0, -3.4e16f), Vec3(12.8f, 1, 12.8f));
+  EXPECT_GT(grid.TileCount(corrupt), std::uint64_t{1} << 40);
+  EXPECT_TRUE(grid.TilesInBox(corrupt).empty());
+  const Result<int> refused = navmesh::NavMeshService::MaxTilesToCover(corrupt, kTile);
+  ASSERT_FALSE(refused.ok());
+  EXPECT_NE(refused.error().message.find("more than a navmesh holds"), std::string::npos)
+      << refused.error().message;
+  EXPECT_NE(refused.error().message.find("3.4e+16 m"), std::string::npos) << refused.error().message;
+}
+
+TEST(NavMeshService, ABoxOfExactlyMaxTilesIsAccepted) {
+  // The table sized from a box's tile count takes a request for that box (an estimate once refused it).
+  auto world = MakeWorld();
+  for (const AABB& box : {AABB(Vec3(-10, 0, -10), Vec3(10, 1, 10)), AABB(Vec3(3, 0, 3), Vec3(9, 1, 9)),
+                          AABB(Vec3(-41.3f, -2, 7.7f), Vec3(38.9f, 5, 97.9f))}) {
+    navmesh::NavMeshServiceConfig config = FastServiceConfig();
+    const Result<int> tiles = navmesh::NavMeshService::MaxTilesToCover(box, config.settings.tile_size());
+    ASSERT_TRUE(tiles.ok()) << tiles.error().message;
+    config.max_tiles = *tiles;
+    const auto service = MakeService(*world, config);
+    EXPECT_TRUE(service->RequestBox(box).ok());
+    config.max_tiles = *tiles - 1;
+    if (config.max_tiles > 0) {
+      const Status refused = MakeService(*world, config)->RequestBox(box);
+      ASSERT_FALSE(refused.ok());
+      EXPECT_NE(refused.message().find("more than max_tiles"), std::string::npos) << refused.message();
+    }
+  }
+}
+
 class NavMeshFile : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -163,7 +203,7 @@ TEST_F(NavMeshFile, BadFilesGiveClearErrors) {
     EXPECT_NE(loaded.error().message.find(fragment), std::string::npos) << loaded.error().message;
   };
   std::filesystem::remove(path_);
-  expect_error("missing", "cannot open");
+  expect_error("missing", "file not found");
   Write({'M', 'S'});
   expect_error("tiny", "too short");
   std::vector<char> bytes = bytes_;

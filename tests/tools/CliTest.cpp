@@ -1,6 +1,7 @@
 // The `strata` CLI as a user runs it: simulate writes JSON lines; a bad scene exits 2 and writes nothing.
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
 #include <sys/wait.h>
 
 #include <cmath>
@@ -168,6 +169,77 @@ TEST(Cli, NavmeshBadInputExitsWithTwo) {
   ASSERT_EQ(RunCli("navmesh bake " + (kLevels / "arena.glb").string() + " --out " + nav.string()), 0);
   EXPECT_EQ(RunCli("navmesh path " + nav.string() + " --from 0,0 --to 1,0,1"), 2);
   EXPECT_EQ(RunCli("navmesh path " + nav.string() + " --from 0,nan,0 --to 1,0,1"), 2);
+}
+
+// Every input that is not a regular file is refused at once (exit 2), never read: a directory used to abort
+// the process, /dev/zero and a pipe with no writer used to hang it. `timeout` turns a hang into a failure.
+TEST(Cli, InputsThatAreNotRegularFilesExitTwoAtOnce) {
+  const auto fifo = TempFile("fifo");
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  const std::string directory = std::filesystem::temp_directory_path().string();
+  for (const std::string& input : {directory, std::string("/dev/zero"), fifo.string()}) {
+    EXPECT_EQ(RunCli("simulate " + input + " --steps 1"), 2) << input;
+    EXPECT_EQ(RunCli("navmesh path " + input + " --from 1,0,1 --to 2,0,2"), 2) << input;
+    EXPECT_EQ(RunCli("navmesh bake " + input + " --out " + TempFile("never.bin").string()), 2) << input;
+  }
+  EXPECT_FALSE(std::filesystem::exists(TempFile("never.bin")));
+  std::filesystem::remove(fifo);
+}
+
+// Counts that a file cannot back and coordinates that make a level astronomically large are refused before
+// anything is allocated for them (a 227-byte PLY declaring 1e9 vertices took 11-23 GB; one flipped byte in
+// arena.glb put a vertex 3e16 m away and the tile list ran out of memory).
+TEST(Cli, CorruptCountsAndCoordinatesAreRefusedBeforeAllocating) {
+  const auto ply = TempFile("huge.ply");
+  std::ofstream(ply)
+      << "ply\nformat ascii 1.0\nelement vertex 1000000000\nproperty float x\nproperty float y\n"
+         "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
+         "0 0 0\n3 0 0 0\n";
+  std::string errors;
+  const auto stderr_of = [&](const std::string& arguments) {
+    const auto captured = TempFile("stderr.txt");
+    const int status = std::system(("ulimit -v 4000000; " + std::string(STRATA_CLI) + " " + arguments +
+                                    " > /dev/null 2> " + captured.string())
+                                       .c_str());
+    std::ifstream file(captured);
+    errors.assign(std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>());
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  };
+  EXPECT_EQ(stderr_of("navmesh bake " + ply.string() + " --out " + TempFile("ply.bin").string()), 2);
+  EXPECT_NE(errors.find("PLY header declares 1000000000 elements"), std::string::npos) << errors;
+  const auto glb = TempFile("flipped.glb");
+  std::filesystem::copy_file(kLevels / "arena.glb", glb, std::filesystem::copy_options::overwrite_existing);
+  {
+    std::fstream file(glb, std::ios::in | std::ios::out | std::ios::binary);
+    file.seekp(919);
+    file.put(static_cast<char>(0xDA));  // a vertex's exponent byte: 7.5 becomes -3.4e16
+  }
+  EXPECT_EQ(stderr_of("navmesh bake " + glb.string() + " --out " + TempFile("glb.bin").string()), 2);
+  EXPECT_NE(errors.find("more than a navmesh holds"), std::string::npos) << errors;
+  EXPECT_EQ(stderr_of("demo " + glb.string() + " --steps 10 --out-dir " + TempFile("demo").string()), 2);
+  EXPECT_NE(errors.find("more than a navmesh holds"), std::string::npos) << errors;
+  std::filesystem::remove(ply);
+  std::filesystem::remove(glb);
+}
+
+// A write that fails is an error (exit 2), and --out is replaced only once the run has written all of it.
+TEST(Cli, FailedWritesExitTwoAndOutputsAreReplacedWhole) {
+  const std::string scene = (kScenes / "stack.json").string();
+  EXPECT_EQ(RunCli("simulate " + scene + " --steps 5 --out /dev/full"), 2);
+  EXPECT_EQ(RunCli("navmesh bake " + (kLevels / "arena.glb").string() + " --out " +
+                   TempFile("a.bin").string() + " --report /dev/full"),
+            2);
+  const auto out = TempFile("replaced.jsonl");
+  std::ofstream(out) << "old\n";
+  // (A run that stops before its end leaves the old file whole: OutputFile's tests.)
+  ASSERT_EQ(RunCli("simulate " + scene + " --steps 5 --out " + out.string()), 0);
+  std::ifstream replaced(out);
+  std::string first;
+  std::getline(replaced, first);
+  EXPECT_NE(first, "old");
+  EXPECT_FALSE(std::filesystem::exists(out.string() + ".tmp"));
+  std::filesystem::remove(out);
+  std::filesystem::remove(TempFile("a.bin"));
 }
 
 TEST(Cli, DemoBuildsTilesWhileSteppingAndWritesPictures) {

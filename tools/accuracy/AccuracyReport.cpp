@@ -10,7 +10,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "tools/bench/OutputFile.h"
+#include "physics/core/OutputFile.h"
 
 namespace strata::accuracy {
 
@@ -215,7 +215,7 @@ Status WriteAccuracyJson(const std::vector<AccuracyRecord>& records, const std::
                     {"default", r.is_default}});
   document["cases"] = case_list;
   document["runs"] = runs;
-  return bench::WriteOutputFile(path, document.dump(2) + "\n");
+  return WriteOutputFile(path, document.dump(2) + "\n");
 }
 
 Status WriteAccuracyMarkdown(const std::vector<AccuracyRecord>& records,
@@ -250,7 +250,7 @@ Status WriteAccuracyMarkdown(const std::vector<AccuracyRecord>& records,
           << Format(gap.strata->wall_ms / gap.bullet.wall_ms) << "x the time)\n";
     }
   }
-  return bench::WriteOutputFile(path, out.str());
+  return WriteOutputFile(path, out.str());
 }
 
 Status WriteAccuracyPlot(const std::vector<AccuracyRecord>& records, const std::vector<AccuracyCase>& cases,
@@ -310,7 +310,7 @@ Status WriteAccuracyPlot(const std::vector<AccuracyRecord>& records, const std::
       }
     }
   }
-  return bench::WriteOutputFile(path, canvas.Png());
+  return WriteOutputFile(path, canvas.Png());
 }
 
 }  // namespace strata::accuracy

@@ -12,8 +12,8 @@
 #include <optional>
 #include <thread>
 
+#include "physics/core/OutputFile.h"
 #include "tools/bench/BenchRunner.h"
-#include "tools/bench/OutputFile.h"
 #include "tools/cli/Commands.h"
 
 namespace strata::cli {
@@ -110,7 +110,7 @@ nlohmann::json ToJson(const bench::EngineResult& r, double speedup) {
 }
 
 bool WriteJson(const std::string& path, const nlohmann::json& document) {
-  return bench::WriteOutputFile(path, document.dump(2) + "\n").ok();
+  return WriteOutputFile(path, document.dump(2) + "\n").ok();
 }
 
 /// Whether the JSON file can go where it was asked to, checked before minutes of benchmarking.

@@ -212,8 +212,13 @@ int RunDemo(const DemoOptions& options) {
   std::mt19937 random(options.seed);
   SpawnDynamicBodies(world, level->bounds, options, random);
   std::vector<Agent> agents = SpawnAgents(world, level->bounds, options.agents, random);
-  config.max_tiles = static_cast<int>(std::min<std::size_t>(
-      navmesh::TileGrid(options.settings.tile_size()).TilesInBox(level->bounds).size() + 1, 1 << 16));
+  const Result<int> tile_count =
+      navmesh::NavMeshService::MaxTilesToCover(level->bounds, options.settings.tile_size());
+  if (!tile_count) {
+    std::cerr << "strata demo: " << options.level << ": " << tile_count.error().message << "\n";
+    return 2;
+  }
+  config.max_tiles = std::max(*tile_count, 1);
   auto service = navmesh::NavMeshService::Create(world, config);
   if (!service) {
     std::cerr << "strata demo: " << service.error().message << "\n";

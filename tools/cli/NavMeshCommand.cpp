@@ -14,6 +14,7 @@
 #include "navmesh/NavMeshService.h"
 #include "navmesh/Validation.h"
 #include "physics/core/JobSystem.h"
+#include "physics/core/OutputFile.h"
 #include "physics/world/PhysicsSystem.h"
 #include "tools/cli/Commands.h"
 #include "tools/cli/NavMeshOptions.h"
@@ -99,18 +100,19 @@ int RunBake(const BakeOptions& options) {
   Result<LoadedLevel> level = LoadLevel(**world, options.level, options.level_options);
   if (!level) return Fail("bake", level.error().message);
 
-  const navmesh::TileGrid grid(options.settings.tile_size());
-  const std::size_t tile_count = grid.TilesInBox(level->bounds).size();
-  config.max_tiles = static_cast<int>(std::min<std::size_t>(tile_count + 1, 1 << 16));
+  const Result<int> tile_count =
+      navmesh::NavMeshService::MaxTilesToCover(level->bounds, options.settings.tile_size());
+  if (!tile_count) return Fail("bake", options.level + ": " + tile_count.error().message);
+  config.max_tiles = std::max(*tile_count, 1);
   auto service = navmesh::NavMeshService::Create(**world, config);
   if (!service) return Fail("bake", service.error().message);
   if (Status status = (*service)->RequestBox(level->bounds); !status.ok())
     return Fail("bake", status.message());
   const bool terminal = isatty(fileno(stdout));
   while (!(*service)->WaitUntilIdle(std::chrono::milliseconds(100)))
-    if (terminal) DrawProgress((*service)->stats().builds, tile_count);
+    if (terminal) DrawProgress((*service)->stats().builds, static_cast<std::size_t>(*tile_count));
   if (terminal) {
-    DrawProgress((*service)->stats().builds, tile_count);
+    DrawProgress((*service)->stats().builds, static_cast<std::size_t>(*tile_count));
     std::printf("\n");
   }
   const double wall_ms =
@@ -122,11 +124,9 @@ int RunBake(const BakeOptions& options) {
   if (!options.obj.empty())
     if (Status status = navmesh.WriteObj(options.obj); !status.ok()) return Fail("bake", status.message());
   const nlohmann::json report = Report(options, *level, **service, wall_ms);
-  if (!options.report.empty()) {
-    std::ofstream file(options.report);
-    file << report.dump(2) << "\n";
-    if (!file) return Fail("bake", options.report + ": cannot write");
-  }
+  if (!options.report.empty())
+    if (Status written = WriteOutputFile(options.report, report.dump(2) + "\n"); !written)
+      return Fail("bake", written.message());
   std::printf("%s: %zu triangles in %zu chunks -> %d tiles, %d polygons, %.1f m^2 walkable, %d islands\n",
               options.level.c_str(), level->triangles, level->chunks, navmesh.tile_count(),
               navmesh.polygon_count(), navmesh.WalkableArea(), report["islands"].get<int>());

@@ -5,9 +5,11 @@
 #include <fstream>
 #include <iostream>
 #include <nlohmann/json.hpp>
+#include <optional>
 
 #include "assets/scene/SceneLoader.h"
 #include "physics/body/BodyInterface.h"
+#include "physics/core/OutputFile.h"
 #include "tools/cli/Commands.h"
 
 namespace strata::cli {
@@ -76,15 +78,16 @@ int RunSimulate(const SimulateOptions& options) {
     std::cerr << "strata simulate: " << options.scene << ": " << world.error().message << "\n";
     return 2;
   }
-  std::ofstream file;
+  // Written beside --out and renamed over it at the end: a failed or killed run leaves the old file whole.
+  std::optional<OutputFile> file;
   if (!options.out.empty()) {
-    file.open(options.out);
-    if (!file) {
-      std::cerr << "strata simulate: cannot write " << options.out << "\n";
+    file.emplace(options.out);
+    if (!file->status()) {
+      std::cerr << "strata simulate: " << file->status().message() << "\n";
       return 2;
     }
   }
-  std::ostream& out = options.out.empty() ? std::cout : file;
+  std::ostream& out = file ? file->stream() : std::cout;
   double slowest_ms = 0.0, total_ms = 0.0;
   int lines = 0;
   std::size_t linear_clamps = 0, angular_clamps = 0;
@@ -104,6 +107,15 @@ int RunSimulate(const SimulateOptions& options) {
       out << StateLine(*scene, *world, step, static_cast<float>(step) * scene->dt).dump() << "\n";
       ++lines;
     }
+  }
+  const Status written =
+      file ? file->Commit()
+           : (std::cout.flush()
+                  ? Status::Ok()
+                  : Status(MakeError(ErrorCode::kInvalidArgument, "standard output: write failed")));
+  if (!written) {
+    std::cerr << "strata simulate: " << written.message() << "\n";
+    return 2;
   }
   if (!options.out.empty()) PrintSummary(*scene, *world, options, lines, total_ms, slowest_ms);
   // Limits are never silent: a body that hit its max_linear_velocity or max_angular_velocity is reported.
