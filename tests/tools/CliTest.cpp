@@ -242,6 +242,26 @@ TEST(Cli, FailedWritesExitTwoAndOutputsAreReplacedWhole) {
   std::filesystem::remove(TempFile("a.bin"));
 }
 
+// Options out of range (NaN included: CLI11's own checks let it through) and an --out-dir that cannot be
+// made are refused before the run; crates beyond the old fixed body table are all added, not capped.
+TEST(Cli, DemoRefusesBadOptionsBeforeRunningAndAddsEveryCrate) {
+  const auto out_dir = TempFile("demo_out");
+  for (const char* bad : {"--steps -1", "--steps 0", "--crates -1", "--request-radius nan",
+                          "--request-radius -3", "--agents 100000", "--threads 0"})
+    EXPECT_EQ(RunCli("demo --out-dir " + out_dir.string() + " " + std::string(bad)), 2) << bad;
+  const auto file = TempFile("a_file");
+  std::ofstream(file) << "x";
+  EXPECT_EQ(RunCli("demo --steps 5 --out-dir " + (file / "pictures").string()), 2);
+  std::string output;
+  ASSERT_EQ(RunCliCapture("demo --steps 2 --crates 20000 --out-dir " + out_dir.string(), output), 0);
+  const std::size_t bodies_at = output.find(" bodies, ");
+  ASSERT_NE(bodies_at, std::string::npos) << output;
+  const std::size_t line_start = output.rfind('\n', bodies_at) + 1;  // 0 when it is the first line
+  EXPECT_GE(std::stoi(output.substr(line_start, bodies_at - line_start)), 20000) << output;
+  std::filesystem::remove(file);
+  std::filesystem::remove_all(out_dir);
+}
+
 TEST(Cli, DemoBuildsTilesWhileSteppingAndWritesPictures) {
   const auto out = TempFile("demo");
   std::string output;

@@ -19,6 +19,7 @@
 #include "physics/world/WorldQuery.h"
 #include "tools/cli/Commands.h"
 #include "tools/cli/NavMeshOptions.h"
+#include "tools/cli/Validators.h"
 #include "tools/demo/TopDownImage.h"
 
 namespace strata::cli {
@@ -42,6 +43,11 @@ struct DemoOptions {
   unsigned seed = 1;
 };
 
+// Option ranges: beyond them a run would take hours or the world's body table would be enormous.
+constexpr int kMaxSteps = 10'000'000;
+constexpr int kMaxSpawned = 1'000'000;
+constexpr int kMaxAgents = 10'000;
+
 struct Agent {
   Vec3 position;
   Vec3 target;
@@ -60,8 +66,8 @@ std::optional<Vec3> GroundAt(const PhysicsSystem& world, const AABB& level, floa
   return (*hit)->position;
 }
 
-void SpawnDynamicBodies(PhysicsSystem& world, const AABB& level, const DemoOptions& options,
-                        std::mt19937& random) {
+Status SpawnDynamicBodies(PhysicsSystem& world, const AABB& level, const DemoOptions& options,
+                          std::mt19937& random) {
   std::uniform_real_distribution<float> x(level.min.x() + 2.0f, level.max.x() - 2.0f);
   std::uniform_real_distribution<float> z(level.min.z() + 2.0f, level.max.z() - 2.0f);
   std::uniform_real_distribution<float> unit(0.0f, 1.0f);
@@ -72,7 +78,7 @@ void SpawnDynamicBodies(PhysicsSystem& world, const AABB& level, const DemoOptio
     settings.position = Vec3(x(random), level.max.y() + 2.0f + 10.0f * unit(random), z(random));
     settings.rotation =
         Quat(Eigen::AngleAxisf(6.0f * unit(random), Vec3(unit(random), 1.0f, unit(random)).normalized()));
-    (void)world.bodies().CreateAndAddBody(settings);
+    if (Result<BodyID> added = world.bodies().CreateAndAddBody(settings); !added) return added.error();
   }
   const ShapeRef boulder = *SphereShape::Create(1.0f);  // 2 m across: large enough to count for the navmesh
   for (int i = 0; i < options.boulders; ++i) {
@@ -84,8 +90,9 @@ void SpawnDynamicBodies(PhysicsSystem& world, const AABB& level, const DemoOptio
     const float angle = 6.2832f * unit(random);
     settings.linear_velocity = Vec3(4.0f * std::cos(angle), 0.0f, 4.0f * std::sin(angle));
     settings.friction = 0.8f;
-    (void)world.bodies().CreateAndAddBody(settings);
+    if (Result<BodyID> added = world.bodies().CreateAndAddBody(settings); !added) return added.error();
   }
+  return Status::Ok();
 }
 
 std::vector<Agent> SpawnAgents(const PhysicsSystem& world, const AABB& level, int count,
@@ -116,9 +123,9 @@ void PrintTileTable(const navmesh::NavMeshService& service) {
   }
 }
 
-void DrawPicture(PhysicsSystem& world, const LoadedLevel& level, const navmesh::NavMeshService& service,
-                 const std::vector<Agent>& agents, const std::vector<navmesh::PathResult>& paths,
-                 const std::filesystem::path& path) {
+Status DrawPicture(PhysicsSystem& world, const LoadedLevel& level, const navmesh::NavMeshService& service,
+                   const std::vector<Agent>& agents, const std::vector<navmesh::PathResult>& paths,
+                   const std::filesystem::path& path) {
   demo::TopDownImage image(level.bounds.Expanded(Vec3(2.0f, 0.0f, 2.0f)), 8.0f);
   // Level: grey by height, lower surfaces first.
   struct Face {
@@ -180,7 +187,7 @@ void DrawPicture(PhysicsSystem& world, const LoadedLevel& level, const navmesh::
     image.DrawDot(agents[i].position, 4, {20, 170, 40});
     image.DrawDot(agents[i].target, 3, {200, 30, 200});
   }
-  if (Status status = image.SavePng(path); !status.ok()) std::cerr << status.message() << "\n";
+  return image.SavePng(path);
 }
 
 int RunDemo(const DemoOptions& options) {
@@ -191,8 +198,17 @@ int RunDemo(const DemoOptions& options) {
     std::cerr << "strata demo: " << status.message() << "\n";
     return 2;
   }
+  // Before the run, not after it: a minute of simulation must not end in "cannot write".
+  std::error_code error;
+  std::filesystem::create_directories(options.out_dir, error);
+  if (error || !std::filesystem::is_directory(options.out_dir, error)) {
+    std::cerr << "strata demo: --out-dir " << options.out_dir << ": cannot create the directory"
+              << (error ? " (" + error.message() + ")" : std::string()) << "\n";
+    return 2;
+  }
   PhysicsSystemConfig world_config;
-  world_config.max_bodies = 16384;
+  // Room for every crate and boulder asked for besides the level's chunks: none is dropped silently.
+  world_config.max_bodies = static_cast<std::uint32_t>(16384 + options.crates + options.boulders);
   world_config.thread_count = options.physics_threads;
   auto created = PhysicsSystem::Create(world_config);
   if (!created) {
@@ -210,7 +226,10 @@ int RunDemo(const DemoOptions& options) {
               level->triangles, level->chunks, Milliseconds(Clock::now() - load_start));
 
   std::mt19937 random(options.seed);
-  SpawnDynamicBodies(world, level->bounds, options, random);
+  if (Status spawned = SpawnDynamicBodies(world, level->bounds, options, random); !spawned) {
+    std::cerr << "strata demo: cannot add the crates and boulders: " << spawned.message() << "\n";
+    return 2;
+  }
   std::vector<Agent> agents = SpawnAgents(world, level->bounds, options.agents, random);
   const Result<int> tile_count =
       navmesh::NavMeshService::MaxTilesToCover(level->bounds, options.settings.tile_size());
@@ -289,12 +308,14 @@ int RunDemo(const DemoOptions& options) {
       longest_frame_ms, longest_request_ms, step_ms_total / std::max(1, options.steps), longest_step_ms,
       steps_with_jobs, options.steps);
 
-  std::error_code error;
-  std::filesystem::create_directories(options.out_dir, error);
   const std::filesystem::path obj = std::filesystem::path(options.out_dir) / "navmesh.obj";
   const std::filesystem::path png = std::filesystem::path(options.out_dir) / "navmesh.png";
-  if (Status status = navmesh.WriteObj(obj); !status.ok()) std::cerr << status.message() << "\n";
-  DrawPicture(world, *level, **service, agents, paths, png);
+  for (const Status& written :
+       {navmesh.WriteObj(obj), DrawPicture(world, *level, **service, agents, paths, png)})
+    if (!written) {
+      std::cerr << "strata demo: " << written.message() << "\n";
+      return 2;
+    }
   std::printf("wrote %s and %s\n", obj.string().c_str(), png.string().c_str());
   return stats.failures == 0 ? 0 : 1;
 }
@@ -306,16 +327,26 @@ std::function<int()> AddDemoCommand(CLI::App& app) {
   CLI::App* demo =
       app.add_subcommand("demo", "the main job: a moving world with agents and background navmesh");
   demo->add_option("level", options->level, "level mesh file")->capture_default_str();
-  demo->add_option("--steps", options->steps, "physics steps at 60 Hz")->capture_default_str();
+  demo->add_option("--steps", options->steps, "physics steps at 60 Hz")
+      ->check(CLI::Range(1, kMaxSteps))
+      ->capture_default_str();
   demo->add_option("--crates", options->crates, "falling crates (debris: not in the navmesh)")
+      ->check(CLI::Range(0, kMaxSpawned))
       ->capture_default_str();
   demo->add_option("--boulders", options->boulders, "rolling boulders (2 m: they count)")
+      ->check(CLI::Range(0, kMaxSpawned))
       ->capture_default_str();
-  demo->add_option("--agents", options->agents, "agents requesting tiles")->capture_default_str();
+  demo->add_option("--agents", options->agents, "agents requesting tiles")
+      ->check(CLI::Range(0, kMaxAgents))
+      ->capture_default_str();
   demo->add_option("--request-radius", options->request_radius, "radius of each agent's request (m)")
+      ->check(FiniteIn(0.0, 1.0e4))
       ->capture_default_str();
-  demo->add_option("--threads", options->physics_threads, "physics threads")->capture_default_str();
+  demo->add_option("--threads", options->physics_threads, "physics threads")
+      ->check(CLI::Range(1, 1024))
+      ->capture_default_str();
   demo->add_option("--navmesh-threads", options->navmesh_threads, "background navmesh threads")
+      ->check(CLI::Range(1, 1024))
       ->capture_default_str();
   demo->add_option("--out-dir", options->out_dir, "where navmesh.obj and navmesh.png go")
       ->capture_default_str();

@@ -4,6 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
+
+#include "physics/core/OutputFile.h"
 
 namespace strata::demo {
 
@@ -69,9 +72,15 @@ void TopDownImage::DrawDot(const Vec3& center, int radius_pixels, const Color& c
 }
 
 Status TopDownImage::SavePng(const std::filesystem::path& path) const {
-  if (!stbi_write_png(path.string().c_str(), width_, height_, 3, rgb_.data(), width_ * 3))
-    return MakeError(ErrorCode::kParseError, path.string() + ": cannot write PNG");
-  return Status::Ok();
+  // Encoded in memory, then written as every result file is (beside the target, renamed over it).
+  std::string png;
+  const auto append = [](void* context, void* data, int size) {
+    static_cast<std::string*>(context)->append(static_cast<const char*>(data),
+                                               static_cast<std::size_t>(size));
+  };
+  if (!stbi_write_png_to_func(append, &png, width_, height_, 3, rgb_.data(), width_ * 3))
+    return MakeError(ErrorCode::kInvalidArgument, path.string() + ": cannot encode the PNG");
+  return WriteOutputFile(path, png);
 }
 
 }  // namespace strata::demo
