@@ -68,21 +68,51 @@ long ExpectedTileSize(const dtMeshHeader& header) {
          bytes(sizeof(dtOffMeshConnection), header.offMeshConCount);
 }
 
-/// Checks that a tile's counts, indices and sizes agree, so Detour never reads outside the tile.
-bool TileIsConsistent(std::span<const unsigned char> bytes) {
-  if (bytes.size() < sizeof(dtMeshHeader)) return false;
+bool Finite3(const float* v) {
+  return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]);
+}
+
+// Whether point `v` lies in the box from `low` to `high` grown by `margin`.
+bool Inside(const float* v, const float* low, const float* high, float margin) {
+  for (int k = 0; k < 3; ++k)
+    if (!(v[k] >= low[k] - margin && v[k] <= high[k] + margin)) return false;
+  return true;
+}
+
+/// What is wrong with a tile, or nothing: counts, indices and sizes must agree (so Detour never reads
+/// outside the tile), bounds and vertices must be finite with every vertex inside the bounds, and the bounds
+/// must lie in the grid cell the header names (a tile moved to another cell would answer paths there).
+std::string TileProblem(std::span<const unsigned char> bytes, const dtNavMeshParams& params) {
+  if (bytes.size() < sizeof(dtMeshHeader)) return "too short for a tile header";
   dtMeshHeader header;
   std::memcpy(&header, bytes.data(), sizeof(header));
-  if (header.magic != DT_NAVMESH_MAGIC || header.version != DT_NAVMESH_VERSION) return false;
+  if (header.magic != DT_NAVMESH_MAGIC || header.version != DT_NAVMESH_VERSION)
+    return "not a Detour tile (magic or version)";
   const int counts[] = {header.vertCount,       header.polyCount,       header.maxLinkCount,
                         header.detailMeshCount, header.detailVertCount, header.detailTriCount,
                         header.bvNodeCount,     header.offMeshConCount};
   for (const int count : counts)
-    if (count < 0 || count > (1 << 24)) return false;
-  if (ExpectedTileSize(header) != static_cast<long>(bytes.size())) return false;
-  if (header.detailMeshCount != header.polyCount) return false;
+    if (count < 0 || count > (1 << 24)) return "a count is out of range";
+  if (ExpectedTileSize(header) != static_cast<long>(bytes.size()))
+    return "its size does not match its counts";
+  if (header.detailMeshCount != header.polyCount) return "detail meshes do not match polygons";
+  if (!Finite3(header.bmin) || !Finite3(header.bmax) || !Inside(header.bmin, header.bmin, header.bmax, 0.0f))
+    return "its bounds are not finite or inside out";
+  // The bounds' centre in the header's grid cell (the bounds carry a border of a few cells on each side).
+  const double centre[2] = {0.5 * (static_cast<double>(header.bmin[0]) + header.bmax[0]),
+                            0.5 * (static_cast<double>(header.bmin[2]) + header.bmax[2])};
+  const int cell[2] = {header.x, header.y};
+  for (int k = 0; k < 2; ++k) {
+    const double low =
+        static_cast<double>(params.orig[2 * k]) + static_cast<double>(cell[k]) * params.tileWidth;
+    if (!(centre[k] >= low && centre[k] <= low + params.tileWidth))
+      return "it names grid cell (" + std::to_string(header.x) + ", " + std::to_string(header.y) +
+             ") but its bounds lie elsewhere";
+  }
 
   const unsigned char* cursor = bytes.data() + Align4(sizeof(dtMeshHeader));
+  std::vector<float> verts(3 * static_cast<std::size_t>(header.vertCount));
+  std::memcpy(verts.data(), cursor, verts.size() * sizeof(float));
   cursor += Align4(static_cast<int>(sizeof(float)) * 3 * header.vertCount);
   std::vector<dtPoly> polys(static_cast<std::size_t>(header.polyCount));
   std::memcpy(polys.data(), cursor, polys.size() * sizeof(dtPoly));
@@ -91,32 +121,47 @@ bool TileIsConsistent(std::span<const unsigned char> bytes) {
   std::vector<dtPolyDetail> details(static_cast<std::size_t>(header.detailMeshCount));
   std::memcpy(details.data(), cursor, details.size() * sizeof(dtPolyDetail));
   cursor += Align4(static_cast<int>(sizeof(dtPolyDetail)) * header.detailMeshCount);
+  std::vector<float> detail_verts(3 * static_cast<std::size_t>(header.detailVertCount));
+  std::memcpy(detail_verts.data(), cursor, detail_verts.size() * sizeof(float));
   cursor += Align4(static_cast<int>(sizeof(float)) * 3 * header.detailVertCount);
   const unsigned char* detail_tris = cursor;
   cursor += Align4(4 * header.detailTriCount);
   std::vector<dtBVNode> nodes(static_cast<std::size_t>(header.bvNodeCount));
   std::memcpy(nodes.data(), cursor, nodes.size() * sizeof(dtBVNode));
 
+  // Vertices may sit a little outside the bounds (Recast rounds them to cells); a cell is far less than this.
+  const float margin = 0.01f * params.tileWidth;
+  for (const std::vector<float>* list : {&verts, &detail_verts})
+    for (std::size_t v = 0; v < list->size(); v += 3)
+      if (!Inside(&(*list)[v], header.bmin, header.bmax, margin))
+        return std::string(list == &verts ? "vertex " : "detail vertex ") + std::to_string(v / 3) +
+               " is not finite or lies outside the tile";
   for (std::size_t p = 0; p < polys.size(); ++p) {
     const dtPoly& poly = polys[p];
-    if (poly.vertCount < 3 || poly.vertCount > DT_VERTS_PER_POLYGON) return false;
-    if (poly.getType() != DT_POLYTYPE_GROUND)
-      return false;  // off-mesh links would index a table we never write
+    const std::string which = "polygon " + std::to_string(p);
+    if (poly.vertCount < 3 || poly.vertCount > DT_VERTS_PER_POLYGON) return which + " has a bad vertex count";
+    // Off-mesh links would index a table we never write.
+    if (poly.getType() != DT_POLYTYPE_GROUND) return which + " is not a ground polygon";
     for (int v = 0; v < poly.vertCount; ++v) {
-      if (poly.verts[v] >= header.vertCount) return false;
+      if (poly.verts[v] >= header.vertCount) return which + " has a vertex index out of range";
       const unsigned short neighbour = poly.neis[v];
-      if (neighbour != 0 && !(neighbour & DT_EXT_LINK) && neighbour > header.polyCount) return false;
+      if (neighbour != 0 && !(neighbour & DT_EXT_LINK) && neighbour > header.polyCount)
+        return which + " has a neighbour out of range";
     }
     const dtPolyDetail& detail = details[p];
-    if (static_cast<long>(detail.vertBase) + detail.vertCount > header.detailVertCount) return false;
-    if (static_cast<long>(detail.triBase) + detail.triCount > header.detailTriCount) return false;
+    if (static_cast<long>(detail.vertBase) + detail.vertCount > header.detailVertCount ||
+        static_cast<long>(detail.triBase) + detail.triCount > header.detailTriCount)
+      return which + " has detail ranges out of range";
     for (int t = 0; t < detail.triCount; ++t)
       for (int k = 0; k < 3; ++k)
-        if (detail_tris[(detail.triBase + t) * 4 + k] >= poly.vertCount + detail.vertCount) return false;
+        if (detail_tris[(detail.triBase + t) * 4 + k] >= poly.vertCount + detail.vertCount)
+          return which + " has a detail triangle index out of range";
   }
   for (const dtBVNode& node : nodes)
-    if (node.i >= header.polyCount || node.i < -header.bvNodeCount) return false;
-  return header.offMeshConCount == 0;  // we never write off-mesh links; a file with them is not ours
+    if (node.i >= header.polyCount || node.i < -header.bvNodeCount)
+      return "a bounding-volume node is out of range";
+  if (header.offMeshConCount != 0) return "it has off-mesh links (not a Strata navmesh)";
+  return {};
 }
 
 double PolygonArea(const dtMeshTile& tile, const dtPoly& poly) {
@@ -249,7 +294,7 @@ Result<std::unique_ptr<NavMesh>> NavMesh::Load(const std::filesystem::path& path
   const dtNavMeshParams& params = header.params;
   if (header.tile_count < 0 || header.tile_count > params.maxTiles || params.maxTiles < 1 ||
       params.maxTiles > (1 << 16) || params.maxPolys < 1 || !std::isfinite(params.tileWidth) ||
-      params.tileWidth <= 0.0f || params.tileWidth != params.tileHeight)
+      params.tileWidth <= 0.0f || params.tileWidth != params.tileHeight || !Finite3(params.orig))
     return FileError(path, "corrupt navmesh set header");
   dtNavMesh* mesh = dtAllocNavMesh();
   std::unique_ptr<NavMesh> navmesh(new NavMesh(mesh, params.tileWidth));
@@ -268,7 +313,8 @@ Result<std::unique_ptr<NavMesh>> NavMesh::Load(const std::filesystem::path& path
     const std::span<const unsigned char> tile_bytes(bytes.data() + offset,
                                                     static_cast<std::size_t>(tile_header.size));
     offset += static_cast<std::size_t>(tile_header.size);
-    if (!TileIsConsistent(tile_bytes)) return FileError(path, "corrupt tile " + std::to_string(i));
+    if (const std::string problem = TileProblem(tile_bytes, params); !problem.empty())
+      return FileError(path, "corrupt tile " + std::to_string(i) + ": " + problem);
     TileData data = TileData::CopyOf(tile_bytes);
     unsigned char* raw = data.Release();
     if (dtStatusFailed(mesh->addTile(raw, tile_header.size, DT_TILE_FREE_DATA, tile_header.ref, nullptr))) {

@@ -3,6 +3,7 @@
 // RecastDemo "MSET" file format with corrupt files.
 #include <gtest/gtest.h>
 
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <random>
@@ -217,6 +218,31 @@ TEST_F(NavMeshFile, BadFilesGiveClearErrors) {
   bytes.push_back(0);
   Write(bytes);
   expect_error("trailing", "unexpected bytes");
+}
+
+// A tile whose sizes all agree but whose geometry is wrong used to load and quietly change paths: NaN
+// vertices, NaN bounds, a tile that names another grid cell than its bounds lie in.
+TEST_F(NavMeshFile, TilesWithBadGeometryAreRefused) {
+  // The first tile follows the set header (40 bytes) and its tile header (8); in Detour's tile header x is
+  // the third int, bmin starts at byte 72, and the vertices follow the 100-byte header.
+  constexpr std::size_t kFirstTile = 48, kCellX = kFirstTile + 8, kBoundsMin = kFirstTile + 72,
+                        kFirstVertex = kFirstTile + 100;
+  const auto with = [&](std::size_t offset, auto value) {
+    std::vector<char> bytes = bytes_;
+    std::memcpy(bytes.data() + offset, &value, sizeof(value));
+    Write(bytes);
+    const auto loaded = navmesh::NavMesh::Load(path_);
+    return loaded.ok() ? std::string("loaded") : loaded.error().message;
+  };
+  const float nan = std::nanf("");
+  EXPECT_NE(with(kFirstVertex, nan).find("corrupt tile 0: vertex 0 is not finite or lies outside the tile"),
+            std::string::npos);
+  EXPECT_NE(with(kFirstVertex + 4, 1.0e6f).find("vertex 0 is not finite or lies outside"), std::string::npos);
+  EXPECT_NE(with(kBoundsMin, nan).find("bounds are not finite"), std::string::npos);
+  std::int32_t cell_x = 0;
+  std::memcpy(&cell_x, bytes_.data() + kCellX, sizeof(cell_x));
+  EXPECT_NE(with(kCellX, cell_x - 1).find("but its bounds lie elsewhere"), std::string::npos);
+  EXPECT_EQ(with(kCellX, cell_x), "loaded");  // the offsets are right: the unchanged file loads
 }
 
 TEST_F(NavMeshFile, RandomCorruptionNeverCrashesLoadOrQueries) {
