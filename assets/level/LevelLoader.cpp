@@ -59,6 +59,19 @@ std::vector<LevelChunk> ChunkLevel(const ImportedMesh& mesh, float world_tile_si
   return chunks;
 }
 
+bool LooksZUp(const ImportedMesh& mesh) {
+  // Twice each triangle's area along each axis: floors face Y in a Y-up level. Walls face X and Z in
+  // either, so Z must clearly outweigh Y before the level is called Z-up.
+  double facing_y = 0.0, facing_z = 0.0;
+  for (const TriangleMeshShape::Indices& t : mesh.triangles) {
+    const Vec3 normal =
+        (mesh.vertices[t[1]] - mesh.vertices[t[0]]).cross(mesh.vertices[t[2]] - mesh.vertices[t[0]]);
+    facing_y += std::abs(static_cast<double>(normal.y()));
+    facing_z += std::abs(static_cast<double>(normal.z()));
+  }
+  return facing_z > 2.0 * facing_y;
+}
+
 Result<PreparedLevel> PrepareLevel(PhysicsSystem& world, const std::filesystem::path& path,
                                    const LevelLoadOptions& options) {
   if (Status status = options.Validate(); !status.ok()) return LevelError(path, status.message());
@@ -69,6 +82,10 @@ Result<PreparedLevel> PrepareLevel(PhysicsSystem& world, const std::filesystem::
 
   PreparedLevel level;
   level.path = path;
+  if (LooksZUp(*mesh))
+    level.warnings.push_back(path.string() + ": most of the level's surface faces along Z, not Y: it looks " +
+                             (options.import.z_up ? "Y-up already; drop --z-up" : "Z-up; pass --z-up") +
+                             " if its floors should be walkable");
   std::vector<BodyID> created;
   for (LevelChunk& chunk : ChunkLevel(*mesh, options.world_tile_size)) {
     Result<ShapeRef> shape = TriangleMeshShape::Create(chunk.mesh.vertices, chunk.mesh.triangles);
@@ -108,7 +125,7 @@ Result<LoadedLevel> FinalizeLevel(PhysicsSystem& world, PreparedLevel&& level) {
     DestroyAll(world, ids);
     return LevelError(level.path, status.message());
   }
-  return LoadedLevel{ids, level.bounds, level.triangles, level.chunks};
+  return LoadedLevel{ids, level.bounds, level.triangles, level.chunks, std::move(level.warnings)};
 }
 
 Result<LoadedLevel> LoadLevel(PhysicsSystem& world, const std::filesystem::path& path,

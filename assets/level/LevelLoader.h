@@ -5,6 +5,7 @@
 #pragma once
 
 #include <filesystem>
+#include <string>
 #include <vector>
 
 #include "assets/import/MeshImporter.h"
@@ -39,6 +40,7 @@ struct PreparedLevel {
   AABB bounds;
   std::size_t triangles = 0;
   std::size_t chunks = 0;
+  std::vector<std::string> warnings;  ///< valid but suspicious input (a level that looks Z-up), for people
 };
 
 /// What a finalized level put in the world.
@@ -47,7 +49,12 @@ struct LoadedLevel {
   AABB bounds;
   std::size_t triangles = 0;
   std::size_t chunks = 0;
+  std::vector<std::string> warnings;
 };
+
+/// Whether most of a mesh's surface faces along Z rather than Y: a level whose floors face Z was most
+/// likely made Z-up and imported without the conversion (or converted when it was Y-up already).
+bool LooksZUp(const ImportedMesh& mesh);
 
 /// Loading-thread half: imports, chunks and prepares the bodies; nothing is in the world yet. Fails, with
 /// the file and the reason, for a missing, unsupported or corrupt file, an empty mesh or NaN vertices.

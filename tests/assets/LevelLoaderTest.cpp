@@ -73,6 +73,33 @@ TEST(LevelImport, ZUpFileComesInYUp) {
   EXPECT_TRUE(BoundsOf(*scaled).max.isApprox(0.5f * expected.max));
 }
 
+// A Z-up file read without --z-up (6 of 27 tiles baked, silently, before) is loaded but warned about,
+// and so is a Y-up file converted as if it were Z-up; a level read the right way gets no warning.
+TEST(LevelLoad, ALevelThatLooksZUpIsWarnedAbout) {
+  const auto path = TempPath("courtyard_zup_warning.glb");
+  ASSERT_TRUE(ExportMesh(levelgen::Courtyard().mesh, path, "glb2", /*z_up=*/true).ok());
+  const auto warnings_of = [&](const std::filesystem::path& file, bool z_up) {
+    auto world = MakeWorld();
+    LevelLoadOptions options;
+    options.import.z_up = z_up;
+    Result<LoadedLevel> level = LoadLevel(*world, file, options);
+    EXPECT_TRUE(level.ok()) << level.error().message;
+    return level.ok() ? level->warnings : std::vector<std::string>{"failed"};
+  };
+  const std::vector<std::string> unconverted = warnings_of(path, false);
+  ASSERT_EQ(unconverted.size(), 1u);
+  EXPECT_NE(unconverted[0].find("looks Z-up; pass --z-up"), std::string::npos) << unconverted[0];
+  EXPECT_TRUE(warnings_of(path, true).empty());
+  const auto y_up = TempPath("courtyard_y_up_warning.obj");
+  ASSERT_TRUE(ExportMesh(levelgen::Courtyard().mesh, y_up, "objnomtl").ok());
+  EXPECT_TRUE(warnings_of(y_up, false).empty());
+  const std::vector<std::string> converted_twice = warnings_of(y_up, true);
+  ASSERT_EQ(converted_twice.size(), 1u);
+  EXPECT_NE(converted_twice[0].find("drop --z-up"), std::string::npos) << converted_twice[0];
+  EXPECT_TRUE(LooksZUp(*ImportMesh(path)));
+  EXPECT_FALSE(LooksZUp(levelgen::Courtyard().mesh));
+}
+
 TEST(LevelImport, SceneGraphTransformsWeldingAndDegenerates) {
   const auto path = TempPath("nodes.dae");
   // Two nodes share one mesh: a unit quad moved by +10 x and by +20 x; plus a zero-area triangle.

@@ -222,6 +222,7 @@ int RunDemo(const DemoOptions& options) {
     std::cerr << "strata demo: " << level.error().message << "\n";
     return 2;
   }
+  for (const std::string& warning : level->warnings) std::cerr << "strata demo: warning: " << warning << "\n";
   std::printf("level %s: %zu triangles in %zu chunks, loaded in %.1f ms\n", options.level.c_str(),
               level->triangles, level->chunks, Milliseconds(Clock::now() - load_start));
 

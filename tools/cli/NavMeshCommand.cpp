@@ -99,6 +99,8 @@ int RunBake(const BakeOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   Result<LoadedLevel> level = LoadLevel(**world, options.level, options.level_options);
   if (!level) return Fail("bake", level.error().message);
+  for (const std::string& warning : level->warnings)
+    std::fprintf(stderr, "strata navmesh bake: warning: %s\n", warning.c_str());
 
   const Result<int> tile_count =
       navmesh::NavMeshService::MaxTilesToCover(level->bounds, options.settings.tile_size());
