@@ -1,5 +1,9 @@
 #include "physics/broadphase/QuadTreeBroadPhase.h"
 
+#include <thread>
+
+#include <chrono>
+
 #include <algorithm>
 #include <cassert>
 #include <mutex>
@@ -96,6 +100,29 @@ struct QuadTreeBroadPhase::PreparedBatch final : AddBatch::State {
   std::uint32_t reserved_spares = 0;  // one node per part for a new root, if the root is full
 };
 
+std::uint32_t QuadTreeBroadPhase::DefaultNodeCapacity(std::uint32_t max_bodies) {
+  // A tree over n bodies needs about n/3 nodes, but a full rebuild reserves up to n while the old tree
+  // still holds its own, and every old generation a reader still pins keeps its nodes: a reader pinning
+  // through a few rebuilds of a busy world holds several trees' worth. Blocks are allocated on first use,
+  // so this is a ceiling the pool grows towards, not memory taken up front.
+  const std::uint64_t nodes = kNodesPerBody * static_cast<std::uint64_t>(max_bodies) + kSpareNodes;
+  return static_cast<std::uint32_t>(std::min<std::uint64_t>(nodes, QuadTree::kBodyTag - 1));
+}
+
+bool QuadTreeBroadPhase::ReserveNodes(std::uint32_t count) {
+  if (pool_.Reserve(count)) return true;
+  // Short only while readers pin old generations: the next rebuilds free their nodes once the pins go.
+  // Wait for that (adds are rare, a reader's pin is short), up to a bound, rather than fail the batch.
+  const auto deadline = std::chrono::steady_clock::now() + kNodeWait;
+  auto pause = std::chrono::microseconds(50);
+  while (std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(pause);
+    if (pool_.Reserve(count)) return true;
+    pause = std::min(2 * pause, std::chrono::microseconds(5000));
+  }
+  return false;
+}
+
 std::array<std::uint32_t, TreeGenerations::kMaxTrees> QuadTreeBroadPhase::MakeEmptyRoots() {
   std::array<std::uint32_t, TreeGenerations::kMaxTrees> roots;
   roots.fill(TreeGenerations::kNoRoot);
@@ -110,10 +137,7 @@ QuadTreeBroadPhase::QuadTreeBroadPhase(std::uint32_t max_bodies, std::shared_ptr
                                        std::uint32_t max_nodes)
     : max_bodies_(max_bodies),
       layers_(std::move(layers)),
-      // A tree over n bodies needs about n/3 nodes, but a full rebuild reserves up to n while the old tree
-      // still holds its own; the rest is room for batches in flight, roots added by single inserts, and
-      // nodes pinned old generations hold. Blocks are allocated on first use, so unused room costs little.
-      pool_(max_nodes != 0 ? max_nodes : 2 * max_bodies + 4096),
+      pool_(max_nodes != 0 ? max_nodes : DefaultNodeCapacity(max_bodies)),
       locations_(max_bodies),
       trees_([&] {
         std::vector<QuadTree> trees;
@@ -190,10 +214,15 @@ Result<AddBatch> QuadTreeBroadPhase::AddBodiesPrepare(std::span<const BodyID> id
   for (const auto& tree_items : items)
     if (!tree_items.empty())
       needed += (tree_items.size() > 1 ? QuadTree::NodesToBuild(tree_items.size()) : 0) + 1;
-  if (!pool_.Reserve(needed)) {
+  if (!ReserveNodes(needed)) {
     for (const BodyID id : ids) locations_[id.index].claimed.store(0, std::memory_order_release);
-    return MakeError(ErrorCode::kCapacityExceeded,
-                     "broad phase node pool is full (" + std::to_string(pool_.capacity()) + " nodes)");
+    return MakeError(
+        ErrorCode::kCapacityExceeded,
+        "broad phase node pool is full (" + std::to_string(pool_.capacity()) + " nodes, " +
+            std::to_string(generations_.retired_node_count()) +
+            " of them kept for readers that pin old generations) after waiting " +
+            std::to_string(std::chrono::duration_cast<std::chrono::milliseconds>(kNodeWait).count()) +
+            " ms for them");
   }
   auto state = std::make_unique<PreparedBatch>();
   std::uint32_t used = 0;

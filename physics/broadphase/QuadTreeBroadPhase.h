@@ -4,6 +4,8 @@
 // striped gate (no shared cache line) that only Update/Optimize (the step's rebuild, ~1 ms) close.
 #pragma once
 
+#include <chrono>
+
 #include <memory>
 
 #include "physics/broadphase/BroadPhase.h"
@@ -17,9 +19,17 @@ namespace strata {
 class QuadTreeBroadPhase final : public BroadPhase {
  public:
   static constexpr std::uint32_t kMaxBroadPhaseLayers = TreeGenerations::kMaxTrees;
+  static constexpr std::uint32_t kNodesPerBody = 16;
+  static constexpr std::uint32_t kSpareNodes = 1 << 16;
+  static constexpr std::chrono::milliseconds kNodeWait{2000};
+  /// The node pool's ceiling for `max_bodies`: room for the tree, a full rebuild beside it and the
+  /// generations readers pin (the pool allocates its blocks as it grows towards it).
+  static std::uint32_t DefaultNodeCapacity(std::uint32_t max_bodies);
 
-  /// Room for body indices below `max_bodies`. `max_nodes` 0 picks enough for that many bodies plus
-  /// old generations pinned by readers. The layer setup must have at most kMaxBroadPhaseLayers layers.
+  /// Room for body indices below `max_bodies`. `max_nodes` 0 picks DefaultNodeCapacity(max_bodies). The
+  /// layer setup must have at most kMaxBroadPhaseLayers layers.
+  /// A batch that finds the pool short (readers pinning many old generations) waits up to kNodeWait for
+  /// rebuilds to free their nodes before it fails.
   QuadTreeBroadPhase(std::uint32_t max_bodies, std::shared_ptr<const LayerSetup> layers,
                      std::uint32_t max_nodes = 0);
   ~QuadTreeBroadPhase() override;
@@ -66,6 +76,8 @@ class QuadTreeBroadPhase final : public BroadPhase {
   void WalkTrees(const BroadPhasePin& pin, const QueryFilter& filter, ChildTest&& test,
                  BodyVisitor&& visit) const;
   std::array<std::uint32_t, TreeGenerations::kMaxTrees> MakeEmptyRoots();
+  // pool_.Reserve, waiting up to kNodeWait while old generations hold the nodes.
+  bool ReserveNodes(std::uint32_t count);
 
   const std::uint32_t max_bodies_;
   std::shared_ptr<const LayerSetup> layers_;

@@ -78,8 +78,10 @@ void BroadPhaseUnderConcurrentChange(int workers, int iterations) {
         Result<AddBatch> batch = broad_phase.AddBodiesPrepare(ids, bounds, layers);
         const Status added = batch.ok() ? broad_phase.AddBodiesFinalize(*batch) : batch.status();
         if (!added.ok()) {
-          // Report and stop this worker, but still count it out, or the rebuilder would spin forever.
+          // Report and stop this worker, but record what it holds (the final check is per body) and count it
+          // out, or the rebuilder would spin forever.
           violations.Report("batch add failed: " + added.message());
+          final_sets[static_cast<std::size_t>(w)] = present;
           workers_left.fetch_sub(1);
           return;
         }
@@ -177,6 +179,51 @@ TEST(QuadTreeBroadPhaseThreads, BatchesRemovesMovesAndQueriesWhileRebuilding) {
   BroadPhaseUnderConcurrentChange(3, 5000);
 }
 
+// A reader that pins a generation through many full rebuilds keeps every old tree's nodes: with a small
+// pool they run out, rebuilds are skipped, and a batch then waits for the pin to go (and a rebuild to free
+// the nodes) instead of failing.
+TEST(QuadTreeBroadPhaseThreads, ABatchWaitsForNodesThatPinnedGenerationsHold) {
+  constexpr std::uint32_t kBodies = 256;
+  QuadTreeBroadPhase broad_phase(kBodies, std::make_shared<DefaultLayerSetup>(), /*max_nodes=*/400);
+  std::mt19937 random(5);
+  std::uniform_real_distribution<float> coordinate(-50.0f, 50.0f);
+  auto random_box = [&] {
+    return AABB::FromCenterHalfExtents(Vec3(coordinate(random), 0, coordinate(random)), Vec3::Constant(0.5f));
+  };
+  const auto batch_of = [&](std::uint32_t first, std::uint32_t count) {
+    std::vector<BodyID> ids;
+    std::vector<AABB> bounds;
+    for (std::uint32_t i = first; i < first + count; ++i)
+      ids.push_back({i, 1}), bounds.push_back(random_box());
+    return std::pair{ids, bounds};
+  };
+  const auto [placed, placed_bounds] = batch_of(0, 120);
+  const std::vector<ObjectLayer> moving(120, layers::kMoving);
+  Result<AddBatch> first = broad_phase.AddBodiesPrepare(placed, placed_bounds, moving);
+  ASSERT_TRUE(first.ok() && broad_phase.AddBodiesFinalize(*first).ok());
+  BroadPhasePin pin = broad_phase.Pin();
+  for (int rebuild = 0; rebuild < 20; ++rebuild) {
+    for (const BodyID id : placed) ASSERT_TRUE(broad_phase.UpdateBody(id, random_box()).ok());
+    broad_phase.Optimize();
+  }
+  ASSERT_GT(broad_phase.stats().rebuilds_skipped, 0u) << "the pool should have run short under the pin";
+  std::thread reader([&] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(30));
+    pin.Release();
+    broad_phase.Update();  // what a step does: frees the nodes no generation needs any more
+  });
+  const auto [late, late_bounds] = batch_of(120, 100);
+  Result<AddBatch> waited =
+      broad_phase.AddBodiesPrepare(late, late_bounds, std::vector<ObjectLayer>(100, layers::kMoving));
+  reader.join();
+  ASSERT_TRUE(waited.ok()) << waited.error().message;
+  ASSERT_TRUE(broad_phase.AddBodiesFinalize(*waited).ok());
+  std::vector<BodyID> found;
+  broad_phase.CollideAABB(AABB(Vec3::Constant(-100), Vec3::Constant(100)), {}, found);
+  EXPECT_EQ(found.size(), 220u);
+  for (const BodyID id : late) EXPECT_TRUE(Contains(found, id));
+}
+
 TEST(QuadTreeBroadPhaseThreadsStress, BatchesRemovesMovesAndQueriesWhileRebuildingLong) {
   BroadPhaseUnderConcurrentChange(8, 40000);
 }
@@ -198,6 +245,7 @@ void WorldUnderConcurrentChange(int workers, int iterations) {
   std::atomic<int> in_world{21};
   BodyInterface& bodies = world->bodies();
 
+  std::vector<std::vector<BodyID>> final_sets(static_cast<std::size_t>(workers));
   auto worker = [&](int w) {
     std::mt19937 random(static_cast<unsigned>(7 + w));
     std::uniform_real_distribution<float> coordinate(-100.0f, 100.0f);
@@ -212,12 +260,17 @@ void WorldUnderConcurrentChange(int workers, int iterations) {
           if (n % 2 == 0) settings.motion_type = MotionType::kKinematic;
           settings.position = Vec3(coordinate(random), 5.0f + float(n), coordinate(random));
           auto id = bodies.CreateBody(settings);
-          if (!id.ok()) return violations.Report("create failed: " + id.error().message);
+          if (!id.ok()) {
+            final_sets[static_cast<std::size_t>(w)] = present;
+            return violations.Report("create failed: " + id.error().message);
+          }
           batch_ids.push_back(*id);
         }
         Result<BodyAddBatch> batch = bodies.AddBodiesPrepare(batch_ids);
-        if (!batch.ok() || !bodies.AddBodiesFinalize(*batch).ok())
+        if (!batch.ok() || !bodies.AddBodiesFinalize(*batch).ok()) {
+          final_sets[static_cast<std::size_t>(w)] = present;
           return violations.Report("batch add failed");
+        }
         present.insert(present.end(), batch_ids.begin(), batch_ids.end());
         in_world.fetch_add(static_cast<int>(batch_ids.size()));
       } else if (kind == 1 && !present.empty()) {
@@ -247,6 +300,7 @@ void WorldUnderConcurrentChange(int workers, int iterations) {
         if (!hits.ok() || hits->empty()) violations.Report("a ray down onto the floor hit nothing");
       }
     }
+    final_sets[static_cast<std::size_t>(w)] = present;
   };
   std::thread stepper([&] {
     while (!stop.load()) (void)world->Step(1.0f / 60.0f);
@@ -259,7 +313,13 @@ void WorldUnderConcurrentChange(int workers, int iterations) {
   EXPECT_EQ(violations.count(), 0) << violations.first();
   EXPECT_EQ(world->body_count_in_world(), static_cast<std::size_t>(in_world.load()));
   EXPECT_EQ(world->broad_phase().body_count(), static_cast<std::size_t>(in_world.load()));
-  EXPECT_EQ(world->BodiesInWorld().size(), static_cast<std::size_t>(in_world.load()));
+  // Per body: the world holds exactly the floor, the rolling spheres and what each worker kept.
+  std::vector<BodyID> expected = rolling;
+  for (const auto& set : final_sets) expected.insert(expected.end(), set.begin(), set.end());
+  std::vector<BodyID> in_world_now = world->BodiesInWorld();
+  ASSERT_EQ(in_world_now.size(), expected.size() + 1);
+  for (const BodyID id : expected) EXPECT_TRUE(Contains(in_world_now, id));
+  EXPECT_EQ(world->broad_phase().body_count(), static_cast<std::size_t>(in_world.load()));
 }
 
 TEST(PhysicsSystemThreads, StreamedBatchesTeleportsRemovalsAndQueriesWhileStepping) {
