@@ -62,7 +62,7 @@ struct Ray4 {
       const float o = origin[axis];
       if (direction[axis] == 0.0f) {
         for (int i = 0; i < 4; ++i)
-          inside[i] &= (mins[axis][i] - grow[axis] <= o) & (o <= maxs[axis][i] + grow[axis]);
+          inside[i] = inside[i] && mins[axis][i] - grow[axis] <= o && o <= maxs[axis][i] + grow[axis];
         continue;
       }
       const float inv = inverse[axis];

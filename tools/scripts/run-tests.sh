@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # README command 2 (and CI): install what is missing, build everything with warnings as errors, run every
-# unit test and a short benchmark run, then the suite again under ASan+UBSan and the concurrency tests
-# under ThreadSanitizer. Long stress runs and full benchmarks are behind the `stress` and `bench` labels.
+# unit test and a short benchmark run, then the suite again under ASan+UBSan, the concurrency tests under
+# ThreadSanitizer and a short fixed run of each libFuzzer target. Long stress runs, full benchmarks and long
+# fuzzing are behind the `stress`, `bench` and `fuzz` labels.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/../.." && pwd)"
 jobs="$(nproc)"
@@ -28,3 +29,8 @@ echo "== ThreadSanitizer build: concurrency tests"
 # oneTBB's shared library is not instrumented, so this build uses the std::thread job system instead.
 TSAN_OPTIONS="halt_on_error=1" build_and_test "$root/build-tsan" "$test_targets" '^tsan$' -DCMAKE_BUILD_TYPE=Debug \
   -DSTRATA_TSAN=ON -DSTRATA_WITH_TBB=OFF -DSTRATA_WITH_BULLET=OFF
+echo "== libFuzzer build (clang, ASan + UBSan): a short fixed run of each fuzzer"
+cmake -S "$root" -B "$root/build-fuzz" -DCMAKE_CXX_COMPILER=clang++ -DSTRATA_FUZZ=ON -DSTRATA_WERROR=ON \
+  -DSTRATA_BUILD_TOOLS=OFF -DSTRATA_BUILD_TESTS=OFF -DSTRATA_WITH_TBB=OFF -DSTRATA_WITH_BULLET=OFF > /dev/null
+cmake --build "$root/build-fuzz" -j "$jobs"
+ctest --test-dir "$root/build-fuzz" -L '^fuzz-smoke$' --output-on-failure --no-tests=error -j "$jobs"
