@@ -152,9 +152,20 @@ TEST(Cli, NavmeshBakeWritesSetObjAndReportThenPathQueriesIt) {
   const auto last = path["points"].back();
   EXPECT_NEAR(last[0].get<float>(), 23.0f, 0.5f);
   EXPECT_NEAR(last[2].get<float>(), 23.0f, 0.5f);
-  // Off the navmesh at the far end: found, not reached.
-  ASSERT_EQ(RunCliCapture("navmesh path " + nav.string() + " --from 2,0,2 --to 60,0,60 --json", output), 0);
+  // Off the navmesh at the far end: found, not reached, and a warning on standard error says why.
+  const auto errors = TempFile("path_errors.txt");
+  ASSERT_EQ(
+      RunCliCapture(
+          "navmesh path " + nav.string() + " --from 2,0,2 --to 60,0,60 --json 2> " + errors.string(), output),
+      0);
   EXPECT_FALSE(nlohmann::json::parse(output)["reached_end"].get<bool>());
+  std::ifstream error_file(errors);
+  const std::string warning((std::istreambuf_iterator<char>(error_file)), std::istreambuf_iterator<char>());
+  EXPECT_NE(warning.find("--to 60,0,60 is not on or near the navmesh"), std::string::npos) << warning;
+  ASSERT_EQ(RunCliCapture("navmesh path " + nav.string() + " --from 2,0,2 --to 23,0,23 2> " + errors.string(),
+                          output),
+            0);
+  EXPECT_EQ(std::filesystem::file_size(errors), 0u);  // no warning for a path that arrives
 }
 
 TEST(Cli, NavmeshBadInputExitsWithTwo) {

@@ -152,6 +152,13 @@ int RunPath(const PathOptions& options) {
   if (!query) return Fail("path", query.error().message);
   Result<navmesh::PathResult> path = (*query)->FindPath(*from, *to);
   if (!path) return Fail("path", path.error().message);
+  // Valid but likely not what was meant: say so, on standard error so --json output stays clean.
+  if (!path->reached_end && !(*query)->FindNearestPoly(*to).ok())
+    std::fprintf(
+        stderr,
+        "strata navmesh path: warning: --to %s is not on or near the navmesh; the path stops where the "
+        "navmesh does\n",
+        options.to.c_str());
   if (options.json) {
     nlohmann::json points = nlohmann::json::array();
     for (const Vec3& p : path->points) points.push_back({p.x(), p.y(), p.z()});
