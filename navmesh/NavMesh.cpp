@@ -144,9 +144,13 @@ std::string TileProblem(std::span<const unsigned char> bytes, const dtNavMeshPar
     if (poly.getType() != DT_POLYTYPE_GROUND) return which + " is not a ground polygon";
     for (int v = 0; v < poly.vertCount; ++v) {
       if (poly.verts[v] >= header.vertCount) return which + " has a vertex index out of range";
+      // 0: a border; 1..polyCount: a polygon of this tile; DT_EXT_LINK | side: a link out of the tile
+      // through side 0, 2, 4 or 6 (another side makes Detour link the tile to itself in ways it cannot read).
       const unsigned short neighbour = poly.neis[v];
-      if (neighbour != 0 && !(neighbour & DT_EXT_LINK) && neighbour > header.polyCount)
-        return which + " has a neighbour out of range";
+      const bool inner = neighbour <= header.polyCount;
+      const unsigned side = neighbour & 0xffu;
+      const bool outer = neighbour == (DT_EXT_LINK | side) && side <= 6 && side % 2 == 0;
+      if (!inner && !outer) return which + " has a neighbour that is neither in the tile nor a side of it";
     }
     const dtPolyDetail& detail = details[p];
     if (static_cast<long>(detail.vertBase) + detail.vertCount > header.detailVertCount ||

@@ -245,6 +245,18 @@ TEST_F(NavMeshFile, TilesWithBadGeometryAreRefused) {
   EXPECT_EQ(with(kCellX, cell_x), "loaded");  // the offsets are right: the unchanged file loads
 }
 
+// What fuzz_navmesh found: a polygon whose neighbour claims a link out of the tile through no side (0xffff)
+// passed the load checks and made Detour read through a null pointer on the first path query.
+TEST(NavMeshFuzzFindings, AnExternalLinkThroughNoSideIsRefused) {
+  const std::filesystem::path found =
+      std::filesystem::path(STRATA_FUZZ_FOUND_DIR) / "navmesh_detour_null_read.bin";
+  const auto loaded = navmesh::NavMesh::Load(found);
+  ASSERT_FALSE(loaded.ok());
+  EXPECT_NE(loaded.error().message.find("polygon 4 has a neighbour that is neither in the tile nor a side"),
+            std::string::npos)
+      << loaded.error().message;
+}
+
 TEST_F(NavMeshFile, RandomCorruptionNeverCrashesLoadOrQueries) {
   std::mt19937 random(7);
   std::uniform_int_distribution<std::size_t> position(0, bytes_.size() - 1);
