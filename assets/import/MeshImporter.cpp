@@ -5,20 +5,16 @@
 
 #include <array>
 #include <assimp/Importer.hpp>
-#include <fstream>
 #include <map>
 #include <new>
-#include <sstream>
 #include <string>
 
+#include "assets/import/DeclaredCounts.h"
 #include "physics/core/InputFile.h"
 
 namespace strata {
 
 namespace {
-
-// Far beyond any PLY header we know of; a header that runs on is corrupt anyway.
-constexpr int kMaxPlyHeaderLines = 10000;
 
 Error ImportError(const std::filesystem::path& path, const std::string& why) {
   return MakeError(ErrorCode::kParseError, path.string() + ": " + why);
@@ -82,30 +78,6 @@ void WeldAndDropDegenerates(ImportedMesh& mesh) {
   mesh.triangles = std::move(kept);
 }
 
-// PLY declares its element counts in a text header and assimp allocates for them before reading any: a
-// 227-byte file that declares 1e9 vertices would take gigabytes. Every element needs at least one byte.
-Status CheckPlyCounts(const std::filesystem::path& path, std::uint64_t file_size) {
-  std::ifstream file(path, std::ios::binary);
-  std::string line;
-  if (!std::getline(file, line) || line.rfind("ply", 0) != 0) return Status::Ok();  // not PLY
-  std::uint64_t declared = 0;
-  for (int lines = 0; lines < kMaxPlyHeaderLines && std::getline(file, line); ++lines) {
-    if (line.rfind("end_header", 0) == 0) break;
-    std::istringstream words(line);
-    std::string keyword, name, count;
-    if (!(words >> keyword) || keyword != "element") continue;
-    if (!(words >> name >> count) || count.empty() || count.size() > 19 ||
-        count.find_first_not_of("0123456789") != std::string::npos)
-      return ImportError(path, "PLY header: element '" + name + "' has no valid count ('" + count + "')");
-    declared += std::stoull(count);
-    if (declared > file_size)
-      return ImportError(path, "PLY header declares " + std::to_string(declared) +
-                                   " elements, more than the file's " + std::to_string(file_size) +
-                                   " bytes could hold");
-  }
-  return Status::Ok();
-}
-
 // The import itself, once the file passed the input policy.
 Result<ImportedMesh> Import(const std::filesystem::path& path, const MeshImportOptions& options) {
   Assimp::Importer importer;
@@ -135,7 +107,7 @@ Result<ImportedMesh> ImportMesh(const std::filesystem::path& path, const MeshImp
     return ImportError(path, "scale must be a positive number");
   const Result<std::uint64_t> size = CheckInputFile(path, kMaxMeshFileBytes);
   if (!size) return size.error();
-  if (Status counts = CheckPlyCounts(path, *size); !counts) return counts.error();
+  if (Status counts = CheckDeclaredCounts(path, *size); !counts) return counts.error();
   // Assimp reports most bad files through its error string, but throws on some (and allocation fails on
   // others): an import never takes the process down.
   try {
