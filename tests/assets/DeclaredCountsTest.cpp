@@ -11,6 +11,7 @@
 #include <string>
 
 #include "assets/import/MeshExporter.h"
+#include "assets/import/MeshImporter.h"
 #include "tools/levelgen/LevelGenerator.h"
 
 namespace strata::test {
@@ -80,6 +81,13 @@ TEST_F(DeclaredCounts, AccessorsAndBuffersLargerThanTheirDataAreRefused) {
   EXPECT_NE(Check(Edited(glb_, "\"byteOffset\":672,", "\"byteOffset\":972,"), "view.glb")
                 .find("glTF buffer view 1 lies outside its buffer"),
             std::string::npos);
+}
+
+TEST(MeshFuzzFindings, TheGlbClaimingAFourGigabyteChunkIsAnErrorAtOnce) {
+  const auto found = std::filesystem::path(STRATA_FUZZ_FOUND_DIR) / "glb_chunk_claims_4gb.glb";
+  const Result<ImportedMesh> mesh = ImportMesh(found);
+  ASSERT_FALSE(mesh.ok());
+  EXPECT_NE(mesh.error().message.find("GLB header says"), std::string::npos) << mesh.error().message;
 }
 
 TEST(DeclaredCountsPly, ElementsBeyondTheFileAreRefusedAndOthersPass) {
