@@ -156,10 +156,17 @@ std::string TileProblem(std::span<const unsigned char> bytes, const dtNavMeshPar
     if (static_cast<long>(detail.vertBase) + detail.vertCount > header.detailVertCount ||
         static_cast<long>(detail.triBase) + detail.triCount > header.detailTriCount)
       return which + " has detail ranges out of range";
-    for (int t = 0; t < detail.triCount; ++t)
+    if (detail.triCount == 0) return which + " has no detail triangles";
+    for (int t = 0; t < detail.triCount; ++t) {
+      const unsigned char* corners = detail_tris + (detail.triBase + t) * 4;
       for (int k = 0; k < 3; ++k)
-        if (detail_tris[(detail.triBase + t) * 4 + k] >= poly.vertCount + detail.vertCount)
+        if (corners[k] >= poly.vertCount + detail.vertCount)
           return which + " has a detail triangle index out of range";
+      // Three distinct corners: Detour's nearest-point search walks the edges between them and reads
+      // through a null pointer when a polygon's triangles give it none (fuzz_navmesh found 0, 0, 0).
+      if (corners[0] == corners[1] || corners[1] == corners[2] || corners[2] == corners[0])
+        return which + " has a detail triangle with a repeated corner";
+    }
   }
   for (const dtBVNode& node : nodes)
     if (node.i >= header.polyCount || node.i < -header.bvNodeCount)

@@ -247,6 +247,18 @@ TEST_F(NavMeshFile, TilesWithBadGeometryAreRefused) {
 
 // What fuzz_navmesh found: a polygon whose neighbour claims a link out of the tile through no side (0xffff)
 // passed the load checks and made Detour read through a null pointer on the first path query.
+TEST(NavMeshFuzzFindings, ADetailTriangleWithARepeatedCornerIsRefused) {
+  // A polygon whose only detail triangle is (0, 0, 0) gives Detour's nearest-point search no edge, and it
+  // then reads through a null pointer.
+  const auto loaded = navmesh::NavMesh::Load(std::filesystem::path(STRATA_FUZZ_FOUND_DIR) /
+                                             "navmesh_degenerate_detail_triangle.bin");
+  ASSERT_FALSE(loaded.ok());
+  EXPECT_NE(
+      loaded.error().message.find("corrupt tile 3: polygon 0 has a detail triangle with a repeated corner"),
+      std::string::npos)
+      << loaded.error().message;
+}
+
 TEST(NavMeshFuzzFindings, AnExternalLinkThroughNoSideIsRefused) {
   const std::filesystem::path found =
       std::filesystem::path(STRATA_FUZZ_FOUND_DIR) / "navmesh_detour_null_read.bin";
