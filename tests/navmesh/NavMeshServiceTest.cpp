@@ -245,27 +245,83 @@ TEST_F(NavMeshFile, TilesWithBadGeometryAreRefused) {
   EXPECT_EQ(with(kCellX, cell_x), "loaded");  // the offsets are right: the unchanged file loads
 }
 
-// What fuzz_navmesh found: a polygon whose neighbour claims a link out of the tile through no side (0xffff)
-// passed the load checks and made Detour read through a null pointer on the first path query.
-TEST(NavMeshFuzzFindings, ADetailTriangleWithARepeatedCornerIsRefused) {
-  // A polygon whose only detail triangle is (0, 0, 0) gives Detour's nearest-point search no edge, and it
-  // then reads through a null pointer.
-  const auto loaded = navmesh::NavMesh::Load(std::filesystem::path(STRATA_FUZZ_FOUND_DIR) /
-                                             "navmesh_degenerate_detail_triangle.bin");
-  ASSERT_FALSE(loaded.ok());
-  EXPECT_NE(
-      loaded.error().message.find("corrupt tile 3: polygon 0 has a detail triangle with a repeated corner"),
-      std::string::npos)
-      << loaded.error().message;
+// What fuzz_navmesh found, each as the one change to the baked arena (tests/fuzz/seeds) that matters; the
+// files it wrote are kept in tests/fuzz/found and must all be refused.
+class NavMeshFuzzFindings : public ::testing::Test {
+ protected:
+  static constexpr std::size_t kFirstTile = 48;  // after the set header (40) and the tile header (8)
+  void SetUp() override {
+    std::ifstream file(std::filesystem::path(STRATA_FUZZ_FOUND_DIR) / "../seeds/navmesh/arena.bin",
+                       std::ios::binary);
+    seed_.assign(std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>());
+    ASSERT_EQ(seed_.size(), 8280u);
+  }
+  // The load error for the seed with `bytes` written at `offset`.
+  std::string LoadWith(std::size_t offset, const std::vector<unsigned char>& bytes) {
+    std::vector<char> edited = seed_;
+    std::copy(bytes.begin(), bytes.end(), edited.begin() + static_cast<std::ptrdiff_t>(offset));
+    const auto path = std::filesystem::temp_directory_path() / "strata_fuzz_finding.bin";
+    std::ofstream(path, std::ios::binary).write(edited.data(), static_cast<std::streamsize>(edited.size()));
+    const auto loaded = navmesh::NavMesh::Load(path);
+    std::filesystem::remove(path);
+    return loaded.ok() ? "loaded" : loaded.error().message;
+  }
+  std::int32_t IntAt(std::size_t offset) const {
+    std::int32_t value = 0;
+    std::memcpy(&value, seed_.data() + offset, sizeof(value));
+    return value;
+  }
+  std::vector<char> seed_;
+};
+
+TEST_F(NavMeshFuzzFindings, EveryFileFoundIsRefused) {
+  EXPECT_EQ(LoadWith(0, {}), "loaded");
+  int files = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(STRATA_FUZZ_FOUND_DIR)) {
+    if (entry.path().filename().string().rfind("navmesh_", 0) != 0) continue;
+    ++files;
+    EXPECT_FALSE(navmesh::NavMesh::Load(entry.path()).ok()) << entry.path();
+  }
+  EXPECT_GE(files, 3);
 }
 
-TEST(NavMeshFuzzFindings, AnExternalLinkThroughNoSideIsRefused) {
-  const std::filesystem::path found =
-      std::filesystem::path(STRATA_FUZZ_FOUND_DIR) / "navmesh_detour_null_read.bin";
-  const auto loaded = navmesh::NavMesh::Load(found);
+TEST_F(NavMeshFuzzFindings, ADetailTriangleWithARepeatedCornerIsRefused) {
+  // Tile 3's first detail triangle (after 100 header bytes, 18 vertices, 12 polygons, 46 links, 12 detail
+  // meshes and 15 detail vertices) made (0, 0, 0): Detour's nearest-point search then finds no edge of the
+  // polygon and reads through a null pointer.
+  const std::size_t tile3 = 6188,
+                    first_triangle = tile3 + 100 + 18 * 12 + 12 * 32 + 46 * 12 + 12 * 12 + 15 * 12;
+  EXPECT_NE(LoadWith(first_triangle, {0, 0, 0})
+                .find("corrupt tile 3: polygon 0 has a detail triangle with a repeated corner"),
+            std::string::npos);
+}
+
+TEST_F(NavMeshFuzzFindings, AnExternalLinkThroughNoSideIsRefused) {
+  // A border edge of tile 0 (neighbour 0) made 0xffff, a link out of the tile through no side: Detour links
+  // the tile to itself and a path query reads through a null pointer.
+  const std::size_t polygons = kFirstTile + 100 + 12 * static_cast<std::size_t>(IntAt(kFirstTile + 28));
+  for (int p = 0; p < IntAt(kFirstTile + 24); ++p) {
+    const std::size_t poly = polygons + 32 * static_cast<std::size_t>(p);
+    const int corners = static_cast<unsigned char>(seed_[poly + 30]);
+    for (int v = 0; v < corners; ++v) {
+      const std::size_t neighbour = poly + 16 + 2 * static_cast<std::size_t>(v);
+      if (seed_[neighbour] != 0 || seed_[neighbour + 1] != 0) continue;
+      EXPECT_NE(LoadWith(neighbour, {0xff, 0xff})
+                    .find("corrupt tile 0: polygon " + std::to_string(p) +
+                          " has a neighbour that is neither in the tile nor a side"),
+                std::string::npos);
+      return;
+    }
+  }
+  FAIL() << "no border edge in tile 0";
+}
+
+TEST_F(NavMeshFuzzFindings, ANeighbourThatDoesNotNameThePolygonBackIsRefused) {
+  // The file that sent a raycast round in circles: one polygon names another that does not share the edge.
+  const auto loaded =
+      navmesh::NavMesh::Load(std::filesystem::path(STRATA_FUZZ_FOUND_DIR) / "navmesh_raycast_cycle.bin");
   ASSERT_FALSE(loaded.ok());
-  EXPECT_NE(loaded.error().message.find("polygon 4 has a neighbour that is neither in the tile nor a side"),
-            std::string::npos)
+  EXPECT_NE(loaded.error().message.find("as a neighbour it does not share an edge with"), std::string::npos)
       << loaded.error().message;
 }
 
