@@ -152,22 +152,6 @@ std::string TileProblem(std::span<const unsigned char> bytes, const dtNavMeshPar
       const bool outer = neighbour == (DT_EXT_LINK | side) && side <= 6 && side % 2 == 0;
       if (!inner && !outer) return which + " has a neighbour that is neither in the tile nor a side of it";
     }
-    // A neighbour inside the tile shares the edge and names this polygon back through it: Detour's walks
-    // (raycasts, paths) follow these links, and a polygon that is its own neighbour, or a one-way link,
-    // sends a raycast round in circles forever (fuzz_navmesh found one).
-    for (int v = 0; v < poly.vertCount; ++v) {
-      const unsigned short neighbour = poly.neis[v];
-      if (neighbour == 0 || (neighbour & DT_EXT_LINK)) continue;
-      const std::size_t other = neighbour - 1u;
-      const unsigned short from = poly.verts[v], to = poly.verts[(v + 1) % poly.vertCount];
-      const dtPoly& back = polys[other];
-      bool shared = false;
-      for (int w = 0; w < back.vertCount && other != p && !shared; ++w)
-        shared = back.verts[w] == to && back.verts[(w + 1) % back.vertCount] == from && back.neis[w] == p + 1;
-      if (!shared)
-        return which + " names polygon " + std::to_string(other) +
-               " as a neighbour it does not share an edge with";
-    }
     const dtPolyDetail& detail = details[p];
     if (static_cast<long>(detail.vertBase) + detail.vertCount > header.detailVertCount ||
         static_cast<long>(detail.triBase) + detail.triCount > header.detailTriCount)
@@ -182,6 +166,26 @@ std::string TileProblem(std::span<const unsigned char> bytes, const dtNavMeshPar
       // through a null pointer when a polygon's triangles give it none (fuzz_navmesh found 0, 0, 0).
       if (corners[0] == corners[1] || corners[1] == corners[2] || corners[2] == corners[0])
         return which + " has a detail triangle with a repeated corner";
+    }
+  }
+  // A neighbour inside the tile shares the edge and names the polygon back through it (checked once every
+  // polygon's counts are known good): Detour's walks (raycasts, paths) follow these links, and a polygon that
+  // is its own neighbour, or a one-way link, sends a raycast round in circles forever (fuzz_navmesh found
+  // one).
+  for (std::size_t p = 0; p < polys.size(); ++p) {
+    const dtPoly& poly = polys[p];
+    for (int v = 0; v < poly.vertCount; ++v) {
+      const unsigned short neighbour = poly.neis[v];
+      if (neighbour == 0 || (neighbour & DT_EXT_LINK)) continue;
+      const std::size_t other = neighbour - 1u;
+      const unsigned short from = poly.verts[v], to = poly.verts[(v + 1) % poly.vertCount];
+      const dtPoly& back = polys[other];
+      bool shared = false;
+      for (int w = 0; w < back.vertCount && other != p && !shared; ++w)
+        shared = back.verts[w] == to && back.verts[(w + 1) % back.vertCount] == from && back.neis[w] == p + 1;
+      if (!shared)
+        return "polygon " + std::to_string(p) + " names polygon " + std::to_string(other) +
+               " as a neighbour it does not share an edge with";
     }
   }
   for (const dtBVNode& node : nodes)
