@@ -68,6 +68,16 @@ long ExpectedTileSize(const dtMeshHeader& header) {
          bytes(sizeof(dtOffMeshConnection), header.offMeshConCount);
 }
 
+// `count` elements of T copied out of tile data at `cursor` (which need not be aligned for T), and the cursor
+// moved past them as Detour lays them out (4-byte aligned).
+template <class T>
+std::vector<T> TakeArray(const unsigned char*& cursor, int count) {
+  std::vector<T> out(static_cast<std::size_t>(count));
+  if (!out.empty()) std::memcpy(out.data(), cursor, out.size() * sizeof(T));
+  cursor += Align4(static_cast<int>(sizeof(T)) * count);
+  return out;
+}
+
 bool Finite3(const float* v) {
   return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]);
 }
@@ -111,23 +121,14 @@ std::string TileProblem(std::span<const unsigned char> bytes, const dtNavMeshPar
   }
 
   const unsigned char* cursor = bytes.data() + Align4(sizeof(dtMeshHeader));
-  std::vector<float> verts(3 * static_cast<std::size_t>(header.vertCount));
-  std::memcpy(verts.data(), cursor, verts.size() * sizeof(float));
-  cursor += Align4(static_cast<int>(sizeof(float)) * 3 * header.vertCount);
-  std::vector<dtPoly> polys(static_cast<std::size_t>(header.polyCount));
-  std::memcpy(polys.data(), cursor, polys.size() * sizeof(dtPoly));
-  cursor += Align4(static_cast<int>(sizeof(dtPoly)) * header.polyCount);
+  const std::vector<float> verts = TakeArray<float>(cursor, 3 * header.vertCount);
+  const std::vector<dtPoly> polys = TakeArray<dtPoly>(cursor, header.polyCount);
   cursor += Align4(static_cast<int>(sizeof(dtLink)) * header.maxLinkCount);
-  std::vector<dtPolyDetail> details(static_cast<std::size_t>(header.detailMeshCount));
-  std::memcpy(details.data(), cursor, details.size() * sizeof(dtPolyDetail));
-  cursor += Align4(static_cast<int>(sizeof(dtPolyDetail)) * header.detailMeshCount);
-  std::vector<float> detail_verts(3 * static_cast<std::size_t>(header.detailVertCount));
-  std::memcpy(detail_verts.data(), cursor, detail_verts.size() * sizeof(float));
-  cursor += Align4(static_cast<int>(sizeof(float)) * 3 * header.detailVertCount);
+  const std::vector<dtPolyDetail> details = TakeArray<dtPolyDetail>(cursor, header.detailMeshCount);
+  const std::vector<float> detail_verts = TakeArray<float>(cursor, 3 * header.detailVertCount);
   const unsigned char* detail_tris = cursor;
   cursor += Align4(4 * header.detailTriCount);
-  std::vector<dtBVNode> nodes(static_cast<std::size_t>(header.bvNodeCount));
-  std::memcpy(nodes.data(), cursor, nodes.size() * sizeof(dtBVNode));
+  const std::vector<dtBVNode> nodes = TakeArray<dtBVNode>(cursor, header.bvNodeCount);
 
   // Vertices may sit a little outside the bounds (Recast rounds them to cells); a cell is far less than this.
   const float margin = 0.01f * params.tileWidth;
