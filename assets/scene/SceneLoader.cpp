@@ -222,6 +222,10 @@ Result<SceneBody> ParseBody(const Reader& reader, const Json& body, const std::f
   BodyCreationSettings& settings = out.settings;
   settings.shape = *shape;
   STRATA_TRY(reader.Vector(body, "position", settings.position));
+  // Caught here, with its JSON path: past this the broad phase refuses the body's bounds when the world is
+  // built, and could only name it by its index in the batch.
+  if (settings.position.cwiseAbs().maxCoeff() > kMaxScenePosition)
+    return reader.Fail("position", "must be within 1e9 m of the origin on every axis");
   STRATA_TRY(reader.Rotation(body, "rotation", settings.rotation));
   std::string motion = "dynamic";
   STRATA_TRY(reader.String(body, "motion", motion));

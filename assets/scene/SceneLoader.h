@@ -27,6 +27,8 @@ struct Scene {
   std::vector<SceneBody> bodies;
 };
 
+/// Body positions in a scene lie within this of the origin on every axis (m).
+constexpr float kMaxScenePosition = 1.0e9f;
 /// Scene files larger than this are refused before they are read (a scene lists bodies, not geometry).
 constexpr std::uint64_t kMaxSceneFileBytes = std::uint64_t{64} << 20;
 

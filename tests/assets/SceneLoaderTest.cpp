@@ -113,6 +113,11 @@ TEST(SceneLoader, MeshIndicesAndGravityOutsideTheirRangesAreErrors) {
       "vertices": [[0, 0, 0], [1, 0, 0], [0, 0, 1]], "indices": [0, 1, 3]}}]})")
                 .find("indices/2: 3 is not a vertex index"),
             std::string::npos);
+  // A position the broad phase cannot hold is named by its JSON path, not as "body 1" of the batch.
+  EXPECT_NE(ParseError(R"({"bodies": [{"shape": {"type": "sphere", "radius": 1}},
+      {"shape": {"type": "sphere", "radius": 1}, "position": [0, 1e19, 0]}]})")
+                .find("/bodies/1/position: must be within 1e9 m"),
+            std::string::npos);
   const std::string gravity = ParseError(R"({"settings": {"gravity": [0, -1e30, 0]}, "bodies": []})");
   EXPECT_NE(gravity.find("gravity"), std::string::npos) << gravity;
   EXPECT_NE(gravity.find("at most 1e4"), std::string::npos) << gravity;
