@@ -18,15 +18,7 @@ namespace strata {
 /// Readers are not held back by a waiting writer, as with glibc's default rwlock.
 class alignas(64) SpinningSharedMutex {
  public:
-  void lock() {
-    for (int attempt = 0;; ++attempt) {
-      if (try_lock()) return;
-      if (attempt >= kSpins)
-        Sleep();
-      else
-        Pause();
-    }
-  }
+  void lock() { Acquire(&SpinningSharedMutex::try_lock); }
   bool try_lock() {
     std::uint32_t expected = 0;
     return state_.compare_exchange_strong(expected, kWriter, std::memory_order_acquire,
@@ -37,15 +29,7 @@ class alignas(64) SpinningSharedMutex {
     WakeSleepers();
   }
 
-  void lock_shared() {
-    for (int attempt = 0;; ++attempt) {
-      if (try_lock_shared()) return;
-      if (attempt >= kSpins)
-        Sleep();
-      else
-        Pause();
-    }
-  }
+  void lock_shared() { Acquire(&SpinningSharedMutex::try_lock_shared); }
   bool try_lock_shared() {
     std::uint32_t state = state_.load(std::memory_order_relaxed);
     while ((state & kWriter) == 0) {
@@ -64,6 +48,16 @@ class alignas(64) SpinningSharedMutex {
   static constexpr std::uint32_t kWriter = 1u << 31;
   // About a microsecond of retrying on current x86 cores.
   static constexpr int kSpins = 64;
+
+  // Retries `try_acquire` with a pause between tries, sleeping on the word once the spin is spent.
+  void Acquire(bool (SpinningSharedMutex::*try_acquire)()) {
+    for (int attempt = 0; !(this->*try_acquire)(); ++attempt) {
+      if (attempt >= kSpins)
+        Sleep();
+      else
+        Pause();
+    }
+  }
 
   static void Pause() {
 #if defined(__x86_64__) || defined(__i386__)
