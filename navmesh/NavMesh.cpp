@@ -2,6 +2,7 @@
 
 #include <DetourAlloc.h>
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstring>
@@ -48,6 +49,20 @@ void ForEachTile(const dtNavMesh& mesh, Function&& function) {
   for (int i = 0; i < mesh.getMaxTiles(); ++i) {
     const dtMeshTile* tile = mesh.getTile(i);
     if (tile && tile->header && tile->dataSize > 0) function(*tile);
+  }
+}
+
+/// Clears what Detour writes into a tile's data when it links the tile into a navmesh (the link array and
+/// each polygon's first link), in `copy`, a copy of the tile's data.
+void ClearRuntimeLinks(const dtMeshTile& tile, char* copy) {
+  const auto offset = [&](const void* part) {
+    return static_cast<std::size_t>(static_cast<const unsigned char*>(part) - tile.data);
+  };
+  std::memset(copy + offset(tile.links), 0,
+              sizeof(dtLink) * static_cast<std::size_t>(tile.header->maxLinkCount));
+  for (int i = 0; i < tile.header->polyCount; ++i) {
+    const unsigned int no_link = DT_NULL_LINK;
+    std::memcpy(copy + offset(&tile.polys[i].firstLink), &no_link, sizeof(no_link));
   }
 }
 
@@ -233,6 +248,21 @@ NavMesh::~NavMesh() {
 
 Status NavMesh::ReplaceTile(TileCoord tile, TileData data) {
   const std::unique_lock lock(mutex_);
+  // Checked before the old tile goes: Detour itself would take the tile, and its polygons past the limit
+  // would get references that spill into the tile bits (paths through the wrong tile).
+  if (!data.empty()) {
+    if (data.size() < static_cast<int>(sizeof(dtMeshHeader)))
+      return MakeError(ErrorCode::kInvalidArgument, "navmesh: tile data shorter than its header");
+    dtMeshHeader header;
+    std::memcpy(&header, data.bytes().data(), sizeof(header));
+    const int max_polygons = mesh_->getParams()->maxPolys;
+    if (header.polyCount > max_polygons)
+      return MakeError(ErrorCode::kCapacityExceeded,
+                       "navmesh: tile (" + std::to_string(tile.x) + ", " + std::to_string(tile.z) + ") has " +
+                           std::to_string(header.polyCount) + " polygons, more than the " +
+                           std::to_string(max_polygons) + " a tile holds in a navmesh of " +
+                           std::to_string(mesh_->getMaxTiles()) + " tiles (fewer tiles leave more bits)");
+  }
   if (const dtTileRef old = mesh_->getTileRefAt(tile.x, tile.z, 0)) mesh_->removeTile(old, nullptr, nullptr);
   if (data.empty()) return Status::Ok();
   const int size = data.size();
@@ -299,14 +329,27 @@ Status NavMesh::Save(const std::filesystem::path& path) const {
     bytes.append(static_cast<const char*>(data), size);
   };
   Read([&](const dtNavMesh& mesh) {
-    SetHeader header{kSetMagic, kSetVersion, 0, *mesh.getParams()};
-    ForEachTile(mesh, [&](const dtMeshTile&) { ++header.tile_count; });
-    append(&header, sizeof(header));
-    ForEachTile(mesh, [&](const dtMeshTile& tile) {
-      const SetTileHeader tile_header{mesh.getTileRef(&tile), tile.dataSize};
-      append(&tile_header, sizeof(tile_header));
-      append(tile.data, static_cast<std::size_t>(tile.dataSize));
+    // The same navmesh gives the same file whatever order its tiles were published in (worker threads race
+    // for that): tiles go in coordinate order, each named by the reference it gets when the file is loaded
+    // into a fresh navmesh, with its runtime links cleared (Detour rebuilds them when it adds the tile).
+    std::vector<const dtMeshTile*> tiles;
+    ForEachTile(mesh, [&](const dtMeshTile& tile) { tiles.push_back(&tile); });
+    std::sort(tiles.begin(), tiles.end(), [](const dtMeshTile* a, const dtMeshTile* b) {
+      return TileCoord{a->header->x, a->header->y} < TileCoord{b->header->x, b->header->y};
     });
+    const SetHeader header{kSetMagic, kSetVersion, static_cast<std::int32_t>(tiles.size()),
+                           *mesh.getParams()};
+    append(&header, sizeof(header));
+    for (std::size_t i = 0; i < tiles.size(); ++i) {
+      const dtMeshTile& tile = *tiles[i];
+      constexpr unsigned int kFreshSalt = 1;  // what dtNavMesh::init gives every tile slot
+      const SetTileHeader tile_header{mesh.encodePolyId(kFreshSalt, static_cast<unsigned int>(i), 0),
+                                      tile.dataSize};
+      append(&tile_header, sizeof(tile_header));
+      const std::size_t data_start = bytes.size();
+      append(tile.data, static_cast<std::size_t>(tile.dataSize));
+      ClearRuntimeLinks(tile, bytes.data() + data_start);
+    }
   });
   // Beside the target and renamed over it: a kill or a full disk never leaves half a navmesh there.
   return WriteOutputFile(path, bytes);

@@ -135,9 +135,15 @@ Status NavMeshService::RequestAround(const Vec3& position, float radius) {
     return MakeError(ErrorCode::kInvalidArgument, "navmesh request: position is not finite");
   if (!std::isfinite(radius) || radius < 0.0f)
     return MakeError(ErrorCode::kInvalidArgument, "navmesh request: radius must be a finite number >= 0");
-  const float reach = radius + grid_.tile_size();
-  if (reach * reach * 4.0f > static_cast<float>(config_.max_tiles) * grid_.tile_size() * grid_.tile_size())
-    return MakeError(ErrorCode::kInvalidArgument, "navmesh request: radius covers more tiles than max_tiles");
+  // Only an absurd radius is refused. Tiles with nothing walkable (off the level) take no slot in the tile
+  // table, so a circle wider than the level is a normal request, however small the table.
+  const Vec3 reach(radius, 0.0f, radius);
+  const std::uint64_t tiles = grid_.TileCount(AABB(position - reach, position + reach));
+  if (tiles > static_cast<std::uint64_t>(kMaxTiles))
+    return MakeError(ErrorCode::kInvalidArgument, "navmesh request: a radius of " + std::to_string(radius) +
+                                                      " m touches " + std::to_string(tiles) +
+                                                      " tiles, more than a navmesh holds (" +
+                                                      std::to_string(kMaxTiles) + ")");
   const Clock::time_point now = Clock::now();
   std::vector<PendingRequest> requests;
   for (const TileCoord tile : grid_.TilesInCircle(position, radius))
@@ -241,9 +247,20 @@ bool NavMeshService::Idle() const {
     const std::lock_guard lock(front_mutex_);
     if (!inbox_.empty()) return false;
   }
+  // A stale tile whose rebuild failed waits for its retry with its old data published: nothing is pending.
   for (const auto& [coord, record] : tiles_)
-    if (record.state == TileState::kBuilding || record.state == TileState::kStale) return false;
+    if (record.state == TileState::kBuilding ||
+        (record.state == TileState::kStale && record.failed_in_a_row == 0))
+      return false;
   return true;
+}
+
+NavMeshService::Clock::duration NavMeshService::RetryDelay(const TileRecord& record) const {
+  if (record.failed_in_a_row == 0) return config_.rebuild_delay;
+  // Doubling from 100 ms up to about 13 s: a tile that cannot be built costs little while it cannot.
+  const Clock::duration first =
+      std::max<Clock::duration>(config_.rebuild_delay, std::chrono::milliseconds(100));
+  return first * (1 << std::min(record.failed_in_a_row - 1, 7));
 }
 
 bool NavMeshService::WaitUntilIdle(std::chrono::milliseconds timeout) const {
@@ -316,11 +333,18 @@ void NavMeshService::BuildOne(TileCoord tile) {
     const std::lock_guard lock(mutex_);
     TileRecord& state = tiles_[tile];
     if (!published.ok()) {
-      // Back to missing, so the next request tries again; the old tile (if any) was kept or removed above.
-      SetState(tile, state, TileState::kMissing);
       ++counters_.failures;
       last_error_ = published.message();
+      ++state.failed_in_a_row;
+      if (state.builds > 0) {
+        // A rebuild failed: the last good tile is still published, so agents keep it while it is retried.
+        SetState(tile, state, TileState::kStale);
+        state.stale_since = Clock::now();
+      } else {
+        SetState(tile, state, TileState::kMissing);  // the next request tries again
+      }
     } else {
+      state.failed_in_a_row = 0;
       SetState(tile, state, TileState::kReady);
       state.bodies = std::make_shared<const std::vector<GatheredBody>>(std::move(geometry.bodies));
       record.build = ++state.builds;
@@ -354,7 +378,7 @@ void NavMeshService::ScannerLoop() {
     bool queued = false;
     for (auto& [coord, record] : tiles_) {
       if (record.state == TileState::kReady) ready.emplace_back(coord, record.bodies);
-      if (record.state == TileState::kStale && now - record.stale_since >= config_.rebuild_delay) {
+      if (record.state == TileState::kStale && now - record.stale_since >= RetryDelay(record)) {
         SetState(coord, record, TileState::kQueued);
         record.requested = record.stale_since;
         queue_.insert({record.priority, coord});

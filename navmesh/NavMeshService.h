@@ -119,6 +119,7 @@ class NavMeshService {
     TileState state = TileState::kMissing;
     float priority = 0.0f;  ///< squared distance to the nearest requester
     int builds = 0;
+    int failed_in_a_row = 0;      ///< builds that failed since the last that was published
     Clock::time_point requested;  ///< when it was requested or went stale
     Clock::time_point stale_since;
     std::shared_ptr<const std::vector<GatheredBody>> bodies;  ///< what the published tile was built from
@@ -143,6 +144,8 @@ class NavMeshService {
   void ScannerLoop();
   bool TileChanged(TileCoord tile, const std::vector<GatheredBody>& bodies) const;
   bool Idle() const;  // mutex_ held
+  /// How long a stale tile waits before it is queued: the debounce, longer after each failed rebuild.
+  Clock::duration RetryDelay(const TileRecord& record) const;
 
   const PhysicsSystem& world_;
   const NavMeshServiceConfig config_;

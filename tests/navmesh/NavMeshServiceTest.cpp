@@ -71,6 +71,48 @@ TEST(NavMeshService, ObstacleMakesTileStaleRebuildsAndPathComesBackWhenRemoved) 
   EXPECT_EQ(after->points.size(), before->points.size());
 }
 
+TEST(NavMeshService, ARebuildThatFailsKeepsTheOldTilePublishedAndStale) {
+  // In a table of 65,536 tiles Detour's references leave room for 64 polygons a tile. A floor needs a few;
+  // a floor with a grid of pillars needs more than 64, so its rebuild cannot be published.
+  auto world = MakeWorld();
+  AddFloor(*world, 1);
+  navmesh::NavMeshServiceConfig config = FastServiceConfig();
+  config.max_tiles = navmesh::NavMeshService::kMaxTiles;
+  const auto service = BuildArea(*world, TileArea(1), config);
+  const int polygons = service->navmesh().polygon_count();
+  ASSERT_GT(polygons, 0);
+  ASSERT_LE(polygons, 64);
+  const auto query = MakeQuery(service->navmesh());
+  const Vec3 from(1.0f, 0.0f, 1.0f), to(11.8f, 0.0f, 11.8f);
+  const auto before = query->FindPath(from, to);
+  ASSERT_TRUE(before.ok() && before->reached_end);
+
+  std::vector<BodyID> pillars;
+  for (int i = 0; i < 5; ++i)
+    for (int j = 0; j < 5; ++j)
+      pillars.push_back(
+          Add(*world, Static(Box(0.2f, 1.0f, 0.2f), Vec3(1.6f + 2.4f * i, 1.0f, 1.6f + 2.4f * j))));
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (service->stats().failures == 0 && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  ASSERT_GE(service->stats().failures, 1u);
+  EXPECT_NE(service->last_error().find("polygons, more than the 64 a tile holds"), std::string::npos)
+      << service->last_error();
+  EXPECT_EQ(service->GetTileState({0, 0}), TileState::kStale);
+  EXPECT_EQ(service->navmesh().polygon_count(), polygons);  // the old tile, still there for agents
+  const auto during = query->FindPath(from, to);
+  ASSERT_TRUE(during.ok() && during->reached_end);
+  EXPECT_EQ(during->points, before->points);
+  EXPECT_TRUE(service->WaitUntilIdle(std::chrono::seconds(5)));  // waiting to retry is not pending work
+
+  // Without the pillars the retry succeeds.
+  for (const BodyID pillar : pillars) ASSERT_TRUE(world->bodies().RemoveAndDestroyBody(pillar).ok());
+  while (service->GetTileState({0, 0}) != TileState::kReady && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  EXPECT_EQ(service->GetTileState({0, 0}), TileState::kReady);
+  EXPECT_EQ(service->navmesh().polygon_count(), polygons);
+}
+
 TEST(NavMeshService, SmallMovesAndDebrisLeaveTilesReady) {
   auto world = MakeWorld();
   AddFloor(*world, 1);

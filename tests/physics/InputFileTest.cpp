@@ -6,6 +6,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <csignal>
 #include <fstream>
 #include <iterator>
 #include <string>
@@ -89,6 +90,24 @@ TEST(OutputFile, AWriterDroppedBeforeCommitLeavesTheOldFileWhole) {
   EXPECT_EQ(Contents(path), "old");
   EXPECT_FALSE(std::filesystem::exists(path.string() + ".tmp"));
   std::filesystem::remove(path);
+}
+
+TEST(OutputFile, AProcessKilledWhileWritingLeavesTheOldFileWhole) {
+  // A real SIGKILL, after part of the new file reached the disk: no destructor, no cleanup runs.
+  GTEST_FLAG_SET(death_test_style, "threadsafe");
+  const auto path = Temp("killed.txt");
+  std::ofstream(path) << "old";
+  EXPECT_EXIT(
+      {
+        OutputFile file(path);
+        file.stream() << std::string(1 << 20, 'n');
+        file.stream().flush();
+        std::raise(SIGKILL);
+      },
+      ::testing::KilledBySignal(SIGKILL), "");
+  EXPECT_EQ(Contents(path), "old");
+  std::filesystem::remove(path);
+  std::filesystem::remove(path.string() + ".tmp");  // what a killed writer leaves beside the target
 }
 
 TEST(OutputFile, FailedWritesAndDirectoriesAreErrors) {

@@ -29,6 +29,17 @@ int RunCliCapture(const std::string& arguments, std::string& output) {
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
+/// Runs the CLI with standard output discarded; `errors` gets what it wrote to standard error.
+int RunCliErrors(const std::string& arguments, std::string& errors) {
+  const std::filesystem::path captured =
+      std::filesystem::temp_directory_path() / ("strata_cli_errors_" + std::to_string(::getpid()));
+  const int status = std::system(
+      (std::string(STRATA_CLI) + " " + arguments + " > /dev/null 2> " + captured.string()).c_str());
+  std::ifstream file(captured);
+  errors.assign(std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
 int RunCli(const std::string& arguments) {
   const int status = std::system((std::string(STRATA_CLI) + " " + arguments + " > /dev/null 2>&1").c_str());
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
@@ -295,6 +306,42 @@ TEST(Cli, DemoBuildsTilesWhileSteppingAndWritesPictures) {
   png.read(signature, 8);
   EXPECT_EQ(std::string(signature + 1, 3), "PNG");
   EXPECT_GT(std::filesystem::file_size(out / "navmesh.obj"), 1000u);
+}
+
+TEST(Cli, DemoOnTheSmallArenaGivesEveryAgentANavmesh) {
+  // The arena is four tiles; each agent asks for the tiles 16 m around it, which reach off the level. That
+  // request was once refused as "more tiles than max_tiles", silently: no tile, every agent "no navmesh",
+  // exit code 0.
+  const auto out = TempFile("demo_arena");
+  std::string output;
+  ASSERT_EQ(RunCliCapture(std::string("demo ") + STRATA_LEVELS_DIR +
+                              "/arena.glb --steps 60 --crates 0 "
+                              "--boulders 0 --agents 4 --out-dir " +
+                              out.string(),
+                          output),
+            0)
+      << output;
+  EXPECT_EQ(output.find("no navmesh"), std::string::npos) << output;
+  EXPECT_NE(output.find("0 failures"), std::string::npos) << output;
+  EXPECT_EQ(output.find("navmesh: 0 tiles"), std::string::npos) << output;
+  std::filesystem::remove_all(out);
+}
+
+TEST(Cli, DemoFailsWhenItsNavmeshCannotBeBuilt) {
+  // A level of walls only: nothing to walk on. The demo runs, says why, and exits non-zero.
+  const auto level = TempFile("walls.obj");
+  std::ofstream(level) << "v 0 0 0\nv 20 0 0\nv 20 10 0\nv 0 10 0\nv 0 0 20\nv 0 10 20\n"
+                          "f 1 2 3\nf 1 3 4\nf 1 4 6\nf 1 6 5\n";
+  const auto out = TempFile("demo_walls");
+  std::string output;
+  EXPECT_EQ(RunCliErrors("demo " + level.string() +
+                             " --steps 10 --crates 0 --boulders 0 --agents 2 --out-dir " + out.string(),
+                         output),
+            1)
+      << output;
+  EXPECT_NE(output.find("navmesh could not be built"), std::string::npos) << output;
+  std::filesystem::remove(level);
+  std::filesystem::remove_all(out);
 }
 
 TEST(Cli, BenchSweepsThreadCountsAndWritesJson) {

@@ -8,6 +8,7 @@
 #include <thread>
 
 #include "assets/level/LevelLoader.h"
+#include "navmesh/LevelBake.h"
 #include "navmesh/NavMeshService.h"
 #include "navmesh/TileBuilder.h"
 #include "physics/body/BodyManager.h"
@@ -112,7 +113,13 @@ void BenchRequestToReady(const BenchWorld& bench, const NavMeshBenchOptions& opt
   navmesh::NavMeshServiceConfig config;
   config.settings = options.settings;
   config.worker_threads = options.navmesh_threads;
-  auto service = navmesh::NavMeshService::Create(*bench.world, config);
+  const Result<navmesh::NavMeshServiceConfig> level_config =
+      navmesh::ConfigForLevel(config, bench.level.bounds);
+  if (!level_config) {
+    std::fprintf(stderr, "strata bench-navmesh: %s\n", level_config.error().message.c_str());
+    return;
+  }
+  auto service = navmesh::NavMeshService::Create(*bench.world, *level_config);
   if (!service) return;
   const Vec3 agent = bench.level.bounds.Center();
   const Clock::time_point start = Clock::now();
@@ -146,7 +153,13 @@ void BenchStepWithJobs(BenchWorld& bench, const NavMeshBenchOptions& options) {
   config.settings = options.settings;
   config.worker_threads = options.navmesh_threads;
   config.rebuild_delay = std::chrono::milliseconds(0);
-  auto service = navmesh::NavMeshService::Create(*bench.world, config);
+  const Result<navmesh::NavMeshServiceConfig> level_config =
+      navmesh::ConfigForLevel(config, bench.level.bounds);
+  if (!level_config) {
+    std::fprintf(stderr, "strata bench-navmesh: %s\n", level_config.error().message.c_str());
+    return;
+  }
+  auto service = navmesh::NavMeshService::Create(*bench.world, *level_config);
   if (!service) return;
   (void)(*service)->RequestBox(bench.level.bounds);
   (*service)->WaitUntilIdle(std::chrono::seconds(120));

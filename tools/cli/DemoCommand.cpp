@@ -10,6 +10,7 @@
 #include <map>
 #include <random>
 
+#include "navmesh/LevelBake.h"
 #include "navmesh/NavMeshQuery.h"
 #include "navmesh/NavMeshService.h"
 #include "navmesh/Validation.h"
@@ -232,14 +233,12 @@ int RunDemo(const DemoOptions& options) {
     return 2;
   }
   std::vector<Agent> agents = SpawnAgents(world, level->bounds, options.agents, random);
-  const Result<int> tile_count =
-      navmesh::NavMeshService::MaxTilesToCover(level->bounds, options.settings.tile_size());
-  if (!tile_count) {
-    std::cerr << "strata demo: " << options.level << ": " << tile_count.error().message << "\n";
+  const Result<navmesh::NavMeshServiceConfig> level_config = navmesh::ConfigForLevel(config, level->bounds);
+  if (!level_config) {
+    std::cerr << "strata demo: " << options.level << ": " << level_config.error().message << "\n";
     return 2;
   }
-  config.max_tiles = std::max(*tile_count, 1);
-  auto service = navmesh::NavMeshService::Create(world, config);
+  auto service = navmesh::NavMeshService::Create(world, *level_config);
   if (!service) {
     std::cerr << "strata demo: " << service.error().message << "\n";
     return 2;
@@ -318,7 +317,15 @@ int RunDemo(const DemoOptions& options) {
       return 2;
     }
   std::printf("wrote %s and %s\n", obj.string().c_str(), png.string().c_str());
-  return stats.failures == 0 ? 0 : 1;
+  // A demo whose agents got no navmesh did not do its job, whatever the reason: say so in the exit code.
+  if (stats.failures > 0 || navmesh.polygon_count() == 0) {
+    std::cerr << "strata demo: the navmesh could not be built"
+              << (stats.failures > 0 ? ": " + (*service)->last_error()
+                                     : std::string(" (no walkable polygon)"))
+              << "\n";
+    return 1;
+  }
+  return 0;
 }
 
 }  // namespace

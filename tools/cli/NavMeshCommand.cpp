@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 #include <thread>
 
+#include "navmesh/LevelBake.h"
 #include "navmesh/NavMeshQuery.h"
 #include "navmesh/NavMeshService.h"
 #include "navmesh/Validation.h"
@@ -87,56 +88,44 @@ nlohmann::json Report(const BakeOptions& options, const LoadedLevel& level,
 }
 
 int RunBake(const BakeOptions& options) {
-  navmesh::NavMeshServiceConfig config;
-  config.settings = options.settings;
-  config.worker_threads = options.threads;
-  if (Status status = config.Validate(); !status.ok()) return Fail("bake", status.message());
+  navmesh::LevelBakeOptions bake_options;
+  bake_options.service.settings = options.settings;
+  bake_options.service.worker_threads = options.threads;
+  if (Status status = bake_options.service.Validate(); !status.ok()) return Fail("bake", status.message());
   PhysicsSystemConfig world_config;
   world_config.max_bodies = 4096;
   world_config.job_system = std::make_shared<SerialJobSystem>();
   auto world = PhysicsSystem::Create(world_config);
   if (!world) return Fail("bake", world.error().message);
-  const auto start = std::chrono::steady_clock::now();
   Result<LoadedLevel> level = LoadLevel(**world, options.level, options.level_options);
   if (!level) return Fail("bake", level.error().message);
   for (const std::string& warning : level->warnings)
     std::fprintf(stderr, "strata navmesh bake: warning: %s\n", warning.c_str());
 
-  const Result<int> tile_count =
-      navmesh::NavMeshService::MaxTilesToCover(level->bounds, options.settings.tile_size());
-  if (!tile_count) return Fail("bake", options.level + ": " + tile_count.error().message);
-  config.max_tiles = std::max(*tile_count, 1);
-  auto service = navmesh::NavMeshService::Create(**world, config);
-  if (!service) return Fail("bake", service.error().message);
-  if (Status status = (*service)->RequestBox(level->bounds); !status.ok())
-    return Fail("bake", status.message());
   const bool terminal = isatty(fileno(stdout));
-  while (!(*service)->WaitUntilIdle(std::chrono::milliseconds(100)))
-    if (terminal) DrawProgress((*service)->stats().builds, static_cast<std::size_t>(*tile_count));
-  if (terminal) {
-    DrawProgress((*service)->stats().builds, static_cast<std::size_t>(*tile_count));
-    std::printf("\n");
-  }
-  const double wall_ms =
-      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-  if ((*service)->stats().failures > 0) return Fail("bake", (*service)->last_error());
+  if (terminal) bake_options.progress = DrawProgress;
+  Result<navmesh::LevelBake> bake = navmesh::BakeLevel(**world, level->bounds, bake_options);
+  if (terminal) std::printf("\n");
+  if (!bake) return Fail("bake", options.level + ": " + bake.error().message);
+  const navmesh::NavMeshService& service = *bake->service;
+  const double wall_ms = bake->wall_ms;
 
-  const navmesh::NavMesh& navmesh = (*service)->navmesh();
+  const navmesh::NavMesh& navmesh = service.navmesh();
   if (Status status = navmesh.Save(options.out); !status.ok()) return Fail("bake", status.message());
   if (!options.obj.empty())
     if (Status status = navmesh.WriteObj(options.obj); !status.ok()) return Fail("bake", status.message());
-  const nlohmann::json report = Report(options, *level, **service, wall_ms);
+  const nlohmann::json report = Report(options, *level, service, wall_ms);
   if (!options.report.empty())
     if (Status written = WriteOutputFile(options.report, report.dump(2) + "\n"); !written)
       return Fail("bake", written.message());
   std::printf("%s: %zu triangles in %zu chunks -> %d tiles, %d polygons, %.1f m^2 walkable, %d islands\n",
               options.level.c_str(), level->triangles, level->chunks, navmesh.tile_count(),
               navmesh.polygon_count(), navmesh.WalkableArea(), report["islands"].get<int>());
-  std::printf(
-      "per tile: gather %.2f ms median (max %.2f), recast %.2f ms median (max %.2f); %.0f ms in all\n",
-      report["build_ms"]["gather"]["median"].get<double>(), report["build_ms"]["gather"]["max"].get<double>(),
-      report["build_ms"]["recast"]["median"].get<double>(), report["build_ms"]["recast"]["max"].get<double>(),
-      wall_ms);
+  std::printf("per tile: gather %.2f ms median (max %.2f), recast %.2f ms median (max %.2f); bake %.0f ms\n",
+              report["build_ms"]["gather"]["median"].get<double>(),
+              report["build_ms"]["gather"]["max"].get<double>(),
+              report["build_ms"]["recast"]["median"].get<double>(),
+              report["build_ms"]["recast"]["max"].get<double>(), wall_ms);
   std::printf("wrote %s\n", options.out.c_str());
   return 0;
 }

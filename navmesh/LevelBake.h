@@ -1,0 +1,42 @@
+// LevelBake: builds every navmesh tile over a level with the background service and waits for the result.
+// The one place that decides how many tiles a level needs, so the CLI's bake and demo, the benches and the
+// tests size the tile table the same way. BakeLevel blocks its caller; the world may step on other threads.
+#pragma once
+
+#include <chrono>
+#include <cstddef>
+#include <functional>
+#include <memory>
+
+#include "navmesh/NavMeshService.h"
+
+namespace strata::navmesh {
+
+/// `config` with `max_tiles` set to the tiles that cover `level_bounds` (x-z), or an error naming the level's
+/// extent when a navmesh cannot hold them. Agents of a service made from it can request any tile of the
+/// level.
+Result<NavMeshServiceConfig> ConfigForLevel(NavMeshServiceConfig config, const AABB& level_bounds);
+
+/// How BakeLevel runs.
+struct LevelBakeOptions {
+  NavMeshServiceConfig service;  ///< max_tiles is ignored: ConfigForLevel sets it
+  /// Called on the caller's thread about every `progress_interval` while tiles build: (built, total).
+  std::function<void(std::size_t built, std::size_t total)> progress;
+  std::chrono::milliseconds progress_interval{100};
+  std::chrono::milliseconds timeout{std::chrono::minutes(30)};
+};
+
+/// A finished bake. The service keeps running: it owns the navmesh and the build log, and rebuilds tiles
+/// that the world changes under.
+struct LevelBake {
+  std::unique_ptr<NavMeshService> service;
+  std::size_t tiles = 0;  ///< tiles the level covers (all of them were built)
+  double wall_ms = 0.0;   ///< from the request to the last tile published
+};
+
+/// Builds every tile over `level_bounds` from `world`. Fails for an empty or too large level, bad settings,
+/// a tile that could not be built (with Recast's or Detour's reason) or a bake that outlasts the timeout.
+Result<LevelBake> BakeLevel(const PhysicsSystem& world, const AABB& level_bounds,
+                            const LevelBakeOptions& options = {});
+
+}  // namespace strata::navmesh

@@ -1,0 +1,158 @@
+// BakeLevel, the one bake the CLI, demo and benches share: levels of any extent bake every tile (extents that
+// are not a multiple of the tile, levels off the origin), a request wider than a small level still builds it,
+// too large or empty levels are clear errors, and the saved file is the same bytes however many threads
+// built it and in whatever order its tiles were published or rebuilt.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+
+#include "NavMeshTestWorld.h"
+#include "navmesh/LevelBake.h"
+
+namespace strata::test {
+namespace {
+
+using navmesh::TileCoord;
+
+navmesh::LevelBakeOptions Options(int workers) {
+  navmesh::LevelBakeOptions options;
+  options.service = FastServiceConfig(workers);
+  options.timeout = std::chrono::seconds(120);
+  return options;
+}
+
+/// The bounds a level loader would report for a floor slab.
+AABB SlabBounds(float min_x, float max_x, float min_z, float max_z) {
+  return {Vec3(min_x, -1.0f, min_z), Vec3(max_x, 0.0f, max_z)};
+}
+
+std::string ReadBytes(const std::filesystem::path& path) {
+  std::ifstream file(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>()};
+}
+
+std::string SavedBytes(const navmesh::NavMesh& navmesh, const std::string& name) {
+  const std::filesystem::path path = std::filesystem::path(::testing::TempDir()) / (name + ".bin");
+  EXPECT_TRUE(navmesh.Save(path).ok());
+  return ReadBytes(path);
+}
+
+TEST(LevelBake, FloorsOfOddSizesAndPlacesBakeEveryTile) {
+  struct Floor {
+    float min_x, max_x, min_z, max_z;
+  };
+  // A 20 m floor around the origin, a 6 m floor inside one tile, an 80 x 90 m floor off the origin: each
+  // once failed with "box covers more tiles than max_tiles".
+  for (const Floor floor : {Floor{-10, 10, -10, 10}, Floor{3, 9, 3, 9}, Floor{-41.3f, 38.9f, 7.7f, 97.9f}}) {
+    auto world = MakeWorld();
+    AddSlab(*world, floor.min_x, floor.max_x, floor.min_z, floor.max_z, 0.0f);
+    const AABB bounds = SlabBounds(floor.min_x, floor.max_x, floor.min_z, floor.max_z);
+    const Result<navmesh::LevelBake> bake = navmesh::BakeLevel(*world, bounds, Options(2));
+    ASSERT_TRUE(bake.ok()) << bake.error().message;
+    const std::vector<TileCoord> covered = bake->service->grid().TilesInBox(bounds);
+    EXPECT_EQ(bake->tiles, covered.size());
+    for (const TileCoord tile : covered)
+      EXPECT_EQ(bake->service->GetTileState(tile), navmesh::TileState::kReady) << tile.x << ", " << tile.z;
+    // A strip of floor narrower than the agent (0.5 m of the 80 m floor in its last column) has no polygon.
+    for (const TileCoord tile : bake->service->navmesh().Tiles())
+      EXPECT_NE(std::find(covered.begin(), covered.end(), tile), covered.end()) << tile.x << ", " << tile.z;
+    EXPECT_GE(bake->service->navmesh().tile_count() + 8, static_cast<int>(covered.size()));
+    EXPECT_EQ(bake->service->stats().failures, 0u);
+    // Corner to corner, inside the agent radius from the edges.
+    const Vec3 from(floor.min_x + 1.0f, 0.0f, floor.min_z + 1.0f),
+        to(floor.max_x - 1.0f, 0.0f, floor.max_z - 1.0f);
+    const auto path = MakeQuery(bake->service->navmesh())->FindPath(from, to);
+    ASSERT_TRUE(path.ok()) << path.error().message;
+    EXPECT_TRUE(path->reached_end);
+  }
+}
+
+TEST(LevelBake, EmptyAndOversizedLevelsAreClearErrors) {
+  auto world = MakeWorld();
+  const Result<navmesh::LevelBake> empty = navmesh::BakeLevel(*world, AABB(), Options(1));
+  ASSERT_FALSE(empty.ok());
+  EXPECT_NE(empty.error().message.find("no geometry"), std::string::npos) << empty.error().message;
+  // 10,000 km across (a unit mix-up): refused before a tile table or a tile list is allocated.
+  const Result<navmesh::LevelBake> huge =
+      navmesh::BakeLevel(*world, SlabBounds(0, 1e7f, 0, 1e7f), Options(1));
+  ASSERT_FALSE(huge.ok());
+  EXPECT_NE(huge.error().message.find("more than a navmesh holds"), std::string::npos)
+      << huge.error().message;
+}
+
+TEST(LevelBake, ARequestWiderThanASmallLevelBuildsIt) {
+  // The demo's agents ask for 16 m around them; on a level of one tile that circle touches nine tiles.
+  // The tiles off the level hold nothing walkable and take no slot, so the request is a normal one.
+  auto world = MakeWorld();
+  AddSlab(*world, 3, 9, 3, 9, 0.0f);
+  const Result<navmesh::NavMeshServiceConfig> config =
+      navmesh::ConfigForLevel(FastServiceConfig(), SlabBounds(3, 9, 3, 9));
+  ASSERT_TRUE(config.ok()) << config.error().message;
+  EXPECT_EQ(config->max_tiles, 1);
+  const auto service = MakeService(*world, *config);
+  ASSERT_TRUE(service->RequestAround(Vec3(6, 0, 6), 16.0f).ok());
+  ASSERT_TRUE(service->WaitUntilIdle(std::chrono::seconds(60)));
+  EXPECT_EQ(service->stats().failures, 0u) << service->last_error();
+  EXPECT_EQ(service->navmesh().Tiles(), (std::vector<TileCoord>{TileCoord{0, 0}}));
+  EXPECT_EQ(service->GetTileState({0, 0}), navmesh::TileState::kReady);
+  // An absurd radius is still refused.
+  EXPECT_FALSE(service->RequestAround(Vec3(6, 0, 6), 1.0e6f).ok());
+}
+
+/// Four by four tiles of floor with a block and a raised slab, so tiles differ and link to each other.
+std::unique_ptr<PhysicsSystem> FourByFourLevel() {
+  auto world = MakeWorld();
+  AddFloor(*world, 4);
+  AddSlab(*world, 10.0f, 16.0f, 10.0f, 16.0f, 2.0f, 2.0f);
+  AddSlab(*world, 30.0f, 34.0f, 5.0f, 40.0f, 0.6f, 0.6f);
+  return world;
+}
+
+TEST(LevelBake, TheSavedFileIsTheSameBytesForAnyThreadCountAndPublishOrder) {
+  const AABB level = TileArea(4);
+  auto world = FourByFourLevel();
+  const Result<navmesh::LevelBake> one = navmesh::BakeLevel(*world, level, Options(1));
+  ASSERT_TRUE(one.ok()) << one.error().message;
+  const std::string reference = SavedBytes(one->service->navmesh(), "one_thread");
+  ASSERT_GT(one->service->navmesh().tile_count(), 10);
+
+  for (const int workers : {2, 4}) {
+    const Result<navmesh::LevelBake> bake = navmesh::BakeLevel(*world, level, Options(workers));
+    ASSERT_TRUE(bake.ok()) << bake.error().message;
+    EXPECT_EQ(SavedBytes(bake->service->navmesh(), "threads"), reference) << workers << " workers";
+  }
+
+  // Published in another order (from the far corner inwards, one tile at a time) ...
+  const Result<navmesh::NavMeshServiceConfig> config = navmesh::ConfigForLevel(FastServiceConfig(1), level);
+  ASSERT_TRUE(config.ok());
+  const auto reversed = MakeService(*world, *config);
+  for (int z = 3; z >= 0; --z)
+    for (int x = 3; x >= 0; --x) {
+      ASSERT_TRUE(reversed->RequestBox(reversed->grid().Bounds({x, z}, -0.5f)).ok());
+      ASSERT_TRUE(reversed->WaitUntilIdle(std::chrono::seconds(60)));
+    }
+  EXPECT_EQ(SavedBytes(reversed->navmesh(), "reversed"), reference);
+  // ... and after every tile was rebuilt (Detour gives a rebuilt tile a new reference).
+  const std::size_t builds = reversed->stats().builds;
+  ASSERT_TRUE(reversed->Invalidate(level).ok());
+  ASSERT_TRUE(WaitForRebuilds(*reversed, builds));
+  EXPECT_GE(reversed->stats().rebuilds, builds);
+  EXPECT_EQ(SavedBytes(reversed->navmesh(), "rebuilt"), reference);
+
+  // The file loads and answers as the navmesh it came from.
+  const std::filesystem::path path = std::filesystem::path(::testing::TempDir()) / "rebuilt.bin";
+  const auto loaded = navmesh::NavMesh::Load(path);
+  ASSERT_TRUE(loaded.ok()) << loaded.error().message;
+  const Vec3 from(2, 0, 2), to(49, 0, 49);
+  const auto original = MakeQuery(one->service->navmesh())->FindPath(from, to);
+  const auto reloaded = MakeQuery(**loaded)->FindPath(from, to);
+  ASSERT_TRUE(original.ok() && reloaded.ok());
+  EXPECT_TRUE(reloaded->reached_end);
+  EXPECT_EQ(reloaded->points, original->points);
+}
+
+}  // namespace
+}  // namespace strata::test
