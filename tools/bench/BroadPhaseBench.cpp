@@ -23,11 +23,16 @@ double MicrosecondsSince(Clock::time_point start) {
   return std::chrono::duration<double, std::micro>(Clock::now() - start).count();
 }
 
-double Median(std::vector<double> values) {
+/// The value `fraction` of the way up the sorted values (0.5: the median, 0.99: the 99th percentile).
+double Percentile(std::vector<double> values, double fraction) {
   if (values.empty()) return 0.0;
-  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2),
-                   values.end());
-  return values[values.size() / 2];
+  const auto rank = static_cast<std::size_t>(fraction * static_cast<double>(values.size() - 1) + 0.5);
+  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(rank), values.end());
+  return values[rank];
+}
+
+double Median(std::vector<double> values) {
+  return Percentile(std::move(values), 0.5);
 }
 
 constexpr float kTileSize = 256.0f;
@@ -330,6 +335,7 @@ GameObjectFigures MeasureGameObjectUpdate(const OpenWorld& world, int threads, s
   figures.lock_wait_us_per_thread_frame =
       all_waits.empty() ? 0.0 : total / static_cast<double>(all_waits.size());
   figures.median_lock_wait_us = Median(all_waits);
+  figures.p99_lock_wait_us = Percentile(all_waits, 0.99);
   figures.frame_ms = Median(frame_ms);
   return figures;
 }

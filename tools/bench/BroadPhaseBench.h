@@ -69,6 +69,7 @@ struct GameObjectFigures {
   double frame_ms = 0;                       ///< median wall time of a frame
   double lock_wait_us_per_thread_frame = 0;  ///< mean over threads and frames
   double median_lock_wait_us = 0;            ///< median thread-frame (robust to a preempted lock holder)
+  double p99_lock_wait_us = 0;               ///< 99th percentile thread-frame
   double max_lock_wait_us = 0;               ///< worst thread-frame
 };
 /// `work_us` of busy work per object stands in for its game logic (outside any lock).

@@ -88,9 +88,9 @@ int Run(const BroadPhaseBenchOptions& options) {
         std::printf(
             "  logic %3.1f us, %2d threads, %2u mutexes: frame %7.3f ms, lock wait per thread per frame: "
             "mean "
-            "%9.2f us, median %9.2f us, worst %9.2f us\n",
+            "%9.2f us, median %9.2f us, p99 %9.2f us, worst %9.2f us\n",
             work_us, threads, mutexes, figures.frame_ms, figures.lock_wait_us_per_thread_frame,
-            figures.median_lock_wait_us, figures.max_lock_wait_us);
+            figures.median_lock_wait_us, figures.p99_lock_wait_us, figures.max_lock_wait_us);
       }
     }
     if (options.object_work_us <= 0.0) break;
