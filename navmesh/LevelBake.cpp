@@ -2,12 +2,15 @@
 
 #include <algorithm>
 
+#include "navmesh/TileBuilder.h"
+
 namespace strata::navmesh {
 
 Result<NavMeshServiceConfig> ConfigForLevel(NavMeshServiceConfig config, const AABB& level_bounds) {
   if (!level_bounds.IsValid())
     return MakeError(ErrorCode::kInvalidArgument,
                      "navmesh: the level has no geometry to bake (empty bounds)");
+  if (Status reach = CheckReach(level_bounds, config.settings, "the level"); !reach) return reach.error();
   const Result<int> tiles = NavMeshService::MaxTilesToCover(level_bounds, config.settings.tile_size());
   if (!tiles) return tiles.error();
   config.max_tiles = std::max(*tiles, 1);

@@ -135,6 +135,9 @@ Status NavMeshService::RequestAround(const Vec3& position, float radius) {
     return MakeError(ErrorCode::kInvalidArgument, "navmesh request: position is not finite");
   if (!std::isfinite(radius) || radius < 0.0f)
     return MakeError(ErrorCode::kInvalidArgument, "navmesh request: radius must be a finite number >= 0");
+  if (Status reach = CheckReach(AABB(position, position).Expanded(radius), config_.settings, "the request");
+      !reach)
+    return reach;
   // Only an absurd radius is refused. Tiles with nothing walkable (off the level) take no slot in the tile
   // table, so a circle wider than the level is a normal request, however small the table.
   const Vec3 reach(radius, 0.0f, radius);
@@ -154,6 +157,7 @@ Status NavMeshService::RequestAround(const Vec3& position, float radius) {
 
 Status NavMeshService::RequestBox(const AABB& box) {
   if (!box.IsValid()) return MakeError(ErrorCode::kInvalidArgument, "navmesh request: box is not valid");
+  if (Status reach = CheckReach(box, config_.settings, "the requested box"); !reach) return reach;
   // The same count as the listing below (an estimate here once refused boxes the listing fits).
   const std::uint64_t tiles = grid_.TileCount(box);
   if (tiles > static_cast<std::uint64_t>(config_.max_tiles))

@@ -25,6 +25,10 @@ struct NavMeshSettings {
   float detail_sample_max_error = 1.0f;  ///< detail mesh height error (cell heights)
 
   float tile_size() const { return cell_size * static_cast<float>(tile_cells); }
+  /// How far from the origin (m, on any axis) navmesh geometry may lie: 2^22 cells (839 km at 0.2 m).
+  /// Beyond it a float resolves less than a third of a cell, and Recast's rasterizer (which clips triangles
+  /// to cells in float) can overrun its buffers; such levels and requests are refused with this figure.
+  float max_coordinate() const { return cell_size * 4194304.0f; }
   /// Cells of border around a tile so that erosion at its edge sees its neighbours' geometry.
   int border_cells() const;
   /// Every field in range; the message names the first bad one.

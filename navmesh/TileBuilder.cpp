@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <memory>
 #include <string>
 
@@ -173,6 +174,20 @@ Result<TileData> CreateDetourData(const NavMeshSettings& settings, const rcConfi
 
 }  // namespace
 
+Status CheckReach(const AABB& box, const NavMeshSettings& settings, const std::string& what) {
+  const double reach = std::max(box.min.cwiseAbs().maxCoeff(), box.max.cwiseAbs().maxCoeff());
+  const double limit = settings.max_coordinate();
+  if (reach <= limit) return Status::Ok();  // (a NaN box fails here too)
+  char message[256];
+  std::snprintf(
+      message, sizeof(message),
+      "navmesh: %s reaches %.4g m from the origin; navmesh geometry must lie within %.4g m "
+      "(2^22 cells of %.3g m: farther out a float cannot resolve a cell for Recast); move it nearer "
+      "the origin",
+      what.c_str(), reach, limit, static_cast<double>(settings.cell_size));
+  return MakeError(ErrorCode::kInvalidArgument, message);
+}
+
 AABB TileGatherBox(const NavMeshSettings& settings, TileCoord tile) {
   const float border = static_cast<float>(settings.border_cells()) * settings.cell_size;
   return TileGrid(settings.tile_size()).Bounds(tile, border);
@@ -188,6 +203,10 @@ Result<BuiltTile> BuildTile(const NavMeshSettings& settings, TileCoord tile, con
     return std::move(built);
   };
   if (geometry.triangle_count() == 0) return finish();
+  const std::string name = "tile (" + std::to_string(tile.x) + ", " + std::to_string(tile.z) + ")";
+  if (Status reach = CheckReach(TileGatherBox(settings, tile), settings, name); !reach) return reach.error();
+  if (Status reach = CheckReach(geometry.bounds, settings, "a triangle in " + name); !reach)
+    return reach.error();
 
   AABB box = TileGatherBox(settings, tile);
   // Vertically the heightfield spans the geometry, plus room for an agent to stand on its top.

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstddef>
+#include <string>
 
 #include "navmesh/NavMeshSettings.h"
 #include "navmesh/TileData.h"
@@ -19,6 +20,10 @@ struct BuiltTile {
   int polygons = 0;
   double recast_ms = 0.0;
 };
+
+/// Ok when `box` lies within settings.max_coordinate() of the origin on every axis; otherwise an error that
+/// names `what`, how far it reaches and the limit.
+Status CheckReach(const AABB& box, const NavMeshSettings& settings, const std::string& what);
 
 /// The box a tile's geometry is gathered from: the tile grown by its border, from `min_y` to `max_y`.
 AABB TileGatherBox(const NavMeshSettings& settings, TileCoord tile);

@@ -75,9 +75,9 @@ TEST(LevelBake, EmptyAndOversizedLevelsAreClearErrors) {
   const Result<navmesh::LevelBake> empty = navmesh::BakeLevel(*world, AABB(), Options(1));
   ASSERT_FALSE(empty.ok());
   EXPECT_NE(empty.error().message.find("no geometry"), std::string::npos) << empty.error().message;
-  // 10,000 km across (a unit mix-up): refused before a tile table or a tile list is allocated.
+  // 100 km across (a unit mix-up): refused before a tile table or a tile list is allocated.
   const Result<navmesh::LevelBake> huge =
-      navmesh::BakeLevel(*world, SlabBounds(0, 1e7f, 0, 1e7f), Options(1));
+      navmesh::BakeLevel(*world, SlabBounds(0, 1e5f, 0, 1e5f), Options(1));
   ASSERT_FALSE(huge.ok());
   EXPECT_NE(huge.error().message.find("more than a navmesh holds"), std::string::npos)
       << huge.error().message;
@@ -100,6 +100,46 @@ TEST(LevelBake, ARequestWiderThanASmallLevelBuildsIt) {
   EXPECT_EQ(service->GetTileState({0, 0}), navmesh::TileState::kReady);
   // An absurd radius is still refused.
   EXPECT_FALSE(service->RequestAround(Vec3(6, 0, 6), 1.0e6f).ok());
+}
+
+TEST(LevelBake, LevelsFarFromTheOriginBakeWithinTheLimitAndAreRefusedBeyondIt) {
+  // 100 km out a float still resolves a cell: the level bakes and paths cross it.
+  {
+    auto world = MakeWorld();
+    AddSlab(*world, 1.0e5f, 1.0e5f + 20.0f, 1.0e5f, 1.0e5f + 20.0f, 0.0f);
+    const AABB bounds = SlabBounds(1.0e5f, 1.0e5f + 20.0f, 1.0e5f, 1.0e5f + 20.0f);
+    const Result<navmesh::LevelBake> bake = navmesh::BakeLevel(*world, bounds, Options(1));
+    ASSERT_TRUE(bake.ok()) << bake.error().message;
+    const auto path =
+        MakeQuery(bake->service->navmesh())
+            ->FindPath(Vec3(1.0e5f + 1.0f, 0.0f, 1.0e5f + 1.0f), Vec3(1.0e5f + 19.0f, 0.0f, 1.0e5f + 19.0f));
+    ASSERT_TRUE(path.ok());
+    EXPECT_TRUE(path->reached_end);
+  }
+  // 8,000 km out, Recast's rasterizer once overran a stack buffer (an abort). Now: an error that says how
+  // far the level reaches and where the limit is, for a bake and for an agent's request.
+  auto world = MakeWorld();
+  AddSlab(*world, 8.0e6f, 8.0e6f + 20.0f, 8.0e6f, 8.0e6f + 20.0f, 0.0f);
+  const Result<navmesh::LevelBake> bake =
+      navmesh::BakeLevel(*world, SlabBounds(8.0e6f, 8.0e6f + 20.0f, 8.0e6f, 8.0e6f + 20.0f), Options(1));
+  ASSERT_FALSE(bake.ok());
+  EXPECT_NE(bake.error().message.find("the level reaches 8e+06 m from the origin"), std::string::npos)
+      << bake.error().message;
+  EXPECT_NE(bake.error().message.find("within 8.389e+05 m"), std::string::npos) << bake.error().message;
+  const auto service = MakeService(*world, FastServiceConfig());
+  const Status request = service->RequestAround(Vec3(8.0e6f + 10.0f, 0.0f, 8.0e6f + 10.0f), 16.0f);
+  ASSERT_FALSE(request.ok());
+  EXPECT_NE(request.message().find("the request reaches"), std::string::npos) << request.message();
+}
+
+TEST(LevelBake, ATriangleReachingFarOutFailsItsTileInsteadOfRecast) {
+  // A tile near the origin with a triangle whose far corners are 10,000 km away (a corrupt vertex).
+  navmesh::TileGeometry geometry;
+  geometry.AddTriangle({{Vec3(1, 0, 1), Vec3(1.0e7f, 0, 1), Vec3(1, 0, 1.0e7f)}});
+  const Result<navmesh::BuiltTile> built = navmesh::BuildTile(navmesh::NavMeshSettings{}, {0, 0}, geometry);
+  ASSERT_FALSE(built.ok());
+  EXPECT_NE(built.error().message.find("a triangle in tile (0, 0) reaches 1e+07 m"), std::string::npos)
+      << built.error().message;
 }
 
 /// Four by four tiles of floor with a block and a raised slab, so tiles differ and link to each other.

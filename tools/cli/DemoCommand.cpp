@@ -67,8 +67,62 @@ std::optional<Vec3> GroundAt(const PhysicsSystem& world, const AABB& level, floa
   return (*hit)->position;
 }
 
-Status SpawnDynamicBodies(PhysicsSystem& world, const AABB& level, const DemoOptions& options,
-                          std::mt19937& random) {
+/// Random points on the level's walkable-looking surfaces (facing up within 45 degrees), by area: agents and
+/// boulders land on the level however little of its bounds it covers (a floor and one far triangle).
+class FloorSampler {
+ public:
+  FloorSampler(PhysicsSystem& world, const LoadedLevel& level) {
+    std::vector<Triangle> triangles;
+    for (const BodyID id : level.bodies) {
+      const Result<ShapeRef> shape = world.bodies().GetShape(id);
+      const Result<Vec3> position = world.bodies().GetPosition(id);
+      const Result<Quat> rotation = world.bodies().GetRotation(id);
+      if (!shape || !position || !rotation) continue;
+      triangles.clear();
+      (*shape)->GetTrianglesInBox(level.bounds.Expanded(1.0f), Pose{*position, *rotation}, triangles);
+      for (const Triangle& triangle : triangles) Add(triangle);
+    }
+  }
+
+  bool empty() const { return floors_.empty(); }
+  /// The x-z of a random point on the floors (call only when not empty).
+  Vec3 Sample(std::mt19937& random) const {
+    std::uniform_real_distribution<double> area(0.0, cumulative_area_.back());
+    const double pick = area(random);
+    const auto found = std::upper_bound(cumulative_area_.begin(), cumulative_area_.end(), pick);
+    const Triangle& floor = floors_[std::min<std::size_t>(
+        static_cast<std::size_t>(found - cumulative_area_.begin()), floors_.size() - 1)];
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+    float u = unit(random), v = unit(random);
+    if (u + v > 1.0f) u = 1.0f - u, v = 1.0f - v;
+    return floor.vertices[0] + u * (floor.vertices[1] - floor.vertices[0]) +
+           v * (floor.vertices[2] - floor.vertices[0]);
+  }
+
+ private:
+  void Add(const Triangle& triangle) {
+    const Vec3 normal =
+        (triangle.vertices[1] - triangle.vertices[0]).cross(triangle.vertices[2] - triangle.vertices[0]);
+    const float twice_area = normal.norm();
+    if (!(twice_area > 1e-6f) || normal.y() < 0.7071f * twice_area) return;
+    floors_.push_back(triangle);
+    cumulative_area_.push_back((cumulative_area_.empty() ? 0.0 : cumulative_area_.back()) + 0.5 * twice_area);
+  }
+
+  std::vector<Triangle> floors_;
+  std::vector<double> cumulative_area_;
+};
+
+/// The top surface at a random floor point, if a ray from above finds one there.
+std::optional<Vec3> RandomGround(const PhysicsSystem& world, const AABB& level, const FloorSampler& floors,
+                                 std::mt19937& random) {
+  if (floors.empty()) return std::nullopt;
+  const Vec3 point = floors.Sample(random);
+  return GroundAt(world, level, point.x(), point.z());
+}
+
+Status SpawnDynamicBodies(PhysicsSystem& world, const AABB& level, const FloorSampler& floors,
+                          const DemoOptions& options, std::mt19937& random) {
   std::uniform_real_distribution<float> x(level.min.x() + 2.0f, level.max.x() - 2.0f);
   std::uniform_real_distribution<float> z(level.min.z() + 2.0f, level.max.z() - 2.0f);
   std::uniform_real_distribution<float> unit(0.0f, 1.0f);
@@ -83,7 +137,7 @@ Status SpawnDynamicBodies(PhysicsSystem& world, const AABB& level, const DemoOpt
   }
   const ShapeRef boulder = *SphereShape::Create(1.0f);  // 2 m across: large enough to count for the navmesh
   for (int i = 0; i < options.boulders; ++i) {
-    const auto ground = GroundAt(world, level, x(random), z(random));
+    const auto ground = RandomGround(world, level, floors, random);
     if (!ground) continue;
     BodyCreationSettings settings;
     settings.shape = boulder;
@@ -96,14 +150,12 @@ Status SpawnDynamicBodies(PhysicsSystem& world, const AABB& level, const DemoOpt
   return Status::Ok();
 }
 
-std::vector<Agent> SpawnAgents(const PhysicsSystem& world, const AABB& level, int count,
-                               std::mt19937& random) {
-  std::uniform_real_distribution<float> x(level.min.x() + 2.0f, level.max.x() - 2.0f);
-  std::uniform_real_distribution<float> z(level.min.z() + 2.0f, level.max.z() - 2.0f);
+std::vector<Agent> SpawnAgents(const PhysicsSystem& world, const AABB& level, const FloorSampler& floors,
+                               int count, std::mt19937& random) {
   std::vector<Agent> agents;
   for (int attempt = 0; attempt < 50 * count && static_cast<int>(agents.size()) < count; ++attempt) {
-    const auto start = GroundAt(world, level, x(random), z(random));
-    const auto target = GroundAt(world, level, x(random), z(random));
+    const auto start = RandomGround(world, level, floors, random);
+    const auto target = RandomGround(world, level, floors, random);
     if (start && target) agents.push_back({*start, *target});
   }
   return agents;
@@ -228,11 +280,12 @@ int RunDemo(const DemoOptions& options) {
               level->triangles, level->chunks, Milliseconds(Clock::now() - load_start));
 
   std::mt19937 random(options.seed);
-  if (Status spawned = SpawnDynamicBodies(world, level->bounds, options, random); !spawned) {
+  const FloorSampler floors(world, *level);
+  if (Status spawned = SpawnDynamicBodies(world, level->bounds, floors, options, random); !spawned) {
     std::cerr << "strata demo: cannot add the crates and boulders: " << spawned.message() << "\n";
     return 2;
   }
-  std::vector<Agent> agents = SpawnAgents(world, level->bounds, options.agents, random);
+  std::vector<Agent> agents = SpawnAgents(world, level->bounds, floors, options.agents, random);
   const Result<navmesh::NavMeshServiceConfig> level_config = navmesh::ConfigForLevel(config, level->bounds);
   if (!level_config) {
     std::cerr << "strata demo: " << options.level << ": " << level_config.error().message << "\n";

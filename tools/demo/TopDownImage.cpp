@@ -10,11 +10,27 @@
 
 namespace strata::demo {
 
+namespace {
+/// `wanted`, or less so that the longer side of `bounds` fits in `max_side` pixels.
+float FittingScale(const AABB& bounds, float wanted, int max_side) {
+  const float longest = std::max(bounds.Size().x(), bounds.Size().z());
+  if (!(longest > 0.0f) || !std::isfinite(longest)) return wanted;
+  return std::min(wanted, static_cast<float>(max_side) / longest);
+}
+
+/// Pixels along a side `metres` long, in [1, max_side] whatever the input (NaN included).
+int SidePixels(float metres, float scale, int max_side) {
+  const double pixels = std::ceil(static_cast<double>(metres) * scale);
+  if (!(pixels >= 1.0)) return 1;
+  return static_cast<int>(std::min(pixels, static_cast<double>(max_side)));
+}
+}  // namespace
+
 TopDownImage::TopDownImage(const AABB& bounds, float pixels_per_metre)
     : bounds_(bounds),
-      scale_(pixels_per_metre),
-      width_(std::max(1, static_cast<int>(std::ceil(bounds.Size().x() * pixels_per_metre)))),
-      height_(std::max(1, static_cast<int>(std::ceil(bounds.Size().z() * pixels_per_metre)))),
+      scale_(FittingScale(bounds, pixels_per_metre, kMaxSide)),
+      width_(SidePixels(bounds.Size().x(), scale_, kMaxSide)),
+      height_(SidePixels(bounds.Size().z(), scale_, kMaxSide)),
       rgb_(static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_) * 3, 255) {}
 
 TopDownImage::Pixel TopDownImage::ToPixel(const Vec3& point) const {

@@ -14,13 +14,17 @@ namespace strata::demo {
 
 using Color = std::array<std::uint8_t, 3>;
 
-/// An image of the x-z rectangle of `bounds`, +x to the right and +z down, `pixels_per_metre` wide.
+/// An image of the x-z rectangle of `bounds`, +x to the right and +z down, `pixels_per_metre` wide, or
+/// fewer where that would make a side longer than kMaxSide pixels (a level kilometres wide, one far
+/// triangle).
 class TopDownImage {
  public:
+  static constexpr int kMaxSide = 4096;
   TopDownImage(const AABB& bounds, float pixels_per_metre);
 
   int width() const { return width_; }
   int height() const { return height_; }
+  float pixels_per_metre() const { return scale_; }
   /// Fills a triangle, blending `color` over what is there by `alpha` (0..1).
   void FillTriangle(const Vec3& a, const Vec3& b, const Vec3& c, const Color& color, float alpha = 1.0f);
   void DrawLine(const Vec3& a, const Vec3& b, const Color& color);
