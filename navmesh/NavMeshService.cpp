@@ -218,6 +218,8 @@ Status NavMeshService::Invalidate(const AABB& box) {
 
 void NavMeshService::Enqueue(TileCoord tile, float priority, Clock::time_point now) {
   TileRecord& record = tiles_[tile];
+  record.last_requested = now;
+  record.last_priority = priority;
   switch (record.state) {
     case TileState::kMissing:
       SetState(tile, record, TileState::kQueued);
@@ -275,6 +277,7 @@ bool NavMeshService::WaitUntilIdle(std::chrono::milliseconds timeout) const {
 NavMeshServiceStats NavMeshService::stats() const {
   const std::lock_guard lock(mutex_);
   NavMeshServiceStats stats = counters_;
+  stats.tiles_holding_data = static_cast<std::size_t>(tiles_holding_data_);
   for (const auto& [coord, record] : tiles_) {
     stats.queued += record.state == TileState::kQueued;
     stats.building += record.state == TileState::kBuilding;
@@ -325,17 +328,27 @@ void NavMeshService::BuildOne(TileCoord tile) {
   TileBuildRecord record{tile, 0,  geometry.bodies.size(), geometry.triangle_count(), 0, gather_ms, 0.0,
                          0.0,  0.0};
   Status published = built.status();
-  if (built) {
-    record.polygons = built->polygons;
-    record.recast_ms = built->recast_ms;
-    const Clock::time_point publish_start = Clock::now();
-    published = navmesh_->ReplaceTile(tile, std::move(built->data));
-    record.publish_ms = MillisecondsSince(publish_start);
-  }
-
   {
+    // Publishing happens under the back-end lock, so making room (evicting) and taking the slot is one
+    // decision however many workers finish at once. Game threads never take this lock.
     const std::lock_guard lock(mutex_);
     TileRecord& state = tiles_[tile];
+    if (built) {
+      record.polygons = built->polygons;
+      record.recast_ms = built->recast_ms;
+      const bool takes_slot = !built->data.empty() && !state.holds_data;
+      if (takes_slot) published = MakeRoom(tile);
+      if (published.ok()) {
+        const bool holds_data = !built->data.empty();
+        const Clock::time_point publish_start = Clock::now();
+        published = navmesh_->ReplaceTile(tile, std::move(built->data));
+        record.publish_ms = MillisecondsSince(publish_start);
+        if (published.ok()) {
+          tiles_holding_data_ += static_cast<int>(holds_data) - static_cast<int>(state.holds_data);
+          state.holds_data = holds_data;
+        }
+      }
+    }
     if (!published.ok()) {
       ++counters_.failures;
       last_error_ = published.message();
@@ -357,8 +370,66 @@ void NavMeshService::BuildOne(TileCoord tile) {
       counters_.rebuilds += record.build > 1;
       log_.push_back(record);
     }
+    ForgetOldRecords();
   }
   state_changed_.notify_all();
+}
+
+namespace {
+/// Whether `a` is a better tile to give up than `b`: requested longer ago, or as long ago but farther
+/// from the agent that asked.
+template <class Record>
+bool EvictsBefore(const Record& a, const Record& b) {
+  if (a.last_requested != b.last_requested) return a.last_requested < b.last_requested;
+  return a.last_priority > b.last_priority;
+}
+}  // namespace
+
+Status NavMeshService::MakeRoom(TileCoord tile) {
+  if (tiles_holding_data_ < config_.max_tiles) return Status::Ok();
+  // Only a published tile can go: one that is building comes back to publish, and one that is queued holds
+  // nothing yet.
+  auto victim = tiles_.end();
+  for (auto it = tiles_.begin(); it != tiles_.end(); ++it) {
+    const TileRecord& record = it->second;
+    if (it->first == tile || !record.holds_data) continue;
+    if (record.state != TileState::kReady && record.state != TileState::kStale) continue;
+    if (victim == tiles_.end() || EvictsBefore(record, victim->second)) victim = it;
+  }
+  if (victim == tiles_.end())
+    return MakeError(ErrorCode::kCapacityExceeded,
+                     "navmesh: every one of the " + std::to_string(config_.max_tiles) +
+                         " tiles of the budget is being built; raise max_tiles");
+  navmesh_->RemoveTile(victim->first);
+  --tiles_holding_data_;
+  ++counters_.evictions;
+  {
+    const std::lock_guard lock(front_mutex_);
+    front_states_.erase(victim->first);
+  }
+  tiles_.erase(victim);
+  return Status::Ok();
+}
+
+void NavMeshService::ForgetOldRecords() {
+  // Tiles that hold nothing (off the level, nothing walkable) take no slot, but their records would pile up
+  // as agents walk across a large world: keep as many as a few budgets' worth, dropping the oldest.
+  const std::size_t limit = 4 * static_cast<std::size_t>(config_.max_tiles) + 64;
+  while (tiles_.size() > limit) {
+    auto oldest = tiles_.end();
+    for (auto it = tiles_.begin(); it != tiles_.end(); ++it) {
+      const TileRecord& record = it->second;
+      if (record.holds_data || (record.state != TileState::kReady && record.state != TileState::kMissing))
+        continue;
+      if (oldest == tiles_.end() || EvictsBefore(record, oldest->second)) oldest = it;
+    }
+    if (oldest == tiles_.end()) return;
+    {
+      const std::lock_guard lock(front_mutex_);
+      front_states_.erase(oldest->first);
+    }
+    tiles_.erase(oldest);
+  }
 }
 
 bool NavMeshService::TileChanged(TileCoord tile, const std::vector<GatheredBody>& bodies) const {
@@ -396,7 +467,9 @@ void NavMeshService::ScannerLoop() {
       if (TileChanged(ready[i].first, *ready[i].second)) changed.push_back(i);
     lock.lock();
     for (const std::size_t i : changed) {
-      TileRecord& record = tiles_[ready[i].first];
+      const auto found = tiles_.find(ready[i].first);  // evicted meanwhile: nothing to mark
+      if (found == tiles_.end()) continue;
+      TileRecord& record = found->second;
       // Only if the tile still holds the build we compared against (no rebuild finished meanwhile).
       if (record.state != TileState::kReady || record.bodies != ready[i].second) continue;
       SetState(ready[i].first, record, TileState::kStale);

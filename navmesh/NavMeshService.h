@@ -36,8 +36,11 @@ const char* ToString(TileState state);
 struct NavMeshServiceConfig {
   NavMeshSettings settings;
   NavMeshBodyFilter filter;
-  int worker_threads = 1;        ///< background build threads
-  int max_tiles = 1024;          ///< Detour's tile table size
+  int worker_threads = 1;  ///< background build threads
+  /// The tile budget: at most this many tiles hold navmesh data at once (Detour's tile table). When a new
+  /// tile needs a slot, the published tile requested longest ago (farthest from its requester among equals)
+  /// is evicted, so agents can walk across a world of any size.
+  int max_tiles = 1024;
   float move_threshold = 0.25f;  ///< a counted body whose bounds move more than this (m) makes its tile stale
   std::chrono::milliseconds rebuild_delay{250};  ///< a stale tile waits this long for more changes
   std::chrono::milliseconds scan_interval{20};   ///< how often ready tiles are checked for changes
@@ -70,7 +73,9 @@ struct NavMeshServiceStats {
   std::size_t building = 0;
   std::size_t ready = 0;
   std::size_t stale = 0;
-  std::size_t scans = 0;  ///< finished scans, each of which compared every ready tile with the world
+  std::size_t scans = 0;      ///< finished scans, each of which compared every ready tile with the world
+  std::size_t evictions = 0;  ///< published tiles dropped to make room within max_tiles
+  std::size_t tiles_holding_data = 0;  ///< published tiles with polygons (at most max_tiles)
 };
 
 /// The background navmesh builder for one physics world (which must outlive it).
@@ -119,8 +124,11 @@ class NavMeshService {
     TileState state = TileState::kMissing;
     float priority = 0.0f;  ///< squared distance to the nearest requester
     int builds = 0;
-    int failed_in_a_row = 0;      ///< builds that failed since the last that was published
-    Clock::time_point requested;  ///< when it was requested or went stale
+    int failed_in_a_row = 0;           ///< builds that failed since the last that was published
+    bool holds_data = false;           ///< its published tile has polygons (takes a slot of the budget)
+    Clock::time_point last_requested;  ///< the most recent request that touched it (eviction order)
+    float last_priority = 0.0f;        ///< that request's squared distance to the tile
+    Clock::time_point requested;       ///< when it was requested or went stale
     Clock::time_point stale_since;
     std::shared_ptr<const std::vector<GatheredBody>> bodies;  ///< what the published tile was built from
   };
@@ -139,6 +147,8 @@ class NavMeshService {
   void DrainInbox();                                                    // mutex_ held
   void Enqueue(TileCoord tile, float priority, Clock::time_point now);  // mutex_ held
   void SetState(TileCoord tile, TileRecord& record, TileState state);   // mutex_ held
+  Status MakeRoom(TileCoord tile);  // mutex_ held: evicts a published tile if the budget is full
+  void ForgetOldRecords();          // mutex_ held: bounds the records of tiles that hold nothing
   void WorkerLoop();
   void BuildOne(TileCoord tile);
   void ScannerLoop();
@@ -160,6 +170,7 @@ class NavMeshService {
   std::vector<TileBuildRecord> log_;
   NavMeshServiceStats counters_;
   std::string last_error_;
+  int tiles_holding_data_ = 0;
   bool stopping_ = false;
 
   // Front: what game threads touch. Requests wait here, and every state change is mirrored here, so the

@@ -113,6 +113,38 @@ TEST(NavMeshService, ARebuildThatFailsKeepsTheOldTilePublishedAndStale) {
   EXPECT_EQ(service->navmesh().polygon_count(), polygons);
 }
 
+TEST(NavMeshService, AnAgentWalksAcrossAWorldLargerThanTheTileBudget) {
+  // A floor of 20 x 3 tiles and a budget of 9: the agent asks for the tiles around it every 6.4 m; the
+  // tiles behind it (requested longest ago) make room for the ones ahead, and it always has a navmesh.
+  auto world = MakeWorld();
+  AddSlab(*world, 0.0f, 20 * kTile, 0.0f, 3 * kTile, 0.0f);
+  navmesh::NavMeshServiceConfig config = FastServiceConfig();
+  config.max_tiles = 9;
+  const auto service = MakeService(*world, config);
+  const auto query = MakeQuery(service->navmesh());
+  std::size_t most_records = 0;
+  for (float x = kTile + 0.2f; x + kTile < 20 * kTile; x += 6.4f) {  // the circle stays on the floor
+    const Vec3 agent(x, 0.0f, 1.5f * kTile);
+    ASSERT_TRUE(service->RequestAround(agent, kTile).ok());
+    ASSERT_TRUE(service->WaitUntilIdle(std::chrono::seconds(60)));
+    const navmesh::NavMeshServiceStats stats = service->stats();
+    ASSERT_EQ(stats.failures, 0u) << service->last_error();
+    EXPECT_LE(stats.tiles_holding_data, 9u);
+    EXPECT_LE(service->navmesh().tile_count(), 9);
+    EXPECT_EQ(service->GetTileState(service->grid().TileAt(agent)), TileState::kReady) << x;
+    const auto ahead = query->FindPath(agent, agent + Vec3(10.0f, 0.0f, 0.0f));
+    ASSERT_TRUE(ahead.ok()) << x << ": " << ahead.error().message;
+    EXPECT_TRUE(ahead->reached_end) << x;
+    most_records = std::max(most_records, static_cast<std::size_t>(stats.queued + stats.ready + stats.stale));
+  }
+  const navmesh::NavMeshServiceStats stats = service->stats();
+  EXPECT_GE(stats.evictions, 40u);  // 60 tiles built with room for 9 at a time
+  EXPECT_EQ(stats.builds, stats.evictions + stats.tiles_holding_data);  // each tile built once, none twice
+  EXPECT_LE(most_records, 4u * 9u + 64u);
+  // The start of the walk has been given up; a new request there builds it again.
+  EXPECT_EQ(service->GetTileState({0, 1}), TileState::kMissing);
+}
+
 TEST(NavMeshService, SmallMovesAndDebrisLeaveTilesReady) {
   auto world = MakeWorld();
   AddFloor(*world, 1);
