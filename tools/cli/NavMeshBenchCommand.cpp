@@ -1,6 +1,10 @@
 // `strata bench-navmesh [LEVEL]`: per-tile gather and Recast cost, gather overhead, request-to-ready time
 // and the physics step with and without navmesh jobs (see tools/bench/NavMeshBench.h).
+// `strata bench-navmesh --open-world`: agents walking across a generated world larger than the tile budget
+// (see tools/bench/OpenWorldBench.h).
+#include "navmesh/NavMeshService.h"
 #include "tools/bench/NavMeshBench.h"
+#include "tools/bench/OpenWorldBench.h"
 #include "tools/cli/Commands.h"
 #include "tools/cli/NavMeshOptions.h"
 
@@ -19,7 +23,41 @@ std::function<int()> AddNavMeshBenchCommand(CLI::App& app) {
   command->add_option("--navmesh-threads", options->navmesh_threads, "navmesh threads")
       ->capture_default_str();
   AddNavMeshSettingsOptions(*command, options->settings);
-  return [options] { return bench::RunNavMeshBench(*options); };
+
+  auto open_world = std::make_shared<bench::OpenWorldOptions>();
+  auto open_world_on = std::make_shared<bool>(false);
+  command->add_flag("--open-world", *open_world_on,
+                    "walk agents across a generated world instead (the options below; --threads and "
+                    "--navmesh-threads apply)");
+  command->add_option("--world-size", open_world->world_size, "open world: side (m)")
+      ->check(CLI::Range(100.0f, 100000.0f))
+      ->capture_default_str();
+  command->add_option("--bodies", open_world->bodies, "open world: bodies, the ground included")
+      ->check(CLI::Range(1, 1000000))
+      ->capture_default_str();
+  command->add_option("--agents", open_world->agents, "open world: agents (squads of 8)")
+      ->check(CLI::Range(1, 4096))
+      ->capture_default_str();
+  command->add_option("--walk", open_world->walk_distance, "open world: each agent's walk (m)")
+      ->check(CLI::Range(1.0f, 1.0e6f))
+      ->capture_default_str();
+  command->add_option("--agent-speed", open_world->agent_speed, "open world: m/s")
+      ->check(CLI::Range(0.1f, 1000.0f))
+      ->capture_default_str();
+  command
+      ->add_option("--request-radius", open_world->request_radius, "open world: radius of each request (m)")
+      ->check(CLI::Range(0.0f, 1000.0f))
+      ->capture_default_str();
+  command->add_option("--tile-budget", open_world->tile_budget, "open world: the service's max_tiles")
+      ->check(CLI::Range(1, navmesh::NavMeshService::kMaxTiles))
+      ->capture_default_str();
+  return [options, open_world, open_world_on] {
+    if (!*open_world_on) return bench::RunNavMeshBench(*options);
+    open_world->physics_threads = options->physics_threads;
+    open_world->navmesh_threads = options->navmesh_threads;
+    open_world->settings = options->settings;
+    return bench::RunOpenWorldBench(*open_world);
+  };
 }
 
 }  // namespace strata::cli

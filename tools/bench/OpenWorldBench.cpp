@@ -1,0 +1,239 @@
+#include "tools/bench/OpenWorldBench.h"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <random>
+#include <thread>
+#include <vector>
+
+#include "navmesh/NavMeshService.h"
+#include "physics/body/BodyInterface.h"
+#include "physics/body/BodyManager.h"
+#include "physics/shapes/BoxShape.h"
+#include "physics/world/PhysicsSystem.h"
+
+namespace strata::bench {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+constexpr float kStep = 1.0f / 60.0f;
+constexpr int kSquadSize = 8;
+constexpr int kRequestEverySteps = 30;
+
+double Milliseconds(Clock::duration duration) {
+  return std::chrono::duration<double, std::milli>(duration).count();
+}
+
+double ResidentMegabytes() {
+  std::ifstream statm("/proc/self/statm");
+  long pages = 0, resident = 0;
+  statm >> pages >> resident;
+  return static_cast<double>(resident) * static_cast<double>(::sysconf(_SC_PAGESIZE)) / (1024.0 * 1024.0);
+}
+
+/// A flat ground, static boxes of many sizes (rocks, walls, huts) and one crate in ten bodies resting on the
+/// ground (small dynamic bodies: debris the navmesh leaves out; they fall asleep).
+Status Populate(PhysicsSystem& world, const OpenWorldOptions& options, std::mt19937& random) {
+  const float size = options.world_size;
+  BodyCreationSettings ground;
+  ground.shape = *BoxShape::Create(Vec3(0.5f * size, 0.5f, 0.5f * size));
+  ground.position = Vec3(0.5f * size, -0.5f, 0.5f * size);
+  ground.motion_type = MotionType::kStatic;
+  ground.object_layer = layers::kNonMoving;
+  if (Result<BodyID> added = world.bodies().CreateAndAddBody(ground); !added) return added.error();
+
+  std::uniform_real_distribution<float> place(5.0f, size - 5.0f);
+  std::uniform_real_distribution<float> side(0.3f, 2.0f);
+  std::uniform_real_distribution<float> height(0.5f, 3.0f);
+  std::uniform_real_distribution<float> angle(0.0f, 6.2831853f);
+  const int crates = (options.bodies - 1) / 10;
+  const int obstacles = options.bodies - 1 - crates;
+  const ShapeRef crate = *BoxShape::Create(Vec3(0.3f, 0.3f, 0.3f));
+  std::vector<BodyID> batch;
+  const auto flush = [&](Activation activation) -> Status {
+    Status added = world.bodies().AddBodies(batch, activation);
+    batch.clear();
+    return added;
+  };
+  for (int i = 0; i < obstacles + crates; ++i) {
+    const bool is_crate = i >= obstacles;
+    BodyCreationSettings body;
+    if (is_crate) {
+      body.shape = crate;
+      body.position = Vec3(place(random), 0.3f, place(random));
+      body.motion_type = MotionType::kDynamic;
+      body.object_layer = layers::kMoving;
+    } else {
+      const Vec3 half(side(random), height(random), side(random));
+      body.shape = *BoxShape::Create(half);
+      body.position = Vec3(place(random), half.y(), place(random));
+      body.motion_type = MotionType::kStatic;
+      body.object_layer = layers::kNonMoving;
+    }
+    body.rotation = Quat(Eigen::AngleAxisf(angle(random), Vec3::UnitY()));
+    Result<BodyID> id = world.bodies().CreateBody(body);
+    if (!id) return id.error();
+    batch.push_back(*id);
+    if (batch.size() == 1024 || i + 1 == obstacles || i + 1 == obstacles + crates)
+      if (Status added = flush(is_crate ? Activation::kActivate : Activation::kDontActivate); !added)
+        return added;
+  }
+  world.broad_phase().Optimize();
+  return Status::Ok();
+}
+
+struct Agent {
+  Vec3 position;
+  Vec3 direction;  ///< unit, in the x-z plane
+};
+
+/// Squads of up to eight, each somewhere in the world heading its own way, its agents a few metres apart.
+std::vector<Agent> MakeAgents(const OpenWorldOptions& options, std::mt19937& random) {
+  std::uniform_real_distribution<float> place(50.0f, options.world_size - 50.0f);
+  std::uniform_real_distribution<float> angle(0.0f, 6.2831853f);
+  std::uniform_real_distribution<float> spread(-6.0f, 6.0f);
+  std::vector<Agent> agents;
+  Vec3 squad_position = Vec3::Zero(), squad_direction = Vec3::UnitX();
+  for (int i = 0; i < options.agents; ++i) {
+    if (i % kSquadSize == 0) {
+      const float heading = angle(random);
+      squad_position = Vec3(place(random), 0.0f, place(random));
+      squad_direction = Vec3(std::cos(heading), 0.0f, std::sin(heading));
+    }
+    agents.push_back({squad_position + Vec3(spread(random), 0.0f, spread(random)), squad_direction});
+  }
+  return agents;
+}
+
+/// One step of walking; an agent that reaches the world's margin turns back (mirror bounce).
+void Walk(Agent& agent, float distance, float world_size) {
+  agent.position += agent.direction * distance;
+  for (const int axis : {0, 2}) {
+    float& coordinate = agent.position[axis];
+    if (coordinate < 10.0f || coordinate > world_size - 10.0f) {
+      agent.direction[axis] = -agent.direction[axis];
+      coordinate = std::clamp(coordinate, 10.0f, world_size - 10.0f);
+    }
+  }
+}
+
+struct Snapshot {
+  int step = 0;
+  double resident_mb = 0.0;
+  navmesh::NavMeshServiceStats stats;
+};
+
+}  // namespace
+
+int RunOpenWorldBench(const OpenWorldOptions& options) {
+  if (Status valid = options.settings.Validate(); !valid) {
+    std::fprintf(stderr, "strata bench-navmesh: %s\n", valid.message().c_str());
+    return 2;
+  }
+  PhysicsSystemConfig config;
+  config.max_bodies = static_cast<std::uint32_t>(options.bodies) + 16;
+  config.thread_count = options.physics_threads;
+  auto created = PhysicsSystem::Create(config);
+  if (!created) {
+    std::fprintf(stderr, "strata bench-navmesh: %s\n", created.error().message.c_str());
+    return 2;
+  }
+  PhysicsSystem& world = **created;
+  std::mt19937 random(options.seed);
+  const Clock::time_point populate_start = Clock::now();
+  if (Status populated = Populate(world, options, random); !populated) {
+    std::fprintf(stderr, "strata bench-navmesh: %s\n", populated.message().c_str());
+    return 2;
+  }
+  const double populate_ms = Milliseconds(Clock::now() - populate_start);
+
+  navmesh::NavMeshServiceConfig service_config;
+  service_config.settings = options.settings;
+  service_config.worker_threads = options.navmesh_threads;
+  service_config.max_tiles = options.tile_budget;
+  auto service = navmesh::NavMeshService::Create(world, service_config);
+  if (!service) {
+    std::fprintf(stderr, "strata bench-navmesh: %s\n", service.error().message.c_str());
+    return 2;
+  }
+  std::vector<Agent> agents = MakeAgents(options, random);
+  const float step_distance = options.agent_speed * kStep;
+  const int steps = static_cast<int>(std::ceil(options.walk_distance / step_distance));
+  std::printf(
+      "open world: %.0f m x %.0f m, %zu bodies (populated in %.0f ms), %d agents in squads of %d walking "
+      "%.0f m at %.1f m/s (%d steps), requests of %.1f m every %d steps, tile budget %d; %d physics "
+      "thread(s), %d navmesh thread(s)\n",
+      options.world_size, options.world_size, world.body_count_in_world(), populate_ms, options.agents,
+      kSquadSize, options.walk_distance, options.agent_speed, steps, options.request_radius,
+      kRequestEverySteps, options.tile_budget, options.physics_threads, options.navmesh_threads);
+
+  std::vector<Snapshot> snapshots{{0, ResidentMegabytes(), (*service)->stats()}};
+  std::size_t checks = 0, on_ready = 0, most_held = 0, late_frames = 0;
+  double longest_request_ms = 0.0, step_ms_total = 0.0, longest_step_ms = 0.0;
+  const std::uint64_t lock_wait_start = ThreadBodyLockWaitNanoseconds();
+  const Clock::time_point walk_start = Clock::now();
+  for (int step = 0; step < steps; ++step) {
+    if (step % kRequestEverySteps == 0) {
+      for (const Agent& agent : agents) {
+        ++checks;
+        on_ready +=
+            (*service)->GetTileState((*service)->grid().TileAt(agent.position)) == navmesh::TileState::kReady;
+        const Clock::time_point request_start = Clock::now();
+        (void)(*service)->RequestAround(agent.position, options.request_radius);
+        longest_request_ms = std::max(longest_request_ms, Milliseconds(Clock::now() - request_start));
+      }
+      most_held = std::max(most_held, (*service)->stats().tiles_holding_data);
+    }
+    const Clock::time_point step_start = Clock::now();
+    if (Status stepped = world.Step(kStep); !stepped) {
+      std::fprintf(stderr, "strata bench-navmesh: %s\n", stepped.message().c_str());
+      return 2;
+    }
+    const double step_ms = Milliseconds(Clock::now() - step_start);
+    step_ms_total += step_ms;
+    longest_step_ms = std::max(longest_step_ms, step_ms);
+    for (Agent& agent : agents) Walk(agent, step_distance, options.world_size);
+    // Frames at 60 Hz of wall time, as in a game: the service builds while the frame waits for its slot.
+    const Clock::time_point frame_end = walk_start + std::chrono::duration_cast<Clock::duration>(
+                                                         std::chrono::duration<double>(kStep * (step + 1)));
+    if (Clock::now() > frame_end) ++late_frames;
+    std::this_thread::sleep_until(frame_end);
+    if ((step + 1) % std::max(1, steps / 4) == 0 || step + 1 == steps)
+      snapshots.push_back({step + 1, ResidentMegabytes(), (*service)->stats()});
+  }
+  const double walk_ms = Milliseconds(Clock::now() - walk_start);
+  const double lock_wait_ms = static_cast<double>(ThreadBodyLockWaitNanoseconds() - lock_wait_start) * 1e-6;
+  (void)(*service)->WaitUntilIdle(std::chrono::seconds(60));
+  const navmesh::NavMeshServiceStats stats = (*service)->stats();
+  most_held = std::max(most_held, stats.tiles_holding_data);
+
+  std::printf(
+      "walk: %.0f ms wall for %.0f s simulated (60 Hz frames, %zu late); step %.3f ms mean, %.3f ms max; "
+      "step blocked on body locks %.3f ms in all; longest RequestAround %.3f ms\n",
+      walk_ms, steps * static_cast<double>(kStep), late_frames, step_ms_total / std::max(1, steps),
+      longest_step_ms, lock_wait_ms, longest_request_ms);
+  std::printf("tiles: %zu built, %zu evictions, %zu failures; at most %zu of the %d-tile budget held\n",
+              stats.builds, stats.evictions, stats.failures, most_held, options.tile_budget);
+  std::printf("agents on a ready tile when they asked again: %.1f%% of %zu checks\n",
+              checks == 0 ? 0.0 : 100.0 * static_cast<double>(on_ready) / static_cast<double>(checks),
+              checks);
+  std::printf("memory over the walk (resident MB / tiles built / held):");
+  for (const Snapshot& snapshot : snapshots)
+    std::printf("  step %d: %.1f / %zu / %zu", snapshot.step, snapshot.resident_mb, snapshot.stats.builds,
+                snapshot.stats.tiles_holding_data);
+  std::printf("\n");
+  if (stats.failures > 0) {
+    std::fprintf(stderr, "strata bench-navmesh: %zu tile builds failed: %s\n", stats.failures,
+                 (*service)->last_error().c_str());
+    return 1;
+  }
+  return 0;
+}
+
+}  // namespace strata::bench

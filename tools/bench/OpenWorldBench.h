@@ -1,0 +1,29 @@
+// OpenWorldBench: agents walking across a generated open world far larger than the navmesh tile budget.
+// Squads of agents walk (bouncing off the world's edges) and ask for the tiles around them while the world
+// steps; the service builds them in the background and evicts the ones left behind. Prints steps, builds,
+// evictions, failures, tiles held, how often an agent stood on a ready tile, and memory over the walk.
+// Call from the main thread.
+#pragma once
+
+#include "navmesh/NavMeshSettings.h"
+
+namespace strata::bench {
+
+struct OpenWorldOptions {
+  float world_size = 2000.0f;     ///< side of the square world (m)
+  int bodies = 20000;             ///< static obstacles and resting crates, the ground included
+  int agents = 64;                ///< in squads of up to 8 that walk together
+  float walk_distance = 2000.0f;  ///< each agent's walk (m)
+  float agent_speed = 25.0f;      ///< m/s; frames are 1/60 s of wall time, as in a game (2 km: 80 s)
+  float request_radius = 8.0f;    ///< each agent asks for the tiles this close, twice a second
+  int tile_budget = 256;          ///< the service's max_tiles
+  int physics_threads = 1;
+  int navmesh_threads = 1;
+  unsigned seed = 7;
+  navmesh::NavMeshSettings settings;
+};
+
+/// Runs the walk and prints its figures; returns a process exit code (1 when a tile failed to build).
+int RunOpenWorldBench(const OpenWorldOptions& options);
+
+}  // namespace strata::bench
