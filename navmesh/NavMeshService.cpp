@@ -176,8 +176,9 @@ void NavMeshService::Submit(std::vector<PendingRequest> requests) {
   {
     const std::lock_guard lock(front_mutex_);
     for (const PendingRequest& request : requests) {
-      TileState& state = front_states_[request.tile];
-      if (state == TileState::kMissing) state = TileState::kQueued;
+      const auto found = front_states_.find(request.tile);
+      if (found == front_states_.end() || found->second == TileState::kMissing)
+        SetFrontState(request.tile, TileState::kQueued);
     }
     inbox_.insert(inbox_.end(), requests.begin(), requests.end());
   }
@@ -201,7 +202,50 @@ void NavMeshService::DrainInbox() {
 void NavMeshService::SetState(TileCoord tile, TileRecord& record, TileState state) {
   record.state = state;
   const std::lock_guard lock(front_mutex_);
-  front_states_[tile] = state;
+  SetFrontState(tile, state);
+}
+
+namespace {
+std::size_t* CountOf(NavMeshServiceStats& stats, TileState state) {
+  switch (state) {
+    case TileState::kQueued:
+      return &stats.queued;
+    case TileState::kBuilding:
+      return &stats.building;
+    case TileState::kReady:
+      return &stats.ready;
+    case TileState::kStale:
+      return &stats.stale;
+    case TileState::kMissing:
+      return nullptr;
+  }
+  return nullptr;
+}
+}  // namespace
+
+void NavMeshService::SetFrontState(TileCoord tile, TileState state) {
+  TileState& front = front_states_[tile];
+  if (std::size_t* count = CountOf(front_stats_, front)) --*count;
+  if (std::size_t* count = CountOf(front_stats_, state)) ++*count;
+  front = state;
+}
+
+void NavMeshService::ForgetFrontState(TileCoord tile) {
+  const std::lock_guard lock(front_mutex_);
+  const auto found = front_states_.find(tile);
+  if (found == front_states_.end()) return;
+  if (std::size_t* count = CountOf(front_stats_, found->second)) --*count;
+  front_states_.erase(found);
+}
+
+void NavMeshService::MirrorCounters() {
+  const std::lock_guard lock(front_mutex_);
+  front_stats_.builds = counters_.builds;
+  front_stats_.rebuilds = counters_.rebuilds;
+  front_stats_.failures = counters_.failures;
+  front_stats_.scans = counters_.scans;
+  front_stats_.evictions = counters_.evictions;
+  front_stats_.tiles_holding_data = static_cast<std::size_t>(tiles_holding_data_);
 }
 
 Status NavMeshService::Invalidate(const AABB& box) {
@@ -275,16 +319,8 @@ bool NavMeshService::WaitUntilIdle(std::chrono::milliseconds timeout) const {
 }
 
 NavMeshServiceStats NavMeshService::stats() const {
-  const std::lock_guard lock(mutex_);
-  NavMeshServiceStats stats = counters_;
-  stats.tiles_holding_data = static_cast<std::size_t>(tiles_holding_data_);
-  for (const auto& [coord, record] : tiles_) {
-    stats.queued += record.state == TileState::kQueued;
-    stats.building += record.state == TileState::kBuilding;
-    stats.ready += record.state == TileState::kReady;
-    stats.stale += record.state == TileState::kStale;
-  }
-  return stats;
+  const std::lock_guard lock(front_mutex_);
+  return front_stats_;
 }
 
 std::vector<TileBuildRecord> NavMeshService::build_log() const {
@@ -371,6 +407,7 @@ void NavMeshService::BuildOne(TileCoord tile) {
       log_.push_back(record);
     }
     ForgetOldRecords();
+    MirrorCounters();
   }
   state_changed_.notify_all();
 }
@@ -403,10 +440,7 @@ Status NavMeshService::MakeRoom(TileCoord tile) {
   navmesh_->RemoveTile(victim->first);
   --tiles_holding_data_;
   ++counters_.evictions;
-  {
-    const std::lock_guard lock(front_mutex_);
-    front_states_.erase(victim->first);
-  }
+  ForgetFrontState(victim->first);
   tiles_.erase(victim);
   return Status::Ok();
 }
@@ -424,10 +458,7 @@ void NavMeshService::ForgetOldRecords() {
       if (oldest == tiles_.end() || EvictsBefore(record, oldest->second)) oldest = it;
     }
     if (oldest == tiles_.end()) return;
-    {
-      const std::lock_guard lock(front_mutex_);
-      front_states_.erase(oldest->first);
-    }
+    ForgetFrontState(oldest->first);
     tiles_.erase(oldest);
   }
 }
@@ -476,6 +507,7 @@ void NavMeshService::ScannerLoop() {
       record.stale_since = Clock::now();
     }
     ++counters_.scans;
+    MirrorCounters();
   }
 }
 

@@ -2,8 +2,8 @@
 // Agents call RequestAround; the service's own worker threads (never the physics step's) gather each tile
 // from a pinned broad-phase generation, build it with Recast and publish it into the NavMesh. A scanner
 // thread marks ready tiles stale when counted bodies in them are added, removed or moved, and queues
-// them again after a debounce delay. Every public method is thread-safe. RequestAround, RequestBox and
-// GetTileState touch only a small front lock that the service's low-priority threads hold for a few
+// them again after a debounce delay. Every public method is thread-safe. RequestAround, RequestBox,
+// GetTileState and stats touch only a small front lock that the service's low-priority threads hold for a few
 // instructions, so a game thread never waits behind a job or a scan.
 #pragma once
 
@@ -112,6 +112,7 @@ class NavMeshService {
   NavMesh& navmesh() { return *navmesh_; }
   const TileGrid& grid() const { return grid_; }
   const NavMeshServiceConfig& config() const { return config_; }
+  /// Touches only the front lock (counts kept as states change), so a game thread may poll it every frame.
   NavMeshServiceStats stats() const;
   /// Every finished build so far, in the order they finished.
   std::vector<TileBuildRecord> build_log() const;
@@ -147,6 +148,9 @@ class NavMeshService {
   void DrainInbox();                                                    // mutex_ held
   void Enqueue(TileCoord tile, float priority, Clock::time_point now);  // mutex_ held
   void SetState(TileCoord tile, TileRecord& record, TileState state);   // mutex_ held
+  void SetFrontState(TileCoord tile, TileState state);                  // front_mutex_ held
+  void ForgetFrontState(TileCoord tile);                                // takes front_mutex_
+  void MirrorCounters();                                                // mutex_ held; takes front_mutex_
   Status MakeRoom(TileCoord tile);  // mutex_ held: evicts a published tile if the budget is full
   void ForgetOldRecords();          // mutex_ held: bounds the records of tiles that hold nothing
   void WorkerLoop();
@@ -178,6 +182,7 @@ class NavMeshService {
   mutable std::mutex front_mutex_;
   std::vector<PendingRequest> inbox_;
   std::map<TileCoord, TileState> front_states_;
+  NavMeshServiceStats front_stats_;  // state counts kept with front_states_, counters mirrored from the back
   std::atomic<std::uint64_t> work_epoch_{0};  // bumped (and waited on) whenever workers may have work
 
   std::vector<std::thread> workers_;

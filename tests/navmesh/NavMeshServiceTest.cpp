@@ -136,6 +136,11 @@ TEST(NavMeshService, AnAgentWalksAcrossAWorldLargerThanTheTileBudget) {
     ASSERT_TRUE(ahead.ok()) << x << ": " << ahead.error().message;
     EXPECT_TRUE(ahead->reached_end) << x;
     most_records = std::max(most_records, static_cast<std::size_t>(stats.queued + stats.ready + stats.stale));
+    // The counts stats() keeps as states change agree with the states themselves, evictions included.
+    std::size_t ready = 0;
+    for (int z = -1; z <= 3; ++z)
+      for (int tx = -1; tx <= 20; ++tx) ready += service->GetTileState({tx, z}) == TileState::kReady;
+    EXPECT_EQ(stats.ready, ready) << x;
   }
   const navmesh::NavMeshServiceStats stats = service->stats();
   EXPECT_GE(stats.evictions, 40u);  // 60 tiles built with room for 9 at a time
