@@ -108,27 +108,37 @@ void BenchTiles(const BenchWorld& bench, const NavMeshBenchOptions& options) {
   (void)gather_total;
 }
 
+/// A service sized for the bench level; the reason on standard error when it cannot be made.
+std::unique_ptr<navmesh::NavMeshService> MakeLevelService(const BenchWorld& bench,
+                                                          const navmesh::NavMeshServiceConfig& config) {
+  Result<navmesh::NavMeshServiceConfig> level_config = navmesh::ConfigForLevel(config, bench.level.bounds);
+  if (!level_config) {
+    std::fprintf(stderr, "strata bench-navmesh: %s\n", level_config.error().message.c_str());
+    return nullptr;
+  }
+  auto service = navmesh::NavMeshService::Create(*bench.world, *level_config);
+  if (!service) {
+    std::fprintf(stderr, "strata bench-navmesh: %s\n", service.error().message.c_str());
+    return nullptr;
+  }
+  return std::move(*service);
+}
+
 /// One agent asks for the tiles around it; how long until each is published.
 void BenchRequestToReady(const BenchWorld& bench, const NavMeshBenchOptions& options) {
   navmesh::NavMeshServiceConfig config;
   config.settings = options.settings;
   config.worker_threads = options.navmesh_threads;
-  const Result<navmesh::NavMeshServiceConfig> level_config =
-      navmesh::ConfigForLevel(config, bench.level.bounds);
-  if (!level_config) {
-    std::fprintf(stderr, "strata bench-navmesh: %s\n", level_config.error().message.c_str());
-    return;
-  }
-  auto service = navmesh::NavMeshService::Create(*bench.world, *level_config);
+  auto service = MakeLevelService(bench, config);
   if (!service) return;
   const Vec3 agent = bench.level.bounds.Center();
   const Clock::time_point start = Clock::now();
-  (void)(*service)->RequestAround(agent, 20.0f);
-  (*service)->WaitUntilIdle(std::chrono::seconds(120));
+  (void)service->RequestAround(agent, 20.0f);
+  service->WaitUntilIdle(std::chrono::seconds(120));
   const double all_ms = Milliseconds(Clock::now() - start);
   std::vector<double> ready_ms;
   double longest_publish_ms = 0.0;
-  for (const auto& record : (*service)->build_log()) {
+  for (const auto& record : service->build_log()) {
     ready_ms.push_back(record.request_to_ready_ms);
     longest_publish_ms = std::max(longest_publish_ms, record.publish_ms);
   }
@@ -153,16 +163,10 @@ void BenchStepWithJobs(BenchWorld& bench, const NavMeshBenchOptions& options) {
   config.settings = options.settings;
   config.worker_threads = options.navmesh_threads;
   config.rebuild_delay = std::chrono::milliseconds(0);
-  const Result<navmesh::NavMeshServiceConfig> level_config =
-      navmesh::ConfigForLevel(config, bench.level.bounds);
-  if (!level_config) {
-    std::fprintf(stderr, "strata bench-navmesh: %s\n", level_config.error().message.c_str());
-    return;
-  }
-  auto service = navmesh::NavMeshService::Create(*bench.world, *level_config);
+  auto service = MakeLevelService(bench, config);
   if (!service) return;
-  (void)(*service)->RequestBox(bench.level.bounds);
-  (*service)->WaitUntilIdle(std::chrono::seconds(120));
+  (void)service->RequestBox(bench.level.bounds);
+  service->WaitUntilIdle(std::chrono::seconds(120));
   for (int i = 0; i < 120; ++i) (void)bench.world->Step(1.0f / 60.0f);  // let the crates land first
 
   StepFigures with_jobs, without_jobs;
@@ -170,10 +174,10 @@ void BenchStepWithJobs(BenchWorld& bench, const NavMeshBenchOptions& options) {
   for (int block = 0; block < options.step_blocks; ++block) {
     const bool jobs = block % 2 == 0;
     StepFigures& figures = jobs ? with_jobs : without_jobs;
-    const std::size_t builds_before = (*service)->stats().builds;
+    const std::size_t builds_before = service->stats().builds;
     for (int i = 0; i < options.steps_per_block; ++i) {
       // Keep the workers busy: whenever they run dry, every tile goes stale again.
-      if (jobs && (*service)->stats().queued == 0) (void)(*service)->Invalidate(bench.level.bounds);
+      if (jobs && service->stats().queued == 0) (void)service->Invalidate(bench.level.bounds);
       const std::uint64_t wait_before = ThreadBodyLockWaitNanoseconds();
       const Clock::time_point start = Clock::now();
       (void)bench.world->Step(1.0f / 60.0f);
@@ -183,11 +187,11 @@ void BenchStepWithJobs(BenchWorld& bench, const NavMeshBenchOptions& options) {
       figures.max_step_lock_wait_ms = std::max(figures.max_step_lock_wait_ms, waited_ms);
     }
     if (jobs) {
-      builds_during += (*service)->stats().builds - builds_before;
+      builds_during += service->stats().builds - builds_before;
     } else {
-      (*service)->WaitUntilIdle(std::chrono::seconds(120));
+      service->WaitUntilIdle(std::chrono::seconds(120));
     }
-    if (jobs) (*service)->WaitUntilIdle(std::chrono::seconds(120));
+    if (jobs) service->WaitUntilIdle(std::chrono::seconds(120));
   }
   const auto print = [](const char* name, const StepFigures& figures) {
     double sum = 0.0;
