@@ -108,6 +108,9 @@ Result<std::unique_ptr<NavMeshService>> NavMeshService::Create(const PhysicsSyst
 NavMeshService::NavMeshService(const PhysicsSystem& world, const NavMeshServiceConfig& config,
                                std::unique_ptr<NavMesh> navmesh)
     : world_(world), config_(config), grid_(config.settings.tile_size()), navmesh_(std::move(navmesh)) {
+  // Here, on the creator's thread: enabling copies the bodies already in the world under their locks, the
+  // only body locks the service ever takes.
+  world_.body_snapshots().Enable(world_.body_manager());
   for (int i = 0; i < config_.worker_threads; ++i)
     workers_.emplace_back([this] {
       LowerThisThreadPriority(config_.thread_niceness);

@@ -2,55 +2,76 @@
 
 #include <algorithm>
 
-#include "physics/body/BodyManager.h"
+#include "physics/shapes/BoxShape.h"
 #include "physics/world/PhysicsSystem.h"
 
 namespace strata::navmesh {
 
 namespace {
 
-class IdCollector final : public BroadPhaseCollector {
- public:
-  void AddHit(BodyID id, float) override { ids.push_back(id); }
-  std::vector<BodyID> ids;
-};
-
-/// Body ids overlapping `box`, through a pinned generation so the tree cannot be freed under the walk.
-std::vector<BodyID> QueryBox(const PhysicsSystem& world, const AABB& box, const NavMeshBodyFilter& filter) {
-  const BroadPhase& broad_phase = world.broad_phase();
-  const BroadPhasePin pin = broad_phase.Pin();
-  IdCollector collector;
-  broad_phase.CollideAABB(pin, box, QueryFilter{filter.object_layers, BodyID::kInvalidIndex}, collector);
-  std::sort(collector.ids.begin(), collector.ids.end());
-  collector.ids.erase(std::unique(collector.ids.begin(), collector.ids.end()), collector.ids.end());
-  return std::move(collector.ids);
-}
-
-/// What a gather copies out of a body under its read lock.
-struct BodyCopy {
-  bool counts = false;
-  ShapeRef shape;
-  Pose pose;
+/// A body the broad phase holds in the box, with the bounds it holds for it.
+struct Candidate {
+  BodyID id;
   AABB bounds;
 };
 
-/// The broad phase's bounds may be wider than the body's (motion margins); only the body's own bounds decide,
-/// so a gather and a later dirty check agree on who is in the box.
-BodyCopy CopyBody(const PhysicsSystem& world, BodyID id, const AABB& box, const NavMeshBodyFilter& filter) {
-  const BodyLockRead lock(world.body_manager(), id);
-  if (!lock.Succeeded()) return {};
-  const Body& body = lock.body();
-  if (!body.in_world() || !filter.Counts(body) || !body.world_bounds().Overlaps(box)) return {};
-  return {true, body.shape(), body.pose(), body.world_bounds()};
+class CandidateCollector final : public BroadPhaseCollector {
+ public:
+  void AddHit(BodyID id, float) override { candidates.push_back({id, AABB()}); }
+  void AddOverlap(BodyID id, const AABB& bounds) override { candidates.push_back({id, bounds}); }
+  std::vector<Candidate> candidates;
+};
+
+/// Bodies overlapping `box`, in id order, through a pinned generation so the tree cannot be freed under the
+/// walk.
+std::vector<Candidate> QueryBox(const PhysicsSystem& world, const AABB& box,
+                                const NavMeshBodyFilter& filter) {
+  const BroadPhase& broad_phase = world.broad_phase();
+  const BroadPhasePin pin = broad_phase.Pin();
+  CandidateCollector collector;
+  broad_phase.CollideAABB(pin, box, QueryFilter{filter.object_layers, BodyID::kInvalidIndex}, collector);
+  std::vector<Candidate>& candidates = collector.candidates;
+  std::sort(candidates.begin(), candidates.end(),
+            [](const Candidate& a, const Candidate& b) { return a.id < b.id; });
+  candidates.erase(std::unique(candidates.begin(), candidates.end(),
+                               [](const Candidate& a, const Candidate& b) { return a.id == b.id; }),
+                   candidates.end());
+  return std::move(candidates);
+}
+
+/// The broad phase's bounds are six floats read while a foreground thread may be writing them: a read that
+/// straddles a move can mix two boxes, so take the box spanning both corners.
+AABB SpanningBox(const AABB& bounds) {
+  return {bounds.min.cwiseMin(bounds.max), bounds.min.cwiseMax(bounds.max)};
+}
+
+/// What a body gives a tile: static bodies their exact shape (from the snapshot BodyInterface published),
+/// moving bodies the box the broad phase holds for them (their pose is the step's, read by nobody here).
+struct CountedBody {
+  bool counts = false;
+  bool exact = false;
+  BodySnapshot snapshot;
+  AABB bounds;
+};
+
+/// No body lock: the snapshot table and the broad phase are all a job reads, so the step never waits on it.
+CountedBody Inspect(const PhysicsSystem& world, const Candidate& candidate, const AABB& box,
+                    const NavMeshBodyFilter& filter) {
+  std::optional<BodySnapshot> snapshot = world.body_snapshots().Read(candidate.id);
+  if (!snapshot) return {};  // not in the world (yet, or any more)
+  const bool exact = snapshot->motion_type == MotionType::kStatic;
+  const AABB bounds = exact ? snapshot->bounds : SpanningBox(candidate.bounds);
+  if (!filter.Counts(snapshot->motion_type, snapshot->object_layer, bounds) || !bounds.Overlaps(box))
+    return {};
+  return {true, exact, std::move(*snapshot), bounds};
 }
 
 }  // namespace
 
-bool NavMeshBodyFilter::Counts(const Body& body) const {
-  const ObjectLayer layer = body.object_layer();
+bool NavMeshBodyFilter::Counts(MotionType motion_type, ObjectLayer layer, const AABB& bounds) const {
   if (layer < 64 && ((object_layers >> layer) & 1u) == 0) return false;
-  if (!body.IsDynamic()) return true;
-  return body.world_bounds().Size().maxCoeff() >= min_dynamic_size;
+  if (motion_type != MotionType::kDynamic) return true;
+  return bounds.Size().maxCoeff() >= min_dynamic_size;
 }
 
 bool SolidVolume::Contains(const Vec3& point, float margin) const {
@@ -61,11 +82,11 @@ bool SolidVolume::Contains(const Vec3& point, float margin) const {
 
 namespace {
 
-SolidVolume MakeSolid(const BodyCopy& copy) {
+SolidVolume MakeSolid(const Shape& shape, const Pose& pose, const AABB& bounds) {
   SolidVolume solid;
-  solid.bounds = copy.bounds;
+  solid.bounds = bounds;
   std::vector<Triangle> faces;
-  copy.shape->GetTrianglesInBox(copy.bounds.Expanded(0.01f), copy.pose, faces);
+  shape.GetTrianglesInBox(bounds.Expanded(0.01f), pose, faces);
   for (const Triangle& face : faces) {
     const Vec3 normal = (face.vertices[1] - face.vertices[0]).cross(face.vertices[2] - face.vertices[0]);
     if (normal.squaredNorm() < 1e-12f) continue;
@@ -73,6 +94,27 @@ SolidVolume MakeSolid(const BodyCopy& copy) {
     solid.planes.push_back({unit, unit.dot(face.vertices[0])});
   }
   return solid;
+}
+
+/// A moving body's box is never flat, so its faces stay triangles Recast can rasterize.
+constexpr float kMinHalfExtent = 1e-3f;
+
+/// Adds `body`'s triangles inside `box` and, for a convex body, its volume.
+void AddBody(const CountedBody& body, const AABB& box, TileGeometry& geometry,
+             std::vector<Triangle>& triangles) {
+  geometry.bodies.push_back({body.snapshot.id, body.bounds});
+  triangles.clear();
+  if (body.exact) {
+    const Shape& shape = *body.snapshot.shape;
+    if (shape.IsConvex()) geometry.solids.push_back(MakeSolid(shape, body.snapshot.pose, body.bounds));
+    shape.GetTrianglesInBox(box, body.snapshot.pose, triangles);
+  } else {
+    const BoxShape obstacle(body.bounds.HalfExtents().cwiseMax(kMinHalfExtent));
+    const Pose at_center{body.bounds.Center(), Quat::Identity()};
+    geometry.solids.push_back(MakeSolid(obstacle, at_center, body.bounds));
+    obstacle.GetTrianglesInBox(box, at_center, triangles);
+  }
+  for (const Triangle& triangle : triangles) geometry.AddTriangle(triangle);
 }
 
 }  // namespace
@@ -88,26 +130,23 @@ void TileGeometry::AddTriangle(const Triangle& triangle) {
 
 TileGeometry GatherTileGeometry(const PhysicsSystem& world, const AABB& box,
                                 const NavMeshBodyFilter& filter) {
+  world.body_snapshots().Enable(world.body_manager());
   TileGeometry geometry;
   std::vector<Triangle> triangles;
-  for (const BodyID id : QueryBox(world, box, filter)) {
-    const BodyCopy copy = CopyBody(world, id, box, filter);
-    if (!copy.counts) continue;
-    geometry.bodies.push_back({id, copy.bounds});
-    if (copy.shape->IsConvex()) geometry.solids.push_back(MakeSolid(copy));
-    triangles.clear();
-    copy.shape->GetTrianglesInBox(box, copy.pose, triangles);
-    for (const Triangle& triangle : triangles) geometry.AddTriangle(triangle);
+  for (const Candidate& candidate : QueryBox(world, box, filter)) {
+    const CountedBody body = Inspect(world, candidate, box, filter);
+    if (body.counts) AddBody(body, box, geometry, triangles);
   }
   return geometry;
 }
 
 std::vector<GatheredBody> FindCountedBodies(const PhysicsSystem& world, const AABB& box,
                                             const NavMeshBodyFilter& filter) {
+  world.body_snapshots().Enable(world.body_manager());
   std::vector<GatheredBody> bodies;
-  for (const BodyID id : QueryBox(world, box, filter)) {
-    const BodyCopy copy = CopyBody(world, id, box, filter);
-    if (copy.counts) bodies.push_back({id, copy.bounds});
+  for (const Candidate& candidate : QueryBox(world, box, filter)) {
+    const CountedBody body = Inspect(world, candidate, box, filter);
+    if (body.counts) bodies.push_back({candidate.id, body.bounds});
   }
   return bodies;
 }

@@ -1,7 +1,8 @@
-// TileGather: collects the world-space triangles a navmesh tile is built from. It pins a broad-phase
-// generation, queries the tile's box, and for each body that counts holds the body's read lock only to copy
-// its shape reference and pose; triangles are produced after unlocking. Safe from any thread, at any time
-// (also while the world steps and other threads add, remove and move bodies).
+// TileGather: collects the world-space triangles a navmesh tile is built from, without taking a body lock
+// (so a physics step never waits on it). It pins a broad-phase generation and queries the tile's box; static
+// bodies give their exact shape from the world's published snapshots, moving bodies the box the broad phase
+// holds for them. Safe from any thread, at any time (also while the world steps and other threads add,
+// remove and move bodies).
 #pragma once
 
 #include <cstdint>
@@ -19,11 +20,13 @@ namespace strata::navmesh {
 
 /// Which bodies shape the navmesh. By default: static and kinematic geometry, and dynamic bodies large
 /// enough to block an agent; small debris is left out. Sensors and other layers are excluded by mask.
+/// Static bodies count with their exact shape; kinematic and dynamic ones as the box of their broad-phase
+/// bounds (which include the step's motion margin), the only thing known of them without locking them.
 struct NavMeshBodyFilter {
   std::uint64_t object_layers = ~0ull;  ///< bit per object layer that may count (layers >= 64 always may)
   float min_dynamic_size = 1.5f;  ///< a dynamic body counts when its largest bounds side reaches this (m)
 
-  bool Counts(const Body& body) const;
+  bool Counts(MotionType motion_type, ObjectLayer layer, const AABB& bounds) const;
 };
 
 /// What a tile's geometry was made of: enough to tell later whether it changed.
@@ -60,7 +63,8 @@ struct TileGeometry {
 };
 
 /// Gathers the triangles of every counted body whose bounds overlap `box`, in body-index order (so the
-/// same world gives the same triangles). Bodies removed or destroyed while gathering are skipped.
+/// same world gives the same triangles). Bodies removed or destroyed while gathering are skipped. The first
+/// call on a world enables its body snapshots (NavMeshService does that up front, on its creator's thread).
 TileGeometry GatherTileGeometry(const PhysicsSystem& world, const AABB& box, const NavMeshBodyFilter& filter);
 
 /// Ids of the counted bodies overlapping `box` now, sorted (for dirty tracking).

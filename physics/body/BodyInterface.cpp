@@ -92,6 +92,7 @@ void BodyInterface::UndoAdd(std::span<const BodyID> flagged, std::span<const Bod
     BodyLockWrite lock(system_.body_manager_, id);
     lock.body().in_world_ = false;
     lock.body().sleeping_ = false;
+    system_.body_snapshots_.Withdraw(id);
   }
   system_.in_world_count_.fetch_sub(flagged.size(), std::memory_order_relaxed);
   (void)system_.broad_phase_->RemoveBodies(all);
@@ -122,6 +123,7 @@ Status BodyInterface::MarkAdded(const BodyAddBatch& batch, std::size_t i) {
   body.sleep_timer_ = 0.0f;
   if (body.sleeping_) body.sleep_island_ = system_.next_island_key_.fetch_add(1, std::memory_order_relaxed);
   system_.in_world_count_.fetch_add(1, std::memory_order_relaxed);
+  system_.body_snapshots_.Publish(body);
   // The body may have moved since it was prepared.
   const AABB bounds = system_.BroadPhaseBounds(body, 0.0f);
   if (!(bounds.min == batch.bounds[i].min && bounds.max == batch.bounds[i].max))
@@ -142,6 +144,7 @@ Status BodyInterface::RemoveBody(BodyID id) {
     body.in_world_ = false;
     body.sleeping_ = false;
     system_.in_world_count_.fetch_sub(1, std::memory_order_relaxed);
+    system_.body_snapshots_.Withdraw(id);
   }
   return ActivateBodiesInBox(vacated);
 }
@@ -209,6 +212,7 @@ Status BodyInterface::Teleport(BodyID id, const std::optional<Vec3>& position,
     if (rotation) body.pose_.rotation = rotation->normalized();
     body.UpdateWorldBounds();
     RefreshBounds(body);
+    if (body.in_world()) system_.body_snapshots_.Publish(body);
     WakeLocked(body);
     return Status::Ok();
   });

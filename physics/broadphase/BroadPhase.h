@@ -36,6 +36,13 @@ class BroadPhaseCollector {
   virtual ~BroadPhaseCollector() = default;
   /// `fraction` is where a ray or sweep enters the body's bounds, 0 for overlap queries.
   virtual void AddHit(BodyID id, float fraction) = 0;
+  /// CollideAABB reports through this, with the bounds the broad phase holds for the body (read without any
+  /// lock, so they may lag a concurrent move by one update): what a reader that must not lock bodies knows
+  /// of a moving one. By default the bounds are dropped.
+  virtual void AddOverlap(BodyID id, const AABB& bounds) {
+    (void)bounds;
+    AddHit(id, 0.0f);
+  }
 
   float early_out_fraction() const { return early_out_fraction_; }
   void SetEarlyOutFraction(float fraction) { early_out_fraction_ = fraction; }

@@ -176,7 +176,7 @@ void BruteForceBroadPhase::ForEachAccepted(const QueryFilter& filter, Visitor&& 
 void BruteForceBroadPhase::CollideAABB(const BroadPhasePin&, const AABB& box, const QueryFilter& filter,
                                        BroadPhaseCollector& collector) const {
   ForEachAccepted(filter, [&](std::size_t j) {
-    if (BoundsAt(j).Overlaps(box)) collector.AddHit(ids_[j], 0.0f);
+    if (const AABB bounds = BoundsAt(j); bounds.Overlaps(box)) collector.AddOverlap(ids_[j], bounds);
     return !collector.ShouldStop();
   });
 }

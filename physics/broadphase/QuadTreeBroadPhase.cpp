@@ -393,7 +393,8 @@ void QuadTreeBroadPhase::CollideAABB(const BroadPhasePin& pin, const AABB& box, 
         return OverlapMask(b, box);
       },
       [&](BodyID id, const BodyLocation& location, float) {
-        if (location.Bounds().Overlaps(box)) collector.AddHit(id, 0.0f);
+        const AABB bounds = location.Bounds();
+        if (bounds.Overlaps(box)) collector.AddOverlap(id, bounds);
         return !collector.ShouldStop();
       });
 }

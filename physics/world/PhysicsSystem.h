@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "physics/body/BodyManager.h"
+#include "physics/body/BodySnapshotTable.h"
 #include "physics/broadphase/BroadPhase.h"
 #include "physics/core/JobGraph.h"
 #include "physics/core/JobSystem.h"
@@ -105,6 +106,8 @@ class PhysicsSystem {
   const BodyManager& body_manager() const { return body_manager_; }
   const BroadPhase& broad_phase() const { return *broad_phase_; }
   BroadPhase& broad_phase() { return *broad_phase_; }
+  /// Lock-free copies of the bodies in the world for background readers (off until one enables it).
+  const BodySnapshotTable& body_snapshots() const { return body_snapshots_; }
 
  private:
   friend class BodyInterface;
@@ -133,6 +136,7 @@ class PhysicsSystem {
   std::shared_ptr<const LayerSetup> layers_;
   std::shared_ptr<JobSystem> jobs_;
   BodyManager body_manager_;
+  BodySnapshotTable body_snapshots_;
   std::shared_ptr<BroadPhase> broad_phase_;
   std::unique_ptr<BodyInterface> body_interface_;
   std::unique_ptr<WorldQuery> query_;

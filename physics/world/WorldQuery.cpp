@@ -10,16 +10,16 @@ namespace strata {
 namespace {
 
 // What a query copies out of a body under its read lock.
-struct BodySnapshot {
+struct LockedCopy {
   ShapeRef shape;
   Pose pose;
   AABB bounds;
 };
 
-std::optional<BodySnapshot> Snapshot(const BodyManager& manager, BodyID id) {
+std::optional<LockedCopy> CopyLocked(const BodyManager& manager, BodyID id) {
   BodyLockRead lock(manager, id);
   if (!lock.Succeeded() || !lock.body().in_world()) return std::nullopt;
-  return BodySnapshot{lock.body().shape(), lock.body().pose(), lock.body().world_bounds()};
+  return LockedCopy{lock.body().shape(), lock.body().pose(), lock.body().world_bounds()};
 }
 
 Status CheckRay(const Vec3& origin, const Vec3& direction) {
@@ -29,7 +29,7 @@ Status CheckRay(const Vec3& origin, const Vec3& direction) {
   return Status::Ok();
 }
 
-std::optional<RayCastHit> CastAgainst(const BodySnapshot& body, BodyID id, const Vec3& origin,
+std::optional<RayCastHit> CastAgainst(const LockedCopy& body, BodyID id, const Vec3& origin,
                                       const Vec3& direction, float max_fraction) {
   ShapeRayHit local;
   if (!body.shape->CastRay(body.pose.ToLocal(origin), body.pose.DirectionToLocal(direction), max_fraction,
@@ -57,7 +57,7 @@ Result<std::optional<RayCastHit>> WorldQuery::CastRay(const Vec3& origin, const 
       SetEarlyOutFraction(1.0f);
     }
     void AddHit(BodyID id, float) override {
-      const std::optional<BodySnapshot> body = Snapshot(bodies_, id);
+      const std::optional<LockedCopy> body = CopyLocked(bodies_, id);
       if (!body) return;
       const auto hit = CastAgainst(*body, id, origin_, direction_, early_out_fraction());
       if (!hit || (best && (hit->fraction > best->fraction ||
@@ -85,7 +85,7 @@ Result<std::vector<RayCastHit>> WorldQuery::CastRayAll(const Vec3& origin, const
   system_.broad_phase_->CastRay(origin, direction, filter, candidates);
   std::vector<RayCastHit> hits;
   for (const BroadPhaseRayHit& candidate : candidates) {
-    const std::optional<BodySnapshot> body = Snapshot(system_.body_manager_, candidate.id);
+    const std::optional<LockedCopy> body = CopyLocked(system_.body_manager_, candidate.id);
     if (!body) continue;
     if (auto hit = CastAgainst(*body, candidate.id, origin, direction, 1.0f)) hits.push_back(*hit);
   }
@@ -102,7 +102,7 @@ Result<std::vector<BodyID>> WorldQuery::CollideAABB(const AABB& box, const Query
   system_.broad_phase_->CollideAABB(box, filter, candidates);
   std::vector<BodyID> result;
   for (const BodyID id : candidates) {
-    const std::optional<BodySnapshot> body = Snapshot(system_.body_manager_, id);
+    const std::optional<LockedCopy> body = CopyLocked(system_.body_manager_, id);
     if (body && body->bounds.Overlaps(box)) result.push_back(id);
   }
   std::sort(result.begin(), result.end());
@@ -121,7 +121,7 @@ Result<std::vector<ShapeOverlap>> WorldQuery::CollideShape(const Shape& shape, c
   std::vector<ShapeOverlap> result;
   std::vector<ContactManifold> manifolds;
   for (const BodyID id : candidates) {
-    const std::optional<BodySnapshot> body = Snapshot(system_.body_manager_, id);
+    const std::optional<LockedCopy> body = CopyLocked(system_.body_manager_, id);
     if (!body) continue;
     manifolds.clear();
     CollideShapes(shape, query_pose, *body->shape, body->pose, 0.0f, ContactManifold{}, manifolds);

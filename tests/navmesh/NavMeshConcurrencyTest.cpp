@@ -106,6 +106,32 @@ void RunServiceUnderLoad(int operations_per_thread, int min_steps) {
   EXPECT_EQ(service->navmesh().WalkableArea(), fresh->navmesh().WalkableArea());
 }
 
+// The step takes every body lock at its start and end; a job that needed one would hold the step up. With
+// every body lock held here, the service must still gather, scan and publish a whole area.
+TEST(NavMeshServiceThreads, JobsBuildTilesWhileEveryBodyLockIsHeld) {
+  auto world = MakeWorld();
+  AddFloor(*world, 2);
+  Add(*world, Static(Box(0.5f, 1.0f, 4.0f), Vec3(kTile, 1.0f, kTile)));
+  Add(*world, Dynamic(Box(1.0f, 1.0f, 1.0f), Vec3(4.0f, 1.0f, 4.0f)));
+  const auto service = MakeService(*world, FastServiceConfig(2));
+  world->body_manager().LockAll();
+  const bool built =
+      service->RequestBox(TileArea(2)).ok() && service->WaitUntilIdle(std::chrono::seconds(60));
+  const std::size_t scans = service->stats().scans;
+  const bool scanned =
+      WaitForScans(*service, scans + 2, std::chrono::steady_clock::now() + std::chrono::seconds(60));
+  world->body_manager().UnlockAll();
+  ASSERT_TRUE(built) << "jobs waited on body locks";
+  EXPECT_TRUE(scanned) << "the dirty scan waited on body locks";
+  EXPECT_EQ(service->stats().ready, 4u);
+  EXPECT_EQ(service->stats().failures, 0u) << service->last_error();
+  // The wall and the crate are in the tiles: the walkable area is the bare floor's minus theirs.
+  const auto bare_world = MakeWorld();
+  AddFloor(*bare_world, 2);
+  const auto bare = BuildArea(*bare_world, TileArea(2));
+  EXPECT_LT(service->navmesh().WalkableArea(), bare->navmesh().WalkableArea() - 10.0);
+}
+
 TEST(NavMeshServiceThreads, JobsRunWhileWorldChanges) {
   RunServiceUnderLoad(1500, 60);
 }
