@@ -10,9 +10,20 @@ Result<NavMeshServiceConfig> ConfigForLevel(NavMeshServiceConfig config, const A
   if (!level_bounds.IsValid())
     return MakeError(ErrorCode::kInvalidArgument,
                      "navmesh: the level has no geometry to bake (empty bounds)");
-  if (Status reach = CheckReach(level_bounds, config.settings, "the level"); !reach) return reach.error();
+  // Its extent first: a level no navmesh could hold gets no origin of its own.
   const Result<int> tiles = NavMeshService::MaxTilesToCover(level_bounds, config.settings.tile_size());
   if (!tiles) return tiles.error();
+  // Near the world origin the navmesh keeps it (its file is then exactly RecastDemo's). Farther out than
+  // 2^17 cells (26 km at 0.2 m), where a float no longer resolves 1/64 of a cell, the navmesh gets its own
+  // origin at the level's centre tile, unless the caller chose one.
+  const double near_reach = static_cast<double>(config.settings.cell_size) * 131072.0;
+  const double reach =
+      std::max(level_bounds.min.cwiseAbs().maxCoeff(), level_bounds.max.cwiseAbs().maxCoeff());
+  if (reach > near_reach && config.settings.origin_tile == TileCoord{})
+    config.settings.origin_tile = TileGrid(config.settings.tile_size()).TileAt(level_bounds.Center());
+  if (Status valid = config.settings.Validate(); !valid) return valid.error();
+  if (Status reach_check = CheckReach(level_bounds, config.settings, "the level"); !reach_check)
+    return reach_check.error();
   config.max_tiles = std::max(*tiles, 1);
   return config;
 }

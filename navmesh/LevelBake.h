@@ -14,7 +14,8 @@ namespace strata::navmesh {
 
 /// `config` with `max_tiles` set to the tiles that cover `level_bounds` (x-z), or an error naming the level's
 /// extent when a navmesh cannot hold them. Agents of a service made from it can request any tile of the
-/// level.
+/// level. A level more than 2^17 cells from the world origin gets the navmesh origin at its centre tile
+/// (unless `config` names one), so it bakes with full float precision wherever it lies.
 Result<NavMeshServiceConfig> ConfigForLevel(NavMeshServiceConfig config, const AABB& level_bounds);
 
 /// How BakeLevel runs.

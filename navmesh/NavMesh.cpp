@@ -223,7 +223,14 @@ double PolygonArea(const dtMeshTile& tile, const dtPoly& poly) {
 
 }  // namespace
 
-Result<std::unique_ptr<NavMesh>> NavMesh::Create(float tile_size, int max_tiles) {
+NavMesh::NavMesh(dtNavMesh* mesh, float tile_size, TileCoord origin_tile)
+    : mesh_(mesh),
+      tile_size_(tile_size),
+      origin_tile_(origin_tile),
+      origin_(static_cast<double>(origin_tile.x) * tile_size, 0.0,
+              static_cast<double>(origin_tile.z) * tile_size) {}
+
+Result<std::unique_ptr<NavMesh>> NavMesh::Create(float tile_size, int max_tiles, TileCoord origin_tile) {
   if (!std::isfinite(tile_size) || tile_size <= 0.0f)
     return MakeError(ErrorCode::kInvalidArgument, "navmesh: tile size must be a positive number");
   if (max_tiles < 1 || max_tiles > (1 << 16))
@@ -239,7 +246,7 @@ Result<std::unique_ptr<NavMesh>> NavMesh::Create(float tile_size, int max_tiles)
     dtFreeNavMesh(mesh);
     return MakeError(ErrorCode::kCapacityExceeded, "navmesh: Detour could not allocate the tile table");
   }
-  return std::unique_ptr<NavMesh>(new NavMesh(mesh, tile_size));
+  return std::unique_ptr<NavMesh>(new NavMesh(mesh, tile_size, origin_tile));
 }
 
 NavMesh::~NavMesh() {
@@ -263,7 +270,9 @@ Status NavMesh::ReplaceTile(TileCoord tile, TileData data) {
                            std::to_string(max_polygons) + " a tile holds in a navmesh of " +
                            std::to_string(mesh_->getMaxTiles()) + " tiles (fewer tiles leave more bits)");
   }
-  if (const dtTileRef old = mesh_->getTileRefAt(tile.x, tile.z, 0)) mesh_->removeTile(old, nullptr, nullptr);
+  const TileCoord local = ToLocalTile(tile);
+  if (const dtTileRef old = mesh_->getTileRefAt(local.x, local.z, 0))
+    mesh_->removeTile(old, nullptr, nullptr);
   if (data.empty()) return Status::Ok();
   const int size = data.size();
   unsigned char* bytes = data.Release();
@@ -290,9 +299,10 @@ int NavMesh::tile_count() const {
 }
 
 std::vector<TileCoord> NavMesh::Tiles() const {
-  return Read([](const dtNavMesh& mesh) {
+  return Read([this](const dtNavMesh& mesh) {
     std::vector<TileCoord> tiles;
-    ForEachTile(mesh, [&](const dtMeshTile& tile) { tiles.push_back({tile.header->x, tile.header->y}); });
+    ForEachTile(
+        mesh, [&](const dtMeshTile& tile) { tiles.push_back(ToWorldTile(tile.header->x, tile.header->y)); });
     std::sort(tiles.begin(), tiles.end());
     return tiles;
   });
@@ -337,8 +347,9 @@ Status NavMesh::Save(const std::filesystem::path& path) const {
     std::sort(tiles.begin(), tiles.end(), [](const dtMeshTile* a, const dtMeshTile* b) {
       return TileCoord{a->header->x, a->header->y} < TileCoord{b->header->x, b->header->y};
     });
-    const SetHeader header{kSetMagic, kSetVersion, static_cast<std::int32_t>(tiles.size()),
-                           *mesh.getParams()};
+    SetHeader header{kSetMagic, kSetVersion, static_cast<std::int32_t>(tiles.size()), *mesh.getParams()};
+    // Detour's own origin stays zero (it works relative to ours); the file records ours there.
+    for (int k = 0; k < 3; ++k) header.params.orig[k] = static_cast<float>(origin_[k]);
     append(&header, sizeof(header));
     for (std::size_t i = 0; i < tiles.size(); ++i) {
       const dtMeshTile& tile = *tiles[i];
@@ -371,9 +382,20 @@ Result<std::unique_ptr<NavMesh>> NavMesh::Load(const std::filesystem::path& path
       params.maxTiles > (1 << 16) || params.maxPolys < 1 || !std::isfinite(params.tileWidth) ||
       params.tileWidth <= 0.0f || params.tileWidth != params.tileHeight || !Finite3(params.orig))
     return FileError(path, "corrupt navmesh set header");
+  // The origin is the lower corner of a tile (y = 0); Detour gets the rest relative to it.
+  const double origin_tile[2] = {std::round(params.orig[0] / static_cast<double>(params.tileWidth)),
+                                 std::round(params.orig[2] / static_cast<double>(params.tileWidth))};
+  if (params.orig[1] != 0.0f || std::abs(origin_tile[0]) > (1 << 26) ||
+      std::abs(origin_tile[1]) > (1 << 26) ||
+      std::abs(origin_tile[0] * params.tileWidth - params.orig[0]) > 1e-3 * std::abs(params.orig[0]) + 1e-3 ||
+      std::abs(origin_tile[1] * params.tileWidth - params.orig[2]) > 1e-3 * std::abs(params.orig[2]) + 1e-3)
+    return FileError(path, "corrupt navmesh set header (origin not on a tile corner)");
+  dtNavMeshParams local_params = params;
+  std::fill(std::begin(local_params.orig), std::end(local_params.orig), 0.0f);
   dtNavMesh* mesh = dtAllocNavMesh();
-  std::unique_ptr<NavMesh> navmesh(new NavMesh(mesh, params.tileWidth));
-  if (!mesh || dtStatusFailed(mesh->init(&params)))
+  std::unique_ptr<NavMesh> navmesh(new NavMesh(
+      mesh, params.tileWidth, {static_cast<int>(origin_tile[0]), static_cast<int>(origin_tile[1])}));
+  if (!mesh || dtStatusFailed(mesh->init(&local_params)))
     return FileError(path, "Detour rejected the navmesh parameters");
 
   std::size_t offset = sizeof(SetHeader);
@@ -388,7 +410,7 @@ Result<std::unique_ptr<NavMesh>> NavMesh::Load(const std::filesystem::path& path
     const std::span<const unsigned char> tile_bytes(bytes.data() + offset,
                                                     static_cast<std::size_t>(tile_header.size));
     offset += static_cast<std::size_t>(tile_header.size);
-    if (const std::string problem = TileProblem(tile_bytes, params); !problem.empty())
+    if (const std::string problem = TileProblem(tile_bytes, local_params); !problem.empty())
       return FileError(path, "corrupt tile " + std::to_string(i) + ": " + problem);
     TileData data = TileData::CopyOf(tile_bytes);
     unsigned char* raw = data.Release();
@@ -418,7 +440,8 @@ Status NavMesh::WriteObj(const std::filesystem::path& path) const {
             const float* v = corners[k] < poly.vertCount
                                  ? &tile.verts[poly.verts[corners[k]] * 3]
                                  : &tile.detailVerts[(detail.vertBase + corners[k] - poly.vertCount) * 3];
-            file << "v " << v[0] << ' ' << v[1] << ' ' << v[2] << '\n';
+            const Vec3 world = ToWorld(Vec3(v[0], v[1], v[2]));
+            file << "v " << world.x() << ' ' << world.y() << ' ' << world.z() << '\n';
           }
           file << "f " << written + 1 << ' ' << written + 2 << ' ' << written + 3 << '\n';
           written += 3;

@@ -13,6 +13,7 @@
 #include "navmesh/TileData.h"
 #include "navmesh/TileGrid.h"
 #include "physics/core/Result.h"
+#include "physics/math/Math.h"
 
 namespace strata::navmesh {
 
@@ -21,7 +22,9 @@ class NavMesh {
  public:
   /// A navmesh of square tiles `tile_size` metres wide, at most `max_tiles` of them (rounded up to a power of
   /// two; the rest of Detour's 22 reference bits go to polygons per tile).
-  static Result<std::unique_ptr<NavMesh>> Create(float tile_size, int max_tiles = 1024);
+  /// Detour works relative to the lower corner of `origin_tile` (see NavMeshSettings::origin_tile).
+  static Result<std::unique_ptr<NavMesh>> Create(float tile_size, int max_tiles = 1024,
+                                                 TileCoord origin_tile = {});
   /// Reads a file in RecastDemo's tiled navmesh set format ("MSET", version 1). Fails, naming the file and
   /// the reason, for a missing, truncated or corrupt file.
   static Result<std::unique_ptr<NavMesh>> Load(const std::filesystem::path& path);
@@ -40,10 +43,16 @@ class NavMesh {
     return function(static_cast<const dtNavMesh&>(*mesh_));
   }
   /// The raw Detour mesh for DetourCrowd and other Detour users. Reading it while tiles are being published
-  /// is the caller's to avoid (hold Read, or publish nothing meanwhile).
+  /// is the caller's to avoid (hold Read, or publish nothing meanwhile). Its coordinates and tile
+  /// coordinates are relative to origin() and origin_tile() (ToLocal / ToWorld convert).
   dtNavMesh& detour() { return *mesh_; }
 
   float tile_size() const { return tile_size_; }
+  TileCoord origin_tile() const { return origin_tile_; }
+  /// World position of Detour's (0, 0, 0).
+  const Vec3d& origin() const { return origin_; }
+  Vec3 ToLocal(const Vec3& world) const { return (world.cast<double>() - origin_).cast<float>(); }
+  Vec3 ToWorld(const Vec3& local) const { return (local.cast<double>() + origin_).cast<float>(); }
   int tile_count() const;
   std::vector<TileCoord> Tiles() const;
   /// Polygons over all tiles.
@@ -51,17 +60,22 @@ class NavMesh {
   /// Sum of the walkable polygons' areas projected on the x-z plane (m^2).
   double WalkableArea() const;
 
-  /// Writes RecastDemo's tiled navmesh set format.
+  /// Writes RecastDemo's tiled navmesh set format; the set header's origin is origin() (zero for a navmesh at
+  /// the world origin, where the file is exactly RecastDemo's).
   Status Save(const std::filesystem::path& path) const;
   /// Writes the polygons as a Wavefront OBJ (one face per polygon).
   Status WriteObj(const std::filesystem::path& path) const;
 
  private:
-  NavMesh(dtNavMesh* mesh, float tile_size) : mesh_(mesh), tile_size_(tile_size) {}
+  NavMesh(dtNavMesh* mesh, float tile_size, TileCoord origin_tile);
+  TileCoord ToLocalTile(TileCoord tile) const { return {tile.x - origin_tile_.x, tile.z - origin_tile_.z}; }
+  TileCoord ToWorldTile(int x, int z) const { return {x + origin_tile_.x, z + origin_tile_.z}; }
 
   mutable std::shared_mutex mutex_;
   dtNavMesh* mesh_;
   float tile_size_;
+  TileCoord origin_tile_;
+  Vec3d origin_;
 };
 
 }  // namespace strata::navmesh

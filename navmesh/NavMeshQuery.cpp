@@ -38,12 +38,14 @@ NavMeshQuery::~NavMeshQuery() {
 
 Result<NearestPoly> NavMeshQuery::FindNearestPoly(const Vec3& position) const {
   if (!IsFinite(position)) return NotFinite("position");
+  const Vec3 local = navmesh_.ToLocal(position);
   return navmesh_.Read([&](const dtNavMesh&) -> Result<NearestPoly> {
     NearestPoly nearest;
-    const dtStatus status = query_->findNearestPoly(position.data(), extents_.data(), &filter_, &nearest.poly,
-                                                    nearest.point.data());
+    const dtStatus status =
+        query_->findNearestPoly(local.data(), extents_.data(), &filter_, &nearest.poly, nearest.point.data());
     if (dtStatusFailed(status) || nearest.poly == 0)
       return MakeError(ErrorCode::kInvalidArgument, "navmesh query: no navmesh polygon near the point");
+    nearest.point = navmesh_.ToWorld(nearest.point);
     return nearest;
   });
 }
@@ -51,13 +53,15 @@ Result<NearestPoly> NavMeshQuery::FindNearestPoly(const Vec3& position) const {
 Result<PathResult> NavMeshQuery::FindPath(const Vec3& from, const Vec3& to) const {
   if (!IsFinite(from)) return NotFinite("path start");
   if (!IsFinite(to)) return NotFinite("path end");
+  // Detour works relative to the navmesh origin; the path comes back in world coordinates.
+  const Vec3 local_from = navmesh_.ToLocal(from), local_to = navmesh_.ToLocal(to);
   return navmesh_.Read([&](const dtNavMesh&) -> Result<PathResult> {
     NearestPoly start, end;
-    query_->findNearestPoly(from.data(), extents_.data(), &filter_, &start.poly, start.point.data());
+    query_->findNearestPoly(local_from.data(), extents_.data(), &filter_, &start.poly, start.point.data());
     if (start.poly == 0)
       return MakeError(ErrorCode::kInvalidArgument, "navmesh query: no polygon near the start");
     PathResult path;
-    query_->findNearestPoly(to.data(), extents_.data(), &filter_, &end.poly, end.point.data());
+    query_->findNearestPoly(local_to.data(), extents_.data(), &filter_, &end.poly, end.point.data());
     if (end.poly == 0) return path;
     path.polys.resize(kMaxPathPolys);
     int poly_count = 0;
@@ -76,7 +80,7 @@ Result<PathResult> NavMeshQuery::FindPath(const Vec3& from, const Vec3& to) cons
     query_->findStraightPath(start.point.data(), target.data(), path.polys.data(), poly_count, corners.data(),
                              nullptr, nullptr, &corner_count, kMaxPathPolys);
     for (int i = 0; i < corner_count; ++i)
-      path.points.push_back(ToVec3(&corners[static_cast<std::size_t>(i) * 3]));
+      path.points.push_back(navmesh_.ToWorld(ToVec3(&corners[static_cast<std::size_t>(i) * 3])));
     for (std::size_t i = 1; i < path.points.size(); ++i)
       path.length += (path.points[i] - path.points[i - 1]).norm();
     if (!path.points.empty()) {
@@ -90,16 +94,17 @@ Result<PathResult> NavMeshQuery::FindPath(const Vec3& from, const Vec3& to) cons
 Result<NavRaycastResult> NavMeshQuery::Raycast(const Vec3& from, const Vec3& to) const {
   if (!IsFinite(from)) return NotFinite("ray start");
   if (!IsFinite(to)) return NotFinite("ray end");
+  const Vec3 local_from = navmesh_.ToLocal(from), local_to = navmesh_.ToLocal(to);
   return navmesh_.Read([&](const dtNavMesh&) -> Result<NavRaycastResult> {
     NearestPoly start;
-    query_->findNearestPoly(from.data(), extents_.data(), &filter_, &start.poly, start.point.data());
+    query_->findNearestPoly(local_from.data(), extents_.data(), &filter_, &start.poly, start.point.data());
     if (start.poly == 0)
       return MakeError(ErrorCode::kInvalidArgument, "navmesh query: no polygon near the ray start");
     float t = 0.0f;
     NavRaycastResult result;
     std::vector<dtPolyRef> visited(kMaxPathPolys);
     int visited_count = 0;
-    query_->raycast(start.poly, start.point.data(), to.data(), &filter_, &t, result.hit_normal.data(),
+    query_->raycast(start.poly, start.point.data(), local_to.data(), &filter_, &t, result.hit_normal.data(),
                     visited.data(), &visited_count, kMaxPathPolys);
     result.hit_wall = t < 1.0f;  // Detour reports FLT_MAX when the ray reaches its end
     result.fraction = result.hit_wall ? t : 1.0f;

@@ -100,7 +100,8 @@ Result<int> NavMeshService::MaxTilesToCover(const AABB& box, float tile_size) {
 Result<std::unique_ptr<NavMeshService>> NavMeshService::Create(const PhysicsSystem& world,
                                                                const NavMeshServiceConfig& config) {
   if (Status status = config.Validate(); !status.ok()) return status.error();
-  Result<std::unique_ptr<NavMesh>> navmesh = NavMesh::Create(config.settings.tile_size(), config.max_tiles);
+  Result<std::unique_ptr<NavMesh>> navmesh =
+      NavMesh::Create(config.settings.tile_size(), config.max_tiles, config.settings.origin_tile);
   if (!navmesh) return navmesh.error();
   return std::unique_ptr<NavMeshService>(new NavMeshService(world, config, std::move(*navmesh)));
 }

@@ -1,6 +1,7 @@
 #include "navmesh/NavMeshSettings.h"
 
 #include <cmath>
+#include <cstdlib>
 #include <string>
 
 namespace strata::navmesh {
@@ -20,6 +21,11 @@ bool InRange(float value, float low, float high) {
 
 int NavMeshSettings::border_cells() const {
   return static_cast<int>(std::ceil(agent_radius / cell_size)) + 3;
+}
+
+Vec3d NavMeshSettings::origin() const {
+  const double side = tile_size();
+  return {static_cast<double>(origin_tile.x) * side, 0.0, static_cast<double>(origin_tile.z) * side};
 }
 
 Status NavMeshSettings::Validate() const {
@@ -46,6 +52,10 @@ Status NavMeshSettings::Validate() const {
     return OutOfRange("detail_sample_distance", detail_sample_distance, "[0, 1000]");
   if (!InRange(detail_sample_max_error, 0.0f, 1000.0f))
     return OutOfRange("detail_sample_max_error", detail_sample_max_error, "[0, 1000]");
+  // Far enough out that the origin itself is past what any level could reach from the world origin.
+  constexpr int kMaxOriginTile = 1 << 26;
+  if (std::abs(origin_tile.x) > kMaxOriginTile || std::abs(origin_tile.z) > kMaxOriginTile)
+    return MakeError(ErrorCode::kInvalidArgument, "navmesh settings: origin_tile is beyond 2^26 tiles");
   // Detour stores cell counts of a tile side in 16 bits, with the border on both sides.
   if (tile_cells + 2 * border_cells() > 4096)
     return MakeError(ErrorCode::kInvalidArgument, "navmesh settings: agent_radius / cell_size is too large");

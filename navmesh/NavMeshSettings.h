@@ -3,7 +3,9 @@
 // Value type; build it on any thread.
 #pragma once
 
+#include "navmesh/TileGrid.h"
 #include "physics/core/Result.h"
+#include "physics/math/Math.h"
 
 namespace strata::navmesh {
 
@@ -24,10 +26,18 @@ struct NavMeshSettings {
   float detail_sample_distance = 6.0f;   ///< detail mesh sampling (cells); < 0.9 turns it off
   float detail_sample_max_error = 1.0f;  ///< detail mesh height error (cell heights)
 
+  /// The tile whose lower corner is the navmesh's own origin. Recast and Detour work in coordinates
+  /// relative to it (world minus origin()), so a level far from the world origin keeps a float's full
+  /// precision there; tile coordinates in the API stay world tiles. BakeLevel moves it to far levels.
+  TileCoord origin_tile;
+
   float tile_size() const { return cell_size * static_cast<float>(tile_cells); }
-  /// How far from the origin (m, on any axis) navmesh geometry may lie: 2^22 cells (839 km at 0.2 m).
-  /// Beyond it a float resolves less than a third of a cell, and Recast's rasterizer (which clips triangles
-  /// to cells in float) can overrun its buffers; such levels and requests are refused with this figure.
+  /// World position of origin_tile's lower corner (y = 0).
+  Vec3d origin() const;
+  /// How far from the navmesh origin (m, on any axis) navmesh geometry may lie: 2^22 cells (839 km at
+  /// 0.2 m). Beyond it a float resolves less than a third of a cell, and Recast's rasterizer (which clips
+  /// triangles to cells in float) can overrun its buffers; such levels and requests are refused with this
+  /// figure.
   float max_coordinate() const { return cell_size * 4194304.0f; }
   /// Cells of border around a tile so that erosion at its edge sees its neighbours' geometry.
   int border_cells() const;

@@ -172,19 +172,47 @@ Result<TileData> CreateDetourData(const NavMeshSettings& settings, const rcConfi
   return TileData(bytes, size);
 }
 
+Vec3 ToNavMeshSpace(const Vec3& world, const NavMeshSettings& settings) {
+  return (world.cast<double>() - settings.origin()).cast<float>();
+}
+
+/// `geometry` relative to the navmesh origin (in double, so the far level loses nothing more than its
+/// own float positions already did).
+TileGeometry MoveToNavMeshSpace(const TileGeometry& geometry, const NavMeshSettings& settings) {
+  const Vec3d origin = settings.origin();
+  TileGeometry local;
+  local.triangles = geometry.triangles;
+  local.bodies = geometry.bodies;
+  local.vertices.resize(geometry.vertices.size());
+  for (std::size_t i = 0; i < geometry.vertices.size(); ++i)
+    local.vertices[i] = static_cast<float>(geometry.vertices[i] - origin[static_cast<Eigen::Index>(i % 3)]);
+  const auto move_box = [&](const AABB& box) {
+    return box.IsValid() ? AABB(ToNavMeshSpace(box.min, settings), ToNavMeshSpace(box.max, settings)) : box;
+  };
+  local.bounds = move_box(geometry.bounds);
+  for (const SolidVolume& solid : geometry.solids) {
+    SolidVolume moved{move_box(solid.bounds), solid.planes};
+    for (SolidVolume::Plane& plane : moved.planes)
+      plane.offset = static_cast<float>(plane.offset - plane.normal.cast<double>().dot(origin));
+    local.solids.push_back(std::move(moved));
+  }
+  return local;
+}
+
 }  // namespace
 
 Status CheckReach(const AABB& box, const NavMeshSettings& settings, const std::string& what) {
-  const double reach = std::max(box.min.cwiseAbs().maxCoeff(), box.max.cwiseAbs().maxCoeff());
+  const Vec3d origin = settings.origin();
+  const double reach = std::max((box.min.cast<double>() - origin).cwiseAbs().maxCoeff(),
+                                (box.max.cast<double>() - origin).cwiseAbs().maxCoeff());
   const double limit = settings.max_coordinate();
   if (reach <= limit) return Status::Ok();  // (a NaN box fails here too)
-  char message[256];
-  std::snprintf(
-      message, sizeof(message),
-      "navmesh: %s reaches %.4g m from the origin; navmesh geometry must lie within %.4g m "
-      "(2^22 cells of %.3g m: farther out a float cannot resolve a cell for Recast); move it nearer "
-      "the origin",
-      what.c_str(), reach, limit, static_cast<double>(settings.cell_size));
+  char message[320];
+  std::snprintf(message, sizeof(message),
+                "navmesh: %s reaches %.4g m from the navmesh origin (%.4g, %.4g); navmesh geometry must lie "
+                "within %.4g m of it (2^22 cells of %.3g m: farther out a float cannot resolve a cell for "
+                "Recast); move the navmesh origin (origin_tile) nearer",
+                what.c_str(), reach, origin.x(), origin.z(), limit, static_cast<double>(settings.cell_size));
   return MakeError(ErrorCode::kInvalidArgument, message);
 }
 
@@ -208,15 +236,22 @@ Result<BuiltTile> BuildTile(const NavMeshSettings& settings, TileCoord tile, con
   if (Status reach = CheckReach(geometry.bounds, settings, "a triangle in " + name); !reach)
     return reach.error();
 
-  AABB box = TileGatherBox(settings, tile);
+  // Recast and Detour see the tile relative to the navmesh origin.
+  const TileCoord local_tile{tile.x - settings.origin_tile.x, tile.z - settings.origin_tile.z};
+  const bool at_world_origin = settings.origin_tile == TileCoord{};
+  const TileGeometry moved = at_world_origin ? TileGeometry() : MoveToNavMeshSpace(geometry, settings);
+  const TileGeometry& local = at_world_origin ? geometry : moved;
+  NavMeshSettings local_settings = settings;
+  local_settings.origin_tile = {};
+  AABB box = TileGatherBox(local_settings, local_tile);
   // Vertically the heightfield spans the geometry, plus room for an agent to stand on its top.
-  box.min.y() = geometry.bounds.min.y() - settings.cell_height;
-  box.max.y() = geometry.bounds.max.y() + settings.agent_height;
+  box.min.y() = local.bounds.min.y() - settings.cell_height;
+  box.max.y() = local.bounds.max.y() + settings.agent_height;
   const rcConfig config = MakeConfig(settings, box);
-  Result<RecastMeshes> meshes = RunRecast(config, tile, geometry);
+  Result<RecastMeshes> meshes = RunRecast(config, tile, local);
   if (!meshes) return meshes.error();
   if (meshes->poly->npolys == 0) return finish();
-  Result<TileData> data = CreateDetourData(settings, config, tile, *meshes);
+  Result<TileData> data = CreateDetourData(settings, config, local_tile, *meshes);
   if (!data) return data.error();
   built.polygons = meshes->poly->npolys;
   built.data = std::move(*data);

@@ -21,14 +21,15 @@ struct BuiltTile {
   double recast_ms = 0.0;
 };
 
-/// Ok when `box` lies within settings.max_coordinate() of the origin on every axis; otherwise an error that
-/// names `what`, how far it reaches and the limit.
+/// Ok when `box` (world) lies within settings.max_coordinate() of the navmesh origin on every axis;
+/// otherwise an error that names `what`, how far it reaches and the limit.
 Status CheckReach(const AABB& box, const NavMeshSettings& settings, const std::string& what);
 
 /// The box a tile's geometry is gathered from: the tile grown by its border, from `min_y` to `max_y`.
 AABB TileGatherBox(const NavMeshSettings& settings, TileCoord tile);
 
-/// Builds tile `tile` from `geometry` (world-space triangles around it). Fails only when Recast or Detour
+/// Builds tile `tile` from `geometry` (world-space triangles around it), in coordinates relative to the
+/// navmesh origin. Fails only when Recast or Detour
 /// cannot allocate or the tile would exceed Detour's limits; a tile with nothing walkable is not an error.
 Result<BuiltTile> BuildTile(const NavMeshSettings& settings, TileCoord tile, const TileGeometry& geometry);
 

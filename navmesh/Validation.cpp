@@ -76,7 +76,9 @@ void ForEachGroundPoly(const dtNavMesh& mesh, Function&& function) {
 
 }  // namespace
 
-float ClearanceToBox(const NavMesh& navmesh, const AABB& box, float vertical_margin) {
+float ClearanceToBox(const NavMesh& navmesh, const AABB& world_box, float vertical_margin) {
+  // Polygons are relative to the navmesh origin; so is the box here.
+  const AABB box(navmesh.ToLocal(world_box.min), navmesh.ToLocal(world_box.max));
   const std::vector<Point2> rectangle = Rectangle(box);
   return navmesh.Read([&](const dtNavMesh& mesh) {
     float clearance = std::numeric_limits<float>::max();
@@ -113,7 +115,8 @@ std::vector<TileCoord> TilesOnPath(const NavMesh& navmesh, const PathResult& pat
       const dtMeshTile* tile = nullptr;
       const dtPoly* poly = nullptr;
       if (dtStatusFailed(mesh.getTileAndPolyByRef(ref, &tile, &poly))) continue;
-      const TileCoord coord{tile->header->x, tile->header->y};
+      const TileCoord coord{tile->header->x + navmesh.origin_tile().x,
+                            tile->header->y + navmesh.origin_tile().z};
       if (std::find(tiles.begin(), tiles.end(), coord) == tiles.end()) tiles.push_back(coord);
     }
     return tiles;

@@ -102,34 +102,70 @@ TEST(LevelBake, ARequestWiderThanASmallLevelBuildsIt) {
   EXPECT_FALSE(service->RequestAround(Vec3(6, 0, 6), 1.0e6f).ok());
 }
 
-TEST(LevelBake, LevelsFarFromTheOriginBakeWithinTheLimitAndAreRefusedBeyondIt) {
-  // 100 km out a float still resolves a cell: the level bakes and paths cross it.
-  {
-    auto world = MakeWorld();
-    AddSlab(*world, 1.0e5f, 1.0e5f + 20.0f, 1.0e5f, 1.0e5f + 20.0f, 0.0f);
-    const AABB bounds = SlabBounds(1.0e5f, 1.0e5f + 20.0f, 1.0e5f, 1.0e5f + 20.0f);
-    const Result<navmesh::LevelBake> bake = navmesh::BakeLevel(*world, bounds, Options(1));
-    ASSERT_TRUE(bake.ok()) << bake.error().message;
-    const auto path =
-        MakeQuery(bake->service->navmesh())
-            ->FindPath(Vec3(1.0e5f + 1.0f, 0.0f, 1.0e5f + 1.0f), Vec3(1.0e5f + 19.0f, 0.0f, 1.0e5f + 19.0f));
-    ASSERT_TRUE(path.ok());
-    EXPECT_TRUE(path->reached_end);
-  }
-  // 8,000 km out, Recast's rasterizer once overran a stack buffer (an abort). Now: an error that says how
-  // far the level reaches and where the limit is, for a bake and for an agent's request.
+/// Bakes a 20 m slab whose corner is `corner` metres out on x and z, and walks across it.
+void ExpectFarSlabBakesAndPathsCrossIt(float corner) {
+  auto world = MakeWorld();
+  AddSlab(*world, corner, corner + 20.0f, corner, corner + 20.0f, 0.0f);
+  const AABB bounds = SlabBounds(corner, corner + 20.0f, corner, corner + 20.0f);
+  const Result<navmesh::LevelBake> bake = navmesh::BakeLevel(*world, bounds, Options(1));
+  ASSERT_TRUE(bake.ok()) << bake.error().message;
+  const navmesh::NavMesh& navmesh = bake->service->navmesh();
+  EXPECT_EQ(navmesh.tile_count(), 4) << "a 20 m slab on a 12.8 m grid";
+  // The same walkable area as the slab at the world origin gives.
+  auto near_world = MakeWorld();
+  AddSlab(*near_world, 0.0f, 20.0f, 0.0f, 20.0f, 0.0f);
+  const auto near_bake = navmesh::BakeLevel(*near_world, SlabBounds(0.0f, 20.0f, 0.0f, 20.0f), Options(1));
+  ASSERT_TRUE(near_bake.ok());
+  EXPECT_NEAR(navmesh.WalkableArea(), near_bake->service->navmesh().WalkableArea(), 1.0);
+  const Vec3 from(corner + 2.0f, 0.0f, corner + 2.0f), to(corner + 18.0f, 0.0f, corner + 18.0f);
+  const auto path = MakeQuery(navmesh)->FindPath(from, to);
+  ASSERT_TRUE(path.ok()) << path.error().message;
+  EXPECT_TRUE(path->reached_end);
+  ASSERT_FALSE(path->points.empty());
+  EXPECT_LT((path->points.front() - from).norm(), 1.0f) << "path points come back in world coordinates";
+  // Saved and loaded, the navmesh keeps its origin: the same path from the file.
+  const std::filesystem::path file = std::filesystem::path(::testing::TempDir()) / "far_slab.bin";
+  ASSERT_TRUE(navmesh.Save(file).ok());
+  const auto loaded = navmesh::NavMesh::Load(file);
+  ASSERT_TRUE(loaded.ok()) << loaded.error().message;
+  EXPECT_EQ((*loaded)->origin_tile(), navmesh.origin_tile());
+  EXPECT_EQ((*loaded)->Tiles(), navmesh.Tiles());
+  const auto loaded_path = MakeQuery(**loaded)->FindPath(from, to);
+  ASSERT_TRUE(loaded_path.ok());
+  EXPECT_EQ(loaded_path->points, path->points);
+  std::filesystem::remove(file);
+}
+
+TEST(LevelBake, LevelsFarFromTheOriginBakeRelativeToTheirOwnOrigin) {
+  // 100 km out the navmesh origin moves to the level (a float there resolves 8 mm); at 8,000 km, where
+  // Recast's rasterizer once overran a stack buffer on world coordinates, it works on coordinates relative
+  // to the level's own tile.
+  ExpectFarSlabBakesAndPathsCrossIt(1.0e5f);
+  ExpectFarSlabBakesAndPathsCrossIt(8.0e6f);
+  ExpectFarSlabBakesAndPathsCrossIt(-8.0e6f);
+}
+
+TEST(LevelBake, AServiceRefusesRequestsBeyondReachOfItsOrigin) {
+  // A service whose navmesh origin is the world origin cannot build 8,000 km out: a clear error that says
+  // how far the request reaches, from which origin, and the limit.
   auto world = MakeWorld();
   AddSlab(*world, 8.0e6f, 8.0e6f + 20.0f, 8.0e6f, 8.0e6f + 20.0f, 0.0f);
-  const Result<navmesh::LevelBake> bake =
-      navmesh::BakeLevel(*world, SlabBounds(8.0e6f, 8.0e6f + 20.0f, 8.0e6f, 8.0e6f + 20.0f), Options(1));
-  ASSERT_FALSE(bake.ok());
-  EXPECT_NE(bake.error().message.find("the level reaches 8e+06 m from the origin"), std::string::npos)
-      << bake.error().message;
-  EXPECT_NE(bake.error().message.find("within 8.389e+05 m"), std::string::npos) << bake.error().message;
   const auto service = MakeService(*world, FastServiceConfig());
   const Status request = service->RequestAround(Vec3(8.0e6f + 10.0f, 0.0f, 8.0e6f + 10.0f), 16.0f);
   ASSERT_FALSE(request.ok());
-  EXPECT_NE(request.message().find("the request reaches"), std::string::npos) << request.message();
+  EXPECT_NE(request.message().find("the request reaches 8e+06 m from the navmesh origin (0, 0)"),
+            std::string::npos)
+      << request.message();
+  EXPECT_NE(request.message().find("within 8.389e+05 m"), std::string::npos) << request.message();
+  // Moved to the level, the same request builds.
+  navmesh::NavMeshServiceConfig config = FastServiceConfig();
+  config.settings.origin_tile =
+      navmesh::TileGrid(config.settings.tile_size()).TileAt(Vec3(8.0e6f, 0, 8.0e6f));
+  const auto moved = MakeService(*world, config);
+  ASSERT_TRUE(moved->RequestAround(Vec3(8.0e6f + 10.0f, 0.0f, 8.0e6f + 10.0f), 16.0f).ok());
+  ASSERT_TRUE(moved->WaitUntilIdle(std::chrono::seconds(60)));
+  EXPECT_EQ(moved->stats().failures, 0u) << moved->last_error();
+  EXPECT_GT(moved->navmesh().WalkableArea(), 200.0);
 }
 
 TEST(LevelBake, ATriangleReachingFarOutFailsItsTileInsteadOfRecast) {

@@ -211,7 +211,7 @@ Status DrawPicture(PhysicsSystem& world, const LoadedLevel& level, const navmesh
         for (int i = 2; i < poly.vertCount; ++i) {
           const auto vertex = [&](int k) {
             const float* v = &tile->verts[poly.verts[k] * 3];
-            return Vec3(v[0], v[1], v[2]);
+            return service.navmesh().ToWorld(Vec3(v[0], v[1], v[2]));
           };
           image.FillTriangle(vertex(0), vertex(i - 1), vertex(i), {40, 110, 230}, 0.45f);
         }
