@@ -13,12 +13,13 @@ namespace {
 struct Candidate {
   BodyID id;
   AABB bounds;
+  bool has_bounds = false;
 };
 
 class CandidateCollector final : public BroadPhaseCollector {
  public:
-  void AddHit(BodyID id, float) override { candidates.push_back({id, AABB()}); }
-  void AddOverlap(BodyID id, const AABB& bounds) override { candidates.push_back({id, bounds}); }
+  void AddHit(BodyID id, float) override { candidates.push_back({id, AABB(), false}); }
+  void AddOverlap(BodyID id, const AABB& bounds) override { candidates.push_back({id, bounds, true}); }
   std::vector<Candidate> candidates;
 };
 
@@ -60,7 +61,8 @@ CountedBody Inspect(const PhysicsSystem& world, const Candidate& candidate, cons
   std::optional<BodySnapshot> snapshot = world.body_snapshots().Read(candidate.id);
   if (!snapshot) return {};  // not in the world (yet, or any more)
   const bool exact = snapshot->motion_type == MotionType::kStatic;
-  const AABB bounds = exact ? snapshot->bounds : SpanningBox(candidate.bounds);
+  // A broad phase that reports no bounds (only AddHit) leaves the body's bounds as of its last teleport.
+  const AABB bounds = exact || !candidate.has_bounds ? snapshot->bounds : SpanningBox(candidate.bounds);
   if (!filter.Counts(snapshot->motion_type, snapshot->object_layer, bounds) || !bounds.Overlaps(box))
     return {};
   return {true, exact, std::move(*snapshot), bounds};
