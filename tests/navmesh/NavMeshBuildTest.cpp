@@ -6,6 +6,7 @@
 
 #include "NavMeshTestWorld.h"
 #include "navmesh/Validation.h"
+#include "physics/broadphase/QuadTreeBroadPhase.h"
 
 namespace strata::test {
 namespace {
@@ -164,6 +165,81 @@ TEST(NavMeshBuild, GatherSkipsDebrisAndFilteredLayers) {
   navmesh::NavMeshBodyFilter static_only;
   static_only.object_layers = 1ull << layers::kNonMoving;
   EXPECT_EQ(navmesh::GatherTileGeometry(*world, box, static_only).bodies.size(), 1u);
+}
+
+/// A plug-in broad phase that, like one written before AddOverlap existed, reports overlaps through AddHit
+/// only (no bounds): the quad tree with its overlap reports stripped of their bounds.
+class BoundslessBroadPhase final : public BroadPhase {
+ public:
+  explicit BoundslessBroadPhase(std::shared_ptr<BroadPhase> inner) : inner_(std::move(inner)) {}
+  Result<AddBatch> AddBodiesPrepare(std::span<const BodyID> ids, std::span<const AABB> bounds,
+                                    std::span<const ObjectLayer> layers) override {
+    return inner_->AddBodiesPrepare(ids, bounds, layers);
+  }
+  Status AddBodiesFinalize(AddBatch& batch) override { return inner_->AddBodiesFinalize(batch); }
+  void AddBodiesAbort(AddBatch& batch) override { inner_->AddBodiesAbort(batch); }
+  Status RemoveBodies(std::span<const BodyID> ids) override { return inner_->RemoveBodies(ids); }
+  Status UpdateBody(BodyID id, const AABB& bounds) override { return inner_->UpdateBody(id, bounds); }
+  bool Contains(BodyID id) const override { return inner_->Contains(id); }
+  std::size_t body_count() const override { return inner_->body_count(); }
+  void Update() override { inner_->Update(); }
+  void Optimize() override { inner_->Optimize(); }
+  BroadPhaseStats stats() const override { return inner_->stats(); }
+  BroadPhasePin Pin() const override { return inner_->Pin(); }  // the inner one owns and releases it
+  void FindPairs(std::span<const BodyID> active, std::span<const std::uint8_t> active_flags,
+                 const LayerSetup& layers, std::vector<BodyPair>& out) const override {
+    inner_->FindPairs(active, active_flags, layers, out);
+  }
+  void CollideAABB(const BroadPhasePin& pin, const AABB& box, const QueryFilter& filter,
+                   BroadPhaseCollector& collector) const override {
+    struct HitsOnly final : BroadPhaseCollector {
+      explicit HitsOnly(BroadPhaseCollector& forward_to) : target(forward_to) {}
+      void AddHit(BodyID id, float fraction) override { target.AddHit(id, fraction); }
+      void AddOverlap(BodyID id, const AABB&) override { target.AddHit(id, 0.0f); }
+      BroadPhaseCollector& target;
+    } hits_only(collector);
+    inner_->CollideAABB(pin, box, filter, hits_only);
+  }
+  void CollideSphere(const BroadPhasePin& pin, const Vec3& center, float radius, const QueryFilter& filter,
+                     BroadPhaseCollector& collector) const override {
+    inner_->CollideSphere(pin, center, radius, filter, collector);
+  }
+  void CastRay(const BroadPhasePin& pin, const Vec3& origin, const Vec3& direction, const QueryFilter& filter,
+               BroadPhaseCollector& collector) const override {
+    inner_->CastRay(pin, origin, direction, filter, collector);
+  }
+  void CastAABB(const BroadPhasePin& pin, const AABB& box, const Vec3& displacement,
+                const QueryFilter& filter, BroadPhaseCollector& collector) const override {
+    inner_->CastAABB(pin, box, displacement, filter, collector);
+  }
+
+ protected:
+  void ReleasePin(std::uint32_t) const override {}  // never called: every pin is the inner broad phase's
+
+ private:
+  std::shared_ptr<BroadPhase> inner_;
+};
+
+TEST(NavMeshBuild, ABroadPhaseWithoutBoundsLeavesMovingBodiesTheirTeleportedBounds) {
+  PhysicsSystemConfig config;
+  config.max_bodies = 64;
+  config.job_system = std::make_shared<SerialJobSystem>();
+  const auto layers = std::make_shared<DefaultLayerSetup>();
+  config.layers = layers;
+  config.broad_phase =
+      std::make_shared<BoundslessBroadPhase>(std::make_shared<QuadTreeBroadPhase>(config.max_bodies, layers));
+  auto created = PhysicsSystem::Create(config);
+  ASSERT_TRUE(created.ok());
+  PhysicsSystem& world = **created;
+  AddFloor(world, 1);
+  const BodyID crate = Add(world, Dynamic(Box(1.0f, 1.0f, 1.0f), Vec3(6, 1, 6)));
+  const auto geometry = navmesh::GatherTileGeometry(world, navmesh::TileGatherBox({}, {0, 0}), {});
+  ASSERT_EQ(geometry.bodies.size(), 2u);
+  EXPECT_EQ(geometry.bodies[1].id, crate);
+  // The crate's own 2 m box, not an inside-out box spanning the world.
+  EXPECT_TRUE(geometry.bodies[1].bounds.min.isApprox(Vec3(5, 0, 5)));
+  EXPECT_TRUE(geometry.bodies[1].bounds.max.isApprox(Vec3(7, 2, 7)));
+  EXPECT_LT(geometry.bounds.Size().maxCoeff(), 20.0f);
 }
 
 }  // namespace
