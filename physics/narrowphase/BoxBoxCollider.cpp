@@ -99,7 +99,12 @@ struct EdgeAxis {
 
 // Axes a_i x b_j. In A's frame a_i x b_j has the components of rotation's column j crossed into the plane
 // of the other two axes, and its dot with b_m (m != j) is +-rotation(i, the third): all from the table.
-EdgeAxis BestEdges(const Relative& relative, const PosedBox& a, const PosedBox& b) {
+// An edge pair matters only if it separates the boxes or beats the best face by the bias (`face_bar`): one
+// whose unnormalised separation is at or below min(face_bar, 0) cannot (the axis is no longer than one, so
+// normalising only deepens an overlap), and is passed over without the square root and division; resting
+// boxes skip all nine.
+EdgeAxis BestEdges(const Relative& relative, const PosedBox& a, const PosedBox& b, float face_bar) {
+  const float cannot_matter = std::min(face_bar, 0.0f);
   EdgeAxis best;
   const Mat3& r = relative.rotation;
   const Mat3& abs_r = relative.absolute;
@@ -113,12 +118,14 @@ EdgeAxis BestEdges(const Relative& relative, const PosedBox& a, const PosedBox& 
       Vec3 local = Vec3::Zero();  // a_i x b_j along A's axes
       local[i1] = -r(i2, j);
       local[i2] = r(i1, j);
-      const float length = local.norm();
-      if (length < kParallel) continue;
       const float centre = std::abs(local.dot(t));
       const float reach_a = a.half[i1] * abs_r(i2, j) + a.half[i2] * abs_r(i1, j);
       const float reach_b = b.half[j1] * abs_r(i, j2) + b.half[j2] * abs_r(i, j1);
-      const float separation = (centre - reach_a - reach_b) / length;
+      const float unnormalised = centre - reach_a - reach_b;
+      if (unnormalised <= cannot_matter) continue;
+      const float length = local.norm();
+      if (length < kParallel) continue;
+      const float separation = unnormalised / length;
       if (separation > best.separation) {
         best.separation = separation;
         best_i = i, best_j = j;
@@ -229,11 +236,11 @@ bool CollideBoxes(const BoxShape& box_a, const Pose& pose_a, const BoxShape& box
   if (face_a.separation > max_separation) return false;
   const FaceAxis face_b = BestFace(relative, a, b, false);
   if (face_b.separation > max_separation) return false;
-  const EdgeAxis edges = BestEdges(relative, a, b);
-  if (edges.separation > max_separation) return false;
-
   const bool on_b = face_b.separation > face_a.separation + kFaceBBias;
   const float face_separation = on_b ? face_b.separation : face_a.separation;
+  const EdgeAxis edges = BestEdges(relative, a, b, face_separation + kEdgeBias);
+  if (edges.separation > max_separation) return false;
+
   manifold.count = 0;
   if (edges.separation > face_separation + kEdgeBias) {
     const Vec3& n = edges.normal;

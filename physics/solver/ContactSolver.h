@@ -56,7 +56,8 @@ inline float SeparationNow(const SolverContactPoint& p, const ContactMotion& mot
          p.angular_a[0].dot(motion.turned_a);
 }
 
-/// Sets `constraint` up in `arena` against the bodies' current inverse masses and inertias.
+/// Sets `constraint` up in `arena` against the bodies' current inverse masses and inertias. A frictionless
+/// contact gets zero friction rows and no friction impulse.
 SolverContact* SetupSolverContact(BlockArena& arena, ContactConstraint& constraint, const SolverBody* bodies,
                                   const SubstepContext& context);
 /// Applies the accumulated impulses to the bodies' velocities (every substep).

@@ -140,6 +140,44 @@ TEST(Simulation, FrictionIsTheSameInEveryDirection) {
   }
 }
 
+// A frictionless contact has no friction rows at all (they would only clamp zero to zero): the box must still
+// slide at its speed, upright, over dt and substeps, and frictionless boxes stacked on each other (solved
+// together, with the friction patches the direct solve builds) must still stand.
+TEST(Simulation, FrictionlessContactsSlideWithoutLosingSpeedAndStacksStillStand) {
+  for (const float dt : {1.0f / 30.0f, 1.0f / 60.0f})
+    for (const int substeps : {1, 4}) {
+      PhysicsSettings settings;
+      settings.substeps = substeps;
+      settings.allow_sleeping = false;  // the stack is to be solved every step, not put to sleep
+      auto world = MakeWorld(settings);
+      BodyCreationSettings floor = Static(Box(50, 1, 50), Vec3(0, -1, 0));
+      floor.friction = 0.0f;
+      Add(*world, floor);
+      BodyCreationSettings slider = Dynamic(Box(0.5f, 0.5f, 0.5f), Vec3(0, 0.5f, 0));
+      slider.friction = 0.0f;
+      slider.linear_damping = 0.0f;
+      slider.linear_velocity = Vec3(3, 0, 1);
+      const BodyID sliding = Add(*world, slider);
+      std::vector<BodyID> stack;
+      for (int level = 0; level < 3; ++level) {
+        BodyCreationSettings box = Dynamic(Box(0.5f, 0.5f, 0.5f), Vec3(-20, 0.5f + level, 0));
+        box.friction = 0.0f;
+        stack.push_back(Add(*world, box));
+      }
+      StepFor(*world, static_cast<int>(2.0f / dt), dt);
+      const std::string label = "dt " + std::to_string(dt) + ", substeps " + std::to_string(substeps);
+      const Vec3 velocity = Velocity(*world, sliding);
+      EXPECT_NEAR(velocity.x(), 3.0f, 1e-3f) << label;
+      EXPECT_NEAR(velocity.z(), 1.0f, 1e-3f) << label;
+      EXPECT_NEAR(Position(*world, sliding).y(), 0.5f, 0.01f) << label;
+      EXPECT_LT(world->bodies().GetAngularVelocity(sliding)->norm(), 1e-3f) << label;
+      EXPECT_GT(world->last_step_stats().direct_islands, 0u) << label;
+      for (int level = 0; level < 3; ++level)
+        EXPECT_LT((Position(*world, stack[level]) - Vec3(-20, 0.5f + level, 0)).norm(), 0.01f)
+            << label << ", box " << level;
+    }
+}
+
 TEST(Simulation, HeadOnSphereCollisionConservesMomentum) {
   PhysicsSettings settings;
   settings.gravity = Vec3::Zero();

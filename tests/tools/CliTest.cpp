@@ -100,6 +100,23 @@ TEST(Cli, AccuracyWritesJsonMarkdownAndPlot) {
   std::filesystem::remove_all(dir);
 }
 
+TEST(Cli, AccuracyRunsOnlyTheSettingsAsked) {
+  const auto dir = TempFile("accuracy-settings");
+  std::string output;
+  ASSERT_EQ(RunCliCapture("accuracy --no-bullet --timing-runs 1 --case free_fall --setting \"dt1/30 sub1\" "
+                          "--setting \"dt1/120 sub8\" --out-dir " +
+                              dir.string(),
+                          output),
+            0);
+  std::ifstream json_file(dir / "accuracy.json");
+  const auto json = nlohmann::json::parse(json_file);
+  std::multiset<std::string> settings;
+  for (const auto& run : json["runs"]) settings.insert(run["setting"].get<std::string>());
+  EXPECT_EQ(settings, (std::multiset<std::string>{"dt1/120 sub8", "dt1/30 sub1"}));
+  EXPECT_EQ(RunCli("accuracy --no-bullet --setting \"dt1/7 sub1\" --out-dir " + dir.string()), 2);
+  std::filesystem::remove_all(dir);
+}
+
 TEST(Cli, SimulateWritesOneLinePerRecordedStep) {
   const auto out = TempFile("states.jsonl");
   ASSERT_EQ(RunCli("simulate " + (kScenes / "bounce.json").string() + " --steps 120 --every 30 --out " +

@@ -13,7 +13,8 @@ namespace {
 
 struct AccuracyOptions {
   std::string out_dir = ".";
-  std::vector<std::string> cases;  // empty = all
+  std::vector<std::string> cases;     // empty = all
+  std::vector<std::string> settings;  // empty = the whole grid
   bool quick = false;
   bool no_bullet = false;
   int timing_runs = 5;
@@ -36,6 +37,19 @@ int RunAccuracy(const AccuracyOptions& options) {
     cases = std::move(chosen);
   }
   std::vector<AccuracySetting> settings = AccuracySettings();
+  if (!options.settings.empty()) {
+    const std::set<std::string> wanted(options.settings.begin(), options.settings.end());
+    std::vector<AccuracySetting> chosen;
+    for (AccuracySetting& s : settings)
+      if (wanted.count(s.name)) chosen.push_back(std::move(s));
+    if (chosen.size() != wanted.size()) {
+      std::cerr << "strata accuracy: unknown setting in --setting; the settings are:";
+      for (const AccuracySetting& s : AccuracySettings()) std::cerr << " \"" << s.name << "\"";
+      std::cerr << "\n";
+      return 2;
+    }
+    settings = std::move(chosen);
+  }
   if (options.quick) settings = {DefaultAccuracySetting()};
   std::vector<std::string> engines = {"strata"};
   if (!options.no_bullet && MakeBulletEngine()) engines.push_back("bullet");
@@ -91,6 +105,8 @@ std::function<int()> AddAccuracyCommand(CLI::App& app) {
       "accuracy", "Analytic cases (error against run time) at a grid of settings, beside Bullet");
   command->add_option("--out-dir", options->out_dir, "Where accuracy.json, accuracy.md and accuracy.png go");
   command->add_option("--case", options->cases, "Run only these cases (repeatable)");
+  command->add_option("--setting", options->settings,
+                      "Run only these settings of the grid, by name as accuracy.md writes them (repeatable)");
   command->add_flag("--quick", options->quick, "Only the default setting");
   command->add_flag("--no-bullet", options->no_bullet, "Strata only");
   command
