@@ -179,6 +179,16 @@ int ClipSide(const FacePoint* in, int count, bool along_u, float sign, float lim
   return written;
 }
 
+// Whether every point is inside the rectangle as ClipSide judges it (within kOnSide of each side): then the
+// four clips would hand the points through unchanged and in order (a box on a larger box: most contacts).
+bool InsideRectangle(const FacePoint* points, int count, float half_u, float half_v) {
+  for (int i = 0; i < count; ++i)
+    if (std::abs(points[i].u) - half_u > kOnSide * half_u ||
+        std::abs(points[i].v) - half_v > kOnSide * half_v)
+      return false;
+  return true;
+}
+
 // The face manifold: the incident face (a quad) clipped to the reference face's rectangle in the rectangle's
 // own coordinates, each point then carried onto the reference plane along the contact normal `n` (A to B).
 // The reference is the face more aligned with the normal (A's on a tie), as BuildManifold chooses.
@@ -206,7 +216,8 @@ void FaceManifold(const PosedBox& a, int face_a, const PosedBox& b, int face_b, 
   // its side faces along the other, by that coordinate's sign at its corners.
   int current = 0;
   const int(&loop)[4] = BoxShape::kFaceCorners[reference_face];
-  for (int edge = 0; edge < 4 && count > 0; ++edge) {
+  const int sides = InsideRectangle(buffers[0], count, half_u, half_v) ? 0 : 4;
+  for (int edge = 0; edge < sides && count > 0; ++edge) {
     const int corner = loop[edge], runs_along = loop[edge] ^ loop[(edge + 1) % 4];
     const int side_axis = (runs_along & (1 << ((axis + 1) % 3))) != 0 ? (axis + 2) % 3 : (axis + 1) % 3;
     const bool along_u = side_axis == (axis + 1) % 3;
