@@ -70,6 +70,7 @@ std::uint32_t QuadTree::MakeEmptyNode(std::uint32_t parent) {
   }
   fresh.parent.store(parent, kRelaxed);
   fresh.changed.store(0, kRelaxed);
+  fresh.linked.store(0, kRelaxed);
   return index;
 }
 
@@ -213,14 +214,27 @@ std::uint32_t QuadTree::Depth(std::uint32_t root) const {
 }
 
 bool QuadTree::IsLinked(std::uint32_t body_index) const {
-  std::uint32_t current = locations_[body_index].node.load(std::memory_order_acquire);
-  if (current == kInvalid) return false;
-  for (;;) {
+  const std::uint32_t holder = locations_[body_index].node.load(std::memory_order_acquire);
+  if (holder == kInvalid) return false;
+  std::atomic<std::uint32_t>& linked = pool_.Get(holder).linked;
+  if (linked.load(std::memory_order_acquire) != 0) return true;
+  for (std::uint32_t current = holder;;) {
     const std::uint32_t parent = node(current).parent.load(std::memory_order_acquire);
-    if (parent == kNoParent) return true;
     if (parent == kUnlinked) return false;
+    if (parent == kNoParent) break;
     current = parent;
   }
+  linked.store(1, std::memory_order_release);  // a cache of the walk's answer: the next check is one load
+  return true;
+}
+
+bool QuadTree::SlotCovers(const QuadTreeNode& holder, int slot, const AABB& bounds) {
+  return holder.min_x[slot].load(kRelaxed) <= bounds.min.x() &&
+         holder.min_y[slot].load(kRelaxed) <= bounds.min.y() &&
+         holder.min_z[slot].load(kRelaxed) <= bounds.min.z() &&
+         holder.max_x[slot].load(kRelaxed) >= bounds.max.x() &&
+         holder.max_y[slot].load(kRelaxed) >= bounds.max.y() &&
+         holder.max_z[slot].load(kRelaxed) >= bounds.max.z();
 }
 
 int QuadTree::SlotOf(const QuadTreeNode& parent, std::uint32_t child) {
@@ -235,6 +249,7 @@ void QuadTree::Widen(std::uint32_t body_index, const AABB& bounds) {
   std::uint32_t child = kBodyTag | body_index;
   std::uint32_t current = location.node.load(std::memory_order_acquire);
   int slot = location.slot.load(kRelaxed);
+  if (current == kNoParent || current == kUnlinked || SlotCovers(node(current), slot, bounds)) return;
   while (current != kNoParent && current != kUnlinked) {
     QuadTreeNode& target = node(current);
     if (slot < 0) slot = SlotOf(target, child);

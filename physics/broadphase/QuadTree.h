@@ -26,6 +26,9 @@ struct alignas(64) QuadTreeNode {
   std::array<std::atomic<std::uint32_t>, 4> children;  // node index, kBodyTag | body index, or kInvalid
   std::atomic<std::uint32_t> parent;                   // node index, kNoParent (root) or kUnlinked
   std::atomic<std::uint32_t> changed;                  // something below moved, came or went since the build
+  // Seen to lead up to a linked root (once linked, a node stays linked until it is freed): presence checks
+  // then skip the walk up.
+  std::atomic<std::uint32_t> linked;
 };
 
 /// Where a body sits and what a query needs to report it; one per body index, shared by all trees.
@@ -82,9 +85,12 @@ class QuadTree {
   /// that new root; returns false when the reservation was not touched (give it back).
   bool Link(TreeGenerations& generations, std::uint32_t entry, const AABB& bounds);
 
-  /// True when the body's location leads up to a linked root.
+  /// True when the body's location leads up to a linked root (a walk up the first time its node is asked).
   bool IsLinked(std::uint32_t body_index) const;
   /// Grows the body's slot and every ancestor's to cover `bounds` (atomic min/max) and marks them changed.
+  /// Bounds within the body's slot stop there: the ancestors already cover the slot (each earlier growth of
+  /// it went all the way up, and a rebuild makes parents the union of their children), so a body moving
+  /// within its slot writes nothing shared and asks for no rebuild.
   void Widen(std::uint32_t body_index, const AABB& bounds);
   /// Empties the body's slot (bounds inside out first, so no query sees it after this returns).
   void Remove(std::uint32_t body_index);
@@ -122,6 +128,8 @@ class QuadTree {
   void MarkChangedUpwards(std::uint32_t node_index);
   AABB NodeBounds(std::uint32_t node_index) const;
   static int SlotOf(const QuadTreeNode& parent, std::uint32_t child);
+  // Whether a body's slot already holds `bounds` (then so does every ancestor).
+  static bool SlotCovers(const QuadTreeNode& holder, int slot, const AABB& bounds);
 
   QuadTreeNodePool& pool_;
   std::vector<BodyLocation>& locations_;

@@ -340,6 +340,39 @@ TEST(QuadTreeBroadPhase, StaticTreeIsNotRebuiltWhenOnlyDynamicBodiesMove) {
   EXPECT_LE(broad_phase.stats().retired_nodes, 4u);
 }
 
+// A body whose new bounds lie inside its slot (a game object swaying within where it was) writes nothing
+// shared and asks for no rebuild; bounds that leave the slot widen it up to the root and do; queries find the
+// body at every place it was put.
+TEST(QuadTreeBroadPhase, MovesWithinABodysSlotNeedNoRebuildAndMovesOutOfItDo) {
+  QuadTreeBroadPhase broad_phase(kCapacity, std::make_shared<DefaultLayerSetup>());
+  for (std::uint32_t i = 0; i < 40; ++i)
+    ASSERT_TRUE(broad_phase
+                    .AddBody({i, 1}, AABB::FromCenterHalfExtents(Vec3(float(i) * 3, 0, 0), Vec3::Constant(1)),
+                             layers::kMoving)
+                    .ok());
+  broad_phase.Optimize();
+  auto finds = [&](const AABB& box) {
+    std::vector<BodyID> hits;
+    broad_phase.CollideAABB(box, {}, hits);
+    return std::find(hits.begin(), hits.end(), BodyID{7, 1}) != hits.end();
+  };
+  const std::uint64_t generation = broad_phase.stats().generation;
+  // Body 7 fills its slot exactly (x 20..22): a smaller box inside it is within.
+  const AABB inside = AABB::FromCenterHalfExtents(Vec3(21.2f, 0.3f, 0), Vec3::Constant(0.5f));
+  ASSERT_TRUE(broad_phase.UpdateBody({7, 1}, inside).ok());
+  broad_phase.Update();
+  EXPECT_EQ(broad_phase.stats().generation, generation) << "a move within the slot rebuilt the tree";
+  EXPECT_TRUE(finds(inside));
+  const AABB outside = AABB::FromCenterHalfExtents(Vec3(21, 40, 0), Vec3::Constant(0.5f));
+  ASSERT_TRUE(broad_phase.UpdateBody({7, 1}, outside).ok());
+  EXPECT_TRUE(finds(outside)) << "widened to the root before the rebuild";
+  broad_phase.Update();
+  EXPECT_EQ(broad_phase.stats().generation, generation + 1);
+  EXPECT_TRUE(finds(outside));
+  EXPECT_FALSE(finds(AABB::FromCenterHalfExtents(Vec3(21, 0, 0), Vec3::Constant(0.2f))))
+      << "the rebuild tightens the slot to where the body is";
+}
+
 // Holding a pin across 100 steps while the world changes: queries through the pin read only live nodes
 // (freed nodes are poisoned, so the ASan build would stop on a late read), old generations pile up, and
 // their memory comes back once the pin is released.
