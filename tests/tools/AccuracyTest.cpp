@@ -80,6 +80,17 @@ TEST(AccuracyReport, GapsNameEachUncoveredBulletRunAndTheCheapestStrataRunAsAccu
   EXPECT_FALSE(gaps[1].strata.has_value());
 }
 
+TEST(AccuracyReport, GapsSayWhetherTheUncoveredBulletRunsFailTheTolerance) {
+  std::vector<AccuracyRecord> records = {Record("strata", "a", 0.01, 2.0), Record("bullet", "x", 0.5, 1.0)};
+  std::vector<FrontGap> gaps = FrontGaps(records, "case", 0.0);
+  ASSERT_EQ(gaps.size(), 1u);
+  EXPECT_TRUE(OnlyFailingRunsUncovered(gaps));  // x is cheaper but fails
+  records[1].passed = true;
+  EXPECT_FALSE(OnlyFailingRunsUncovered(FrontGaps(records, "case", 0.0)));
+  records[1].wall_ms = 3.0;  // now a covers x: no gaps at all
+  EXPECT_FALSE(OnlyFailingRunsUncovered(FrontGaps(records, "case", 0.0)));
+}
+
 TEST(AccuracyReport, SettingsOnlyStrataHasRunOnStrataAlone) {
   if (MakeBulletEngine() == nullptr) GTEST_SKIP() << "built without Bullet";
   AccuracySetting exact{"exact", 1.0f / 60.0f, 1, 1, 1, true, true};

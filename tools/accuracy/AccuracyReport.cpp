@@ -191,6 +191,11 @@ std::vector<FrontGap> FrontGaps(const std::vector<AccuracyRecord>& records, cons
   return gaps;
 }
 
+bool OnlyFailingRunsUncovered(const std::vector<FrontGap>& gaps) {
+  return !gaps.empty() &&
+         std::none_of(gaps.begin(), gaps.end(), [](const FrontGap& gap) { return gap.bullet.passed; });
+}
+
 Status WriteAccuracyJson(const std::vector<AccuracyRecord>& records, const std::vector<AccuracyCase>& cases,
                          const std::filesystem::path& path) {
   nlohmann::json document;
@@ -199,8 +204,11 @@ Status WriteAccuracyJson(const std::vector<AccuracyRecord>& records, const std::
     nlohmann::json entry = {{"name", c.name}, {"what", c.what}, {"unit", c.unit}, {"tolerance", c.tolerance}};
     const auto strata = ParetoFront(records, c.name, "strata");
     const auto bullet = ParetoFront(records, c.name, "bullet");
-    if (!bullet.empty())
+    if (!bullet.empty()) {
       entry["front_at_or_below_bullet"] = FrontAtOrBelow(strata, bullet, c.tolerance * 0.1);
+      entry["only_failing_bullet_runs_uncovered"] =
+          OnlyFailingRunsUncovered(FrontGaps(records, c.name, c.tolerance * 0.1));
+    }
     case_list.push_back(entry);
   }
   nlohmann::json runs = nlohmann::json::array();
@@ -240,7 +248,8 @@ Status WriteAccuracyMarkdown(const std::vector<AccuracyRecord>& records,
         << " Bullet's.\n";
     for (const FrontGap& gap : gaps) {
       out << "- Bullet " << gap.bullet.setting << " (error " << Format(gap.bullet.error) << ", "
-          << Format(gap.bullet.wall_ms) << " ms): ";
+          << Format(gap.bullet.wall_ms) << " ms, " << (gap.bullet.passed ? "passes" : "fails the tolerance")
+          << "): ";
       if (!gap.strata) {
         out << "no Strata run is as accurate\n";
         continue;

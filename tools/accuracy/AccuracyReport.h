@@ -49,6 +49,9 @@ struct FrontGap {
 /// Why FrontAtOrBelow is false for a case: every uncovered point of Bullet's front (empty when it is true).
 std::vector<FrontGap> FrontGaps(const std::vector<AccuracyRecord>& records, const std::string& case_name,
                                 double floor);
+/// Whether there are gaps and Bullet's run fails the case's tolerance in every one of them (the uncovered
+/// points are cheap but wrong answers), which the report states beside the verdict; it does not change it.
+bool OnlyFailingRunsUncovered(const std::vector<FrontGap>& gaps);
 
 Status WriteAccuracyJson(const std::vector<AccuracyRecord>& records, const std::vector<AccuracyCase>& cases,
                          const std::filesystem::path& path);
