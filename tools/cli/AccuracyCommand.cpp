@@ -20,36 +20,31 @@ struct AccuracyOptions {
   int timing_runs = 5;
 };
 
+// Keeps the items named in `wanted` (all of them when it is empty). False, with a message listing every name,
+// when a name matches nothing.
+template <class Item>
+bool KeepNamed(std::vector<Item>& items, const std::vector<std::string>& wanted, const char* option) {
+  if (wanted.empty()) return true;
+  const std::set<std::string> names(wanted.begin(), wanted.end());
+  std::vector<Item> chosen;
+  for (const Item& item : items)
+    if (names.count(item.name)) chosen.push_back(item);
+  if (chosen.size() == names.size()) {
+    items = std::move(chosen);
+    return true;
+  }
+  std::cerr << "strata accuracy: unknown name in " << option << "; the names are:";
+  for (const Item& item : items) std::cerr << " \"" << item.name << "\"";
+  std::cerr << "\n";
+  return false;
+}
+
 int RunAccuracy(const AccuracyOptions& options) {
   using namespace accuracy;
   std::vector<AccuracyCase> cases = AccuracyCases();
-  if (!options.cases.empty()) {
-    const std::set<std::string> wanted(options.cases.begin(), options.cases.end());
-    std::vector<AccuracyCase> chosen;
-    for (AccuracyCase& c : cases)
-      if (wanted.count(c.name)) chosen.push_back(std::move(c));
-    if (chosen.size() != wanted.size()) {
-      std::cerr << "strata accuracy: unknown case in --case; the cases are:";
-      for (const AccuracyCase& c : AccuracyCases()) std::cerr << " " << c.name;
-      std::cerr << "\n";
-      return 2;
-    }
-    cases = std::move(chosen);
-  }
   std::vector<AccuracySetting> settings = AccuracySettings();
-  if (!options.settings.empty()) {
-    const std::set<std::string> wanted(options.settings.begin(), options.settings.end());
-    std::vector<AccuracySetting> chosen;
-    for (AccuracySetting& s : settings)
-      if (wanted.count(s.name)) chosen.push_back(std::move(s));
-    if (chosen.size() != wanted.size()) {
-      std::cerr << "strata accuracy: unknown setting in --setting; the settings are:";
-      for (const AccuracySetting& s : AccuracySettings()) std::cerr << " \"" << s.name << "\"";
-      std::cerr << "\n";
-      return 2;
-    }
-    settings = std::move(chosen);
-  }
+  if (!KeepNamed(cases, options.cases, "--case") || !KeepNamed(settings, options.settings, "--setting"))
+    return 2;
   if (options.quick) settings = {DefaultAccuracySetting()};
   std::vector<std::string> engines = {"strata"};
   if (!options.no_bullet && MakeBulletEngine()) engines.push_back("bullet");
