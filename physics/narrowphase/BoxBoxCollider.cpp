@@ -14,6 +14,10 @@ namespace {
 // face by kEdgeBias (faces give stable four-point manifolds).
 constexpr float kFaceBBias = 0.001f;
 constexpr float kEdgeBias = 0.005f;
+// Faces whose alignments with the normal differ by no more than this are parallel to rounding: they touch
+// over the overlap of their rectangles whichever is the reference, so the larger one is, and the smaller
+// then lies inside it and needs no clipping (a box resting on a floor or a wider box).
+constexpr float kParallelFaces = 1e-6f;
 // Edge pairs closer to parallel than this (length of the cross product of unit axes) are covered by faces.
 constexpr float kParallel = 1e-4f;
 
@@ -34,6 +38,8 @@ struct PosedBox {
     const Vec3 along = axes.transpose() * direction;
     return Corner((along.x() > 0.0f ? 1 : 0) | (along.y() > 0.0f ? 2 : 0) | (along.z() > 0.0f ? 4 : 0));
   }
+  // Face f's area over four (the product of its two half extents).
+  float FaceArea(int face) const { return half[(face / 2 + 1) % 3] * half[(face / 2 + 2) % 3]; }
   // Face f (-x, +x, -y, +y, -z, +z): outward normal.
   Vec3 FaceNormal(int face) const { return (face % 2 ? 1.0f : -1.0f) * axes.col(face / 2); }
   // The face whose normal is most aligned with `direction` (the first of equals, as MostAlignedFace). Face
@@ -191,10 +197,14 @@ bool InsideRectangle(const FacePoint* points, int count, float half_u, float hal
 
 // The face manifold: the incident face (a quad) clipped to the reference face's rectangle in the rectangle's
 // own coordinates, each point then carried onto the reference plane along the contact normal `n` (A to B).
-// The reference is the face more aligned with the normal (A's on a tie), as BuildManifold chooses.
+// The reference is the face more aligned with the normal, as BuildManifold chooses; of two faces parallel to
+// rounding, the larger (A's on a tie).
 void FaceManifold(const PosedBox& a, int face_a, const PosedBox& b, int face_b, const Vec3& n,
                   float max_separation, ContactManifold& manifold) {
-  const bool reference_is_a = a.FaceNormal(face_a).dot(n) >= -b.FaceNormal(face_b).dot(n);
+  const float alignment_a = a.FaceNormal(face_a).dot(n), alignment_b = -b.FaceNormal(face_b).dot(n);
+  const bool reference_is_a = std::abs(alignment_a - alignment_b) <= kParallelFaces
+                                  ? a.FaceArea(face_a) >= b.FaceArea(face_b)
+                                  : alignment_a > alignment_b;
   const PosedBox& reference = reference_is_a ? a : b;
   const PosedBox& incident = reference_is_a ? b : a;
   const int reference_face = reference_is_a ? face_a : face_b;

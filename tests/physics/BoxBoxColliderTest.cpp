@@ -70,20 +70,34 @@ TEST(BoxBoxCollider, AgreesWithThePolyhedronColliderOnRandomPairs) {
   EXPECT_LT(touching, 3000);
 }
 
-TEST(BoxBoxCollider, BoxRestingOnAFloorTouchesAtItsFourBottomCorners) {
+TEST(BoxBoxCollider, BoxRestingOnAFloorTouchesAtItsFourBottomCornersInEitherOrder) {
+  // The faces are parallel (to rounding, when the box is tipped by a hair), so either could be the reference:
+  // the floor's is, whichever body comes first, and the box's bottom face needs no clipping.
   const BoxShape floor(Vec3(50, 1, 50)), box(Vec3(0.5f, 0.25f, 0.5f));
   const Pose floor_pose{Vec3(0, -1, 0), Quat::Identity()};
-  const Pose box_pose{Vec3(3, 0.24f, -2), Quat(Eigen::AngleAxisf(0.3f, Vec3::UnitY()))};
-  ContactManifold manifold;
-  ASSERT_TRUE(CollideBoxes(floor, floor_pose, box, box_pose, 0.02f, manifold));
-  EXPECT_TRUE(manifold.normal.isApprox(Vec3::UnitY(), 1e-6f));
-  ASSERT_EQ(manifold.count, 4);
-  for (int i = 0; i < 4; ++i) {
-    EXPECT_NEAR(manifold.points[i].separation, -0.01f, 1e-5f);
-    EXPECT_NEAR(manifold.points[i].position_a.y(), 0.0f, 1e-5f);
-    // Each point is a bottom corner of the box: 0.5 * sqrt(2) from its centre in the floor's plane.
-    const Vec3 from_centre = manifold.points[i].position_b - box_pose.position;
-    EXPECT_NEAR(Vec3(from_centre.x(), 0, from_centre.z()).norm(), 0.5f * std::sqrt(2.0f), 1e-5f);
+  for (const float tip : {0.0f, 2e-5f}) {
+    const Quat turn(Eigen::AngleAxisf(0.3f, Vec3::UnitY()) * Eigen::AngleAxisf(tip, Vec3::UnitX()));
+    const Pose box_pose{Vec3(3, 0.24f, -2), turn};
+    for (const bool floor_first : {true, false}) {
+      ContactManifold manifold;
+      ASSERT_TRUE(floor_first ? CollideBoxes(floor, floor_pose, box, box_pose, 0.02f, manifold)
+                              : CollideBoxes(box, box_pose, floor, floor_pose, 0.02f, manifold));
+      const Vec3 up = floor_first ? Vec3::UnitY() : Vec3(-Vec3::UnitY());  // the normal points from A to B
+      EXPECT_TRUE(manifold.normal.isApprox(up, 1e-6f)) << tip << " " << floor_first;
+      ASSERT_EQ(manifold.count, 4) << tip << " " << floor_first;
+      for (int i = 0; i < 4; ++i) {
+        const ContactPoint& point = manifold.points[i];
+        const Vec3& on_floor = floor_first ? point.position_a : point.position_b;
+        const Vec3& on_box = floor_first ? point.position_b : point.position_a;
+        EXPECT_NEAR(point.separation, -0.01f, 2e-5f) << tip << " " << floor_first;
+        EXPECT_NEAR(on_floor.y(), 0.0f, 1e-5f) << tip << " " << floor_first;
+        // Each point is a bottom corner of the box: 0.5 * sqrt(2) from its centre in the floor's plane.
+        const Vec3 from_centre = on_box - box_pose.position;
+        EXPECT_NEAR(Vec3(from_centre.x(), 0, from_centre.z()).norm(), 0.5f * std::sqrt(2.0f), 1e-5f)
+            << tip << " " << floor_first;
+        EXPECT_NEAR(from_centre.y(), -0.25f, 2e-5f) << tip << " " << floor_first;
+      }
+    }
   }
 }
 

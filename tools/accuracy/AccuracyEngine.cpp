@@ -19,6 +19,7 @@ class StrataEngine final : public AccuracyEngine {
   Status Build(const AccuracyScene& scene, const AccuracySetting& setting) override {
     PhysicsSettings settings;
     settings.gravity = scene.gravity;
+    settings.min_velocity_for_restitution = scene.min_velocity_for_restitution;
     settings.substeps = setting.substeps;
     settings.velocity_iterations = setting.velocity_iterations;
     settings.relax_iterations = setting.relax_iterations;

@@ -31,6 +31,7 @@ class BulletEngine final : public AccuracyEngine {
   Status Build(const AccuracyScene& scene, const AccuracySetting& setting) override {
     world_.setGravity(ToBullet(scene.gravity));
     world_.getSolverInfo().m_numIterations = setting.velocity_iterations + setting.relax_iterations;
+    world_.getSolverInfo().m_restitutionVelocityThreshold = scene.min_velocity_for_restitution;
     dt_ = setting.dt;
     substeps_ = setting.substeps;
     for (const AccuracyBody& body : scene.bodies) {
