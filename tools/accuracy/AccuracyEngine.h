@@ -9,6 +9,7 @@
 
 #include "physics/core/Result.h"
 #include "physics/math/Math.h"
+#include "physics/world/PhysicsSettings.h"
 
 namespace strata::accuracy {
 
@@ -33,9 +34,9 @@ struct AccuracyBody {
 struct AccuracyScene {
   std::vector<AccuracyBody> bodies;
   Vec3 gravity = Vec3(0.0f, -9.81f, 0.0f);
-  /// Approaches slower than this (m/s) do not bounce, in every engine. Strata's default; Bullet's own is
-  /// 0.2 m/s, at which a box resting with e = 1 bounces on the speed gravity gives it in one step at dt 1/30.
-  float min_velocity_for_restitution = 1.0f;
+  /// Approaches slower than this (m/s) do not bounce, in every engine: Strata's default. Bullet's own, 0.2
+  /// m/s, lets an e = 1 box sliding on a floor bounce on the speed gravity gives it in one step at dt 1/30.
+  float min_velocity_for_restitution = PhysicsSettings{}.min_velocity_for_restitution;
 };
 
 /// How a run is stepped.
