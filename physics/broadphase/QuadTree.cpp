@@ -59,6 +59,28 @@ void BodyLocation::SetBounds(const AABB& box) {
   }
 }
 
+Vec3 BodyLocation::Motion() const {
+  return {motion[0].load(kRelaxed), motion[1].load(kRelaxed), motion[2].load(kRelaxed)};
+}
+
+void BodyLocation::SetMotion(const Vec3& step) {
+  for (int axis = 0; axis < 3; ++axis) motion[axis].store(step[axis], kRelaxed);
+}
+
+AABB BodyLocation::PredictedBounds() const {
+  AABB predicted = Bounds();
+  const Vec3 step = Motion();
+  // A jump (a teleport, a first placement) says nothing about the next move; a body's own size bounds what a
+  // steady move adds, so a slot grows to at most a few times the body.
+  if (step.isZero(0.0f) || (step.cwiseAbs().array() > predicted.Size().array()).any()) return predicted;
+  const Vec3 ahead = kPredictedMoves * step;
+  predicted.Encapsulate(AABB(predicted.min + ahead, predicted.max + ahead));
+  // A move is never quite the last one again (a body on the ground swings its swept bounds up and down by a
+  // step's fall): some room all round, in proportion to the move.
+  const Vec3 room = Vec3::Constant(kRoomPerMove * step.norm());
+  return AABB(predicted.min - room, predicted.max + room);
+}
+
 std::uint32_t QuadTree::MakeEmptyNode(std::uint32_t parent) {
   const std::uint32_t index = pool_.Allocate();
   QuadTreeNode& fresh = node(index);
@@ -245,6 +267,7 @@ int QuadTree::SlotOf(const QuadTreeNode& parent, std::uint32_t child) {
 
 void QuadTree::Widen(std::uint32_t body_index, const AABB& bounds) {
   BodyLocation& location = locations_[body_index];
+  location.SetMotion(bounds.Center() - location.Bounds().Center());
   location.SetBounds(bounds);
   std::uint32_t child = kBodyTag | body_index;
   std::uint32_t current = location.node.load(std::memory_order_acquire);
@@ -301,7 +324,7 @@ bool QuadTree::CollectForRebuild(std::uint32_t root, bool full, std::vector<Item
                                  std::vector<std::uint32_t>& dropped,
                                  std::vector<std::uint32_t>& stack) const {
   if (!full && node(root).changed.load(kRelaxed) == 0) return false;
-  // Bodies of changed nodes come with their exact bounds; unchanged subtrees are kept whole.
+  // Bodies of changed nodes come with their predicted bounds; unchanged subtrees are kept whole.
   stack.assign(1, root);
   while (!stack.empty()) {
     const std::uint32_t current = stack.back();
@@ -312,7 +335,7 @@ bool QuadTree::CollectForRebuild(std::uint32_t root, bool full, std::vector<Item
       const std::uint32_t child = source.children[slot].load(kRelaxed);
       if (child == kInvalid) continue;
       if (child & kBodyTag) {
-        items.push_back({child, locations_[child & ~kBodyTag].Bounds()});
+        items.push_back({child, locations_[child & ~kBodyTag].PredictedBounds()});
       } else if (full || node(child).changed.load(kRelaxed) != 0) {
         stack.push_back(child);
       } else if (const AABB bounds = NodeBounds(child); !bounds.IsEmpty()) {

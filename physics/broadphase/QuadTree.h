@@ -40,9 +40,18 @@ struct BodyLocation {
   std::atomic<std::uint16_t> layer{0};
   std::atomic<std::uint32_t> generation{0};
   std::array<std::atomic<float>, 6> bounds;  // exact bounds: min x, y, z, max x, y, z
+  // How far the bounds' centre went on the last update: a rebuild sizes the slot for a few more such moves.
+  std::array<std::atomic<float>, 3> motion;
 
   AABB Bounds() const;
   void SetBounds(const AABB& box);
+  Vec3 Motion() const;
+  void SetMotion(const Vec3& step);
+  /// The exact bounds swept over the next kPredictedMoves moves like the last, with kRoomPerMove times the
+  /// move's length all round; the exact bounds alone when the last move was a jump (longer than the body).
+  AABB PredictedBounds() const;
+  static constexpr float kPredictedMoves = 3.0f;
+  static constexpr float kRoomPerMove = 0.5f;
 };
 
 using QuadTreeNodePool = FixedSizeFreeList<QuadTreeNode>;
@@ -88,14 +97,17 @@ class QuadTree {
   /// True when the body's location leads up to a linked root (a walk up the first time its node is asked).
   bool IsLinked(std::uint32_t body_index) const;
   /// Grows the body's slot and every ancestor's to cover `bounds` (atomic min/max) and marks them changed.
-  /// Bounds within the body's slot stop there: the ancestors already cover the slot (each earlier growth of
-  /// it went all the way up, and a rebuild makes parents the union of their children), so a body moving
-  /// within its slot writes nothing shared and asks for no rebuild.
+  /// Records the move for the next rebuild, which sizes the slot for a few more like it (BodyLocation::
+  /// PredictedBounds): a body in steady motion then stays inside its slot for several steps, as a resting one
+  /// does, and the tree needs no rebuild for it. Bounds within the body's slot stop there: the ancestors
+  /// already cover the slot (each earlier growth of it went all the way up, and a rebuild makes parents the
+  /// union of their children), so a body moving within its slot writes nothing shared and asks for no
+  /// rebuild.
   void Widen(std::uint32_t body_index, const AABB& bounds);
   /// Empties the body's slot (bounds inside out first, so no query sees it after this returns).
   void Remove(std::uint32_t body_index);
 
-  /// First half of a rebuild: the items to rebuild `root` from (bodies of changed nodes with their exact
+  /// First half of a rebuild: the items to rebuild `root` from (bodies of changed nodes with their predicted
   /// bounds, unchanged subtrees whole; everything when `full`) and the nodes the new tree drops. False
   /// (nothing collected) when nothing under `root` changed. `stack` is scratch.
   bool CollectForRebuild(std::uint32_t root, bool full, std::vector<Item>& items,

@@ -1,13 +1,12 @@
 #include "physics/broadphase/QuadTreeBroadPhase.h"
 
-#include <thread>
-
-#include <chrono>
-
 #include <algorithm>
 #include <cassert>
+#include <chrono>
 #include <mutex>
 #include <string>
+#include <thread>
+#include <utility>
 
 #include "physics/math/Overlap4.h"
 
@@ -208,6 +207,7 @@ Result<AddBatch> QuadTreeBroadPhase::AddBodiesPrepare(std::span<const BodyID> id
     location.layer.store(layers[i], kRelaxed);
     location.generation.store(ids[i].generation, kRelaxed);
     location.SetBounds(bounds[i]);
+    location.SetMotion(Vec3::Zero());
     items[tree].push_back({QuadTree::kBodyTag | ids[i].index, bounds[i]});
   }
   std::uint32_t needed = 0;
@@ -304,6 +304,12 @@ Status QuadTreeBroadPhase::UpdateBody(BodyID id, const AABB& bounds) {
 void QuadTreeBroadPhase::Rebuild(bool full) {
   const StripedGateClosure no_modifications(modification_gate_);
   auto free_node = [&](std::uint32_t node) { pool_.Free(node); };
+  if (!full && !AnyTreeChanged()) {
+    // Most steps of a steady world: every body moved within its slot. The generation stays; only what
+    // readers have let go of since is freed.
+    if (generations_.retired_node_count() > 0) generations_.Reclaim(free_node);
+    return;
+  }
   generations_.Reclaim(free_node);
   if (!generations_.CanPublish()) {
     rebuilds_skipped_.fetch_add(1, kRelaxed);
@@ -341,6 +347,15 @@ void QuadTreeBroadPhase::Rebuild(bool full) {
   pool_.Unreserve(needed - used);
   generations_.Publish(roots, retired);
   generations_.Reclaim(free_node);  // frees at once what no reader pinned
+}
+
+bool QuadTreeBroadPhase::AnyTreeChanged() {
+  for (std::size_t t = 0; t < trees_.size(); ++t) {
+    const std::uint32_t root =
+        generations_.CurrentRootSlot(static_cast<std::uint32_t>(t)).load(std::memory_order_acquire);
+    if (std::as_const(trees_[t]).node(root).changed.load(kRelaxed) != 0) return true;
+  }
+  return false;
 }
 
 BroadPhaseStats QuadTreeBroadPhase::stats() const {

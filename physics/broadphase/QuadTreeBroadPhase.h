@@ -70,6 +70,9 @@ class QuadTreeBroadPhase final : public BroadPhase {
   struct PreparedBatch;
 
   void Rebuild(bool full);
+  // Whether any tree's current root was marked changed (a body left its slot, came or went) since it was
+  // built.
+  bool AnyTreeChanged();
   Status CheckPresent(BodyID id) const;
   /// Walks every tree the filter can accept bodies from, in the pinned generation.
   template <class ChildTest, class BodyVisitor>

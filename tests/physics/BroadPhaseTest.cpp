@@ -1,6 +1,7 @@
 // Both broad phases (the quad tree and the brute-force oracle) against a direct computation: random
 // sequences of batch add, single add, remove, move and rebuild, with every query kind checked; bad input;
 // batches; pinned generations.
+#include <algorithm>
 #include <map>
 #include <random>
 #include <set>
@@ -371,6 +372,60 @@ TEST(QuadTreeBroadPhase, MovesWithinABodysSlotNeedNoRebuildAndMovesOutOfItDo) {
   EXPECT_TRUE(finds(outside));
   EXPECT_FALSE(finds(AABB::FromCenterHalfExtents(Vec3(21, 0, 0), Vec3::Constant(0.2f))))
       << "the rebuild tightens the slot to where the body is";
+}
+
+// A body gliding at a steady pace: each rebuild sizes its slot for a few more moves like the last, so the
+// tree is rebuilt on a fraction of the moves, and queries still see the body exactly where it is (its slot
+// may reach ahead; the body's own bounds decide). A jump gets no room ahead.
+TEST(QuadTreeBroadPhase, SteadyMotionRebuildsOnAFractionOfTheMovesAndQueriesStayExact) {
+  QuadTreeBroadPhase broad_phase(kCapacity, std::make_shared<DefaultLayerSetup>());
+  for (std::uint32_t i = 0; i < 40; ++i)
+    ASSERT_TRUE(broad_phase
+                    .AddBody({i, 1}, AABB::FromCenterHalfExtents(Vec3(float(i) * 3, 0, 0), Vec3::Constant(1)),
+                             layers::kMoving)
+                    .ok());
+  broad_phase.Optimize();
+  auto hits = [&](const AABB& box) {
+    std::vector<BodyID> found;
+    broad_phase.CollideAABB(box, {}, found);
+    std::sort(found.begin(), found.end(), [](BodyID a, BodyID b) { return a.index < b.index; });
+    return found;
+  };
+  const std::uint64_t first_generation = broad_phase.stats().generation;
+  constexpr int kMoves = 60;
+  const Vec3 start(21, 0, 0), step(0.05f, 0.02f, 0);  // body 7, from where it was added
+  for (int move = 1; move <= kMoves; ++move) {
+    const Vec3 centre = start + float(move) * step;
+    const AABB bounds = AABB::FromCenterHalfExtents(centre, Vec3::Constant(1));
+    ASSERT_TRUE(broad_phase.UpdateBody({7, 1}, bounds).ok());
+    broad_phase.Update();
+    // A small box at the body's centre finds it; one just past its face (inside the room its slot keeps
+    // ahead) does not.
+    auto has_body = [](const std::vector<BodyID>& found) {
+      return std::any_of(found.begin(), found.end(), [](BodyID id) { return id == BodyID{7, 1}; });
+    };
+    ASSERT_TRUE(has_body(hits(AABB::FromCenterHalfExtents(centre, Vec3::Constant(0.05f)))))
+        << "move " << move;
+    const Vec3 ahead = centre + Vec3(1.0f + 2.0f * step.x(), 0, 0);
+    EXPECT_FALSE(has_body(hits(AABB::FromCenterHalfExtents(ahead, Vec3::Constant(0.01f)))))
+        << "move " << move;
+  }
+  const std::uint64_t rebuilds = broad_phase.stats().generation - first_generation;
+  EXPECT_GE(rebuilds, 1u);
+  EXPECT_LE(rebuilds, std::uint64_t{kMoves / 2}) << "a steadily moving body rebuilt the tree on most moves";
+  // A jump far along the same line: after the rebuild the slot is the body's bounds, with no room ahead.
+  const Vec3 landing = start + Vec3(0, 30, 0);
+  ASSERT_TRUE(broad_phase.UpdateBody({7, 1}, AABB::FromCenterHalfExtents(landing, Vec3::Constant(1))).ok());
+  broad_phase.Update();
+  EXPECT_EQ(hits(AABB::FromCenterHalfExtents(landing, Vec3::Constant(0.05f))), (std::vector<BodyID>{{7, 1}}));
+  const std::uint64_t after_jump = broad_phase.stats().generation;
+  ASSERT_TRUE(
+      broad_phase
+          .UpdateBody({7, 1}, AABB::FromCenterHalfExtents(landing + Vec3(0.01f, 0, 0), Vec3::Constant(1)))
+          .ok());
+  broad_phase.Update();
+  EXPECT_EQ(broad_phase.stats().generation, after_jump + 1)
+      << "a jump left room ahead, so the next small move stayed inside the slot";
 }
 
 // Holding a pin across 100 steps while the world changes: queries through the pin read only live nodes
