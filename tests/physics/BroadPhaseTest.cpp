@@ -413,7 +413,7 @@ TEST(QuadTreeBroadPhase, SteadyMotionRebuildsOnAFractionOfTheMovesAndQueriesStay
   const std::uint64_t rebuilds = broad_phase.stats().generation - first_generation;
   EXPECT_GE(rebuilds, 1u);
   EXPECT_LE(rebuilds, std::uint64_t{kMoves / 2}) << "a steadily moving body rebuilt the tree on most moves";
-  // A jump far along the same line: after the rebuild the slot is the body's bounds, with no room ahead.
+  // A jump of 30 m: after the rebuild the slot is the body's bounds, with no room ahead.
   const Vec3 landing = start + Vec3(0, 30, 0);
   ASSERT_TRUE(broad_phase.UpdateBody({7, 1}, AABB::FromCenterHalfExtents(landing, Vec3::Constant(1))).ok());
   broad_phase.Update();
