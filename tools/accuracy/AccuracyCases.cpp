@@ -214,15 +214,7 @@ double KineticEnergy(const AccuracyBodyState& s, float mass, const Vec3& inertia
 
 // A frictionless box sliding between two walls with restitution 1 for 60 s: relative energy change.
 Result<CaseOutcome> EnergyDrift(AccuracyEngine& engine, const AccuracySetting& setting) {
-  AccuracyScene scene;
-  scene.bodies.push_back(Floor(0.0f));
-  AccuracyBody left = StaticBox(Vec3(0.5f, 2, 5), Vec3(-5, 1, 0), Quat::Identity(), 0.0f);
-  AccuracyBody right = StaticBox(Vec3(0.5f, 2, 5), Vec3(5, 1, 0), Quat::Identity(), 0.0f);
-  AccuracyBody slider = DynamicBox(Vec3::Constant(0.5f), Vec3(0, 0.5f, 0), 0.0f);
-  slider.mass = 1.0f;
-  slider.restitution = 1.0f;
-  slider.linear_velocity = Vec3(3, 0, 0);
-  scene.bodies = {scene.bodies[0], left, right, slider};
+  const AccuracyScene scene = SlidingBoxScene();
   const Result<bool> ran = Run(engine, scene, setting, 60.0);
   if (!ran || !*ran) return Outcome(ran, 0.0);
   const double start = 0.5 * 9.0;
@@ -245,14 +237,8 @@ Result<CaseOutcome> Tower(AccuracyEngine& engine, const AccuracySetting& setting
 // A heavy unit box resting on a 1 kg one for 5 s: how far the heavy one got from where it rests, after the
 // first second (m): sinking, or sliding off.
 Result<CaseOutcome> MassRatio(AccuracyEngine& engine, const AccuracySetting& setting, float ratio) {
-  AccuracyScene scene;
-  scene.bodies.push_back(Floor());
-  AccuracyBody light = DynamicBox(Vec3::Constant(0.5f), Vec3(0, 0.5f, 0));
-  light.mass = 1.0f;
-  AccuracyBody heavy = DynamicBox(Vec3::Constant(0.5f), Vec3(0, 1.5f, 0));
-  heavy.mass = ratio;
-  scene.bodies.push_back(light);
-  scene.bodies.push_back(heavy);
+  const AccuracyScene scene = HeavyOnLightScene(ratio);
+  const AccuracyBody& heavy = scene.bodies[2];
   double farthest = 0.0;
   const Result<bool> ran = Run(engine, scene, setting, 5.0, [&](double time) {
     if (time > 1.0)
@@ -294,6 +280,30 @@ Result<CaseOutcome> FarFromOrigin(AccuracyEngine& engine, const AccuracySetting&
 }
 
 }  // namespace
+
+AccuracyScene SlidingBoxScene() {
+  AccuracyScene scene;
+  AccuracyBody left = StaticBox(Vec3(0.5f, 2, 5), Vec3(-5, 1, 0), Quat::Identity(), 0.0f);
+  AccuracyBody right = StaticBox(Vec3(0.5f, 2, 5), Vec3(5, 1, 0), Quat::Identity(), 0.0f);
+  AccuracyBody slider = DynamicBox(Vec3::Constant(0.5f), Vec3(0, 0.5f, 0), 0.0f);
+  slider.mass = 1.0f;
+  slider.restitution = 1.0f;
+  slider.linear_velocity = Vec3(3, 0, 0);
+  scene.bodies = {Floor(0.0f), left, right, slider};
+  return scene;
+}
+
+AccuracyScene HeavyOnLightScene(float ratio) {
+  AccuracyScene scene;
+  scene.bodies.push_back(Floor());
+  AccuracyBody light = DynamicBox(Vec3::Constant(0.5f), Vec3(0, 0.5f, 0));
+  light.mass = 1.0f;
+  AccuracyBody heavy = DynamicBox(Vec3::Constant(0.5f), Vec3(0, 1.5f, 0));
+  heavy.mass = ratio;
+  scene.bodies.push_back(light);
+  scene.bodies.push_back(heavy);
+  return scene;
+}
 
 double IntermediateAxisFlipTime(const Vec3& inertia, const Vec3& spin, double limit) {
   const double i1 = inertia.x(), i2 = inertia.y(), i3 = inertia.z();

@@ -1,7 +1,10 @@
 // Google Benchmark micro benchmarks for the hot pieces: 1M-triangle mesh build and queries, the narrow
-// phase pair tests, hull building. `strata_microbench` prints the figures; nothing here asserts on time.
+// phase pair tests, hull building, and whole steps of worlds of a few bodies (Strata's fixed cost per step),
+// Bullet beside. `strata_microbench` prints the figures; nothing here asserts on time.
 #include <benchmark/benchmark.h>
 
+#include <cmath>
+#include <memory>
 #include <numeric>
 #include <random>
 
@@ -12,6 +15,7 @@
 #include "physics/shapes/SphereShape.h"
 #include "physics/shapes/TriangleMeshShape.h"
 #include "physics/solver/IslandBuilder.h"
+#include "tools/accuracy/AccuracyCases.h"
 #include "tools/bench/BenchScenes.h"
 
 namespace strata {
@@ -255,6 +259,42 @@ void BM_ConvexHullBuild(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(ConvexHullShape::Create(points));
 }
 BENCHMARK(BM_ConvexHullBuild)->Arg(32)->Arg(256);
+
+// Worlds of a few bodies, where the cost every step pays whatever the scene decides: the accuracy suite's
+// sliding box (`energy_drift`, 60 s) and 100 kg box on a 1 kg one (`mass_ratio_100`, 5 s), run whole from
+// the start at dt 1/30 with one step, one velocity and one relax pass (Bullet's cheapest setting in the
+// suite). Argument 1 runs Bullet. One iteration is the whole run; building the world is not timed.
+void StepWholeRun(benchmark::State& state, const accuracy::AccuracyScene& scene, double seconds) {
+  const bool bullet = state.range(0) == 1;
+  const accuracy::AccuracySetting setting{"dt1/30 sub1", 1.0f / 30.0f, 1, 1, 1, true, true};
+  const int steps = static_cast<int>(std::ceil(seconds / setting.dt - 1e-6));
+  for (auto _ : state) {
+    state.PauseTiming();
+    std::unique_ptr<accuracy::AccuracyEngine> engine =
+        bullet ? accuracy::MakeBulletEngine() : accuracy::MakeStrataEngine();
+    if (!engine || !engine->Build(scene, setting)) {
+      state.SkipWithError(engine ? "the scene did not build" : "built without Bullet");
+      return;
+    }
+    state.ResumeTiming();
+    for (int step = 0; step < steps; ++step)
+      if (!engine->Step()) {
+        state.SkipWithError("a step failed");
+        return;
+      }
+  }
+  state.SetItemsProcessed(state.iterations() * steps);  // items/s = steps/s
+}
+
+void BM_StepSlidingBox(benchmark::State& state) {
+  StepWholeRun(state, accuracy::SlidingBoxScene(), 60.0);
+}
+BENCHMARK(BM_StepSlidingBox)->ArgName("bullet")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+
+void BM_StepHeavyOnLight(benchmark::State& state) {
+  StepWholeRun(state, accuracy::HeavyOnLightScene(100.0f), 5.0);
+}
+BENCHMARK(BM_StepHeavyOnLight)->ArgName("bullet")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace strata
