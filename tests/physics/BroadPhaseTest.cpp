@@ -341,17 +341,22 @@ TEST(QuadTreeBroadPhase, StaticTreeIsNotRebuiltWhenOnlyDynamicBodiesMove) {
   EXPECT_LE(broad_phase.stats().retired_nodes, 4u);
 }
 
-// A body whose new bounds lie inside its slot (a game object swaying within where it was) writes nothing
-// shared and asks for no rebuild; bounds that leave the slot widen it up to the root and do; queries find the
-// body at every place it was put.
-TEST(QuadTreeBroadPhase, MovesWithinABodysSlotNeedNoRebuildAndMovesOutOfItDo) {
-  QuadTreeBroadPhase broad_phase(kCapacity, std::make_shared<DefaultLayerSetup>());
+// A row of 40 moving boxes 2 m wide, 3 m apart along x (body i at x = 3 i), in an optimized tree.
+void AddRowOfUnitBoxes(QuadTreeBroadPhase& broad_phase) {
   for (std::uint32_t i = 0; i < 40; ++i)
     ASSERT_TRUE(broad_phase
                     .AddBody({i, 1}, AABB::FromCenterHalfExtents(Vec3(float(i) * 3, 0, 0), Vec3::Constant(1)),
                              layers::kMoving)
                     .ok());
   broad_phase.Optimize();
+}
+
+// A body whose new bounds lie inside its slot (a game object swaying within where it was) writes nothing
+// shared and asks for no rebuild; bounds that leave the slot widen it up to the root and do; queries find the
+// body at every place it was put.
+TEST(QuadTreeBroadPhase, MovesWithinABodysSlotNeedNoRebuildAndMovesOutOfItDo) {
+  QuadTreeBroadPhase broad_phase(kCapacity, std::make_shared<DefaultLayerSetup>());
+  AddRowOfUnitBoxes(broad_phase);
   auto finds = [&](const AABB& box) {
     std::vector<BodyID> hits;
     broad_phase.CollideAABB(box, {}, hits);
@@ -379,12 +384,7 @@ TEST(QuadTreeBroadPhase, MovesWithinABodysSlotNeedNoRebuildAndMovesOutOfItDo) {
 // may reach ahead; the body's own bounds decide). A jump gets no room ahead.
 TEST(QuadTreeBroadPhase, SteadyMotionRebuildsOnAFractionOfTheMovesAndQueriesStayExact) {
   QuadTreeBroadPhase broad_phase(kCapacity, std::make_shared<DefaultLayerSetup>());
-  for (std::uint32_t i = 0; i < 40; ++i)
-    ASSERT_TRUE(broad_phase
-                    .AddBody({i, 1}, AABB::FromCenterHalfExtents(Vec3(float(i) * 3, 0, 0), Vec3::Constant(1)),
-                             layers::kMoving)
-                    .ok());
-  broad_phase.Optimize();
+  AddRowOfUnitBoxes(broad_phase);
   auto hits = [&](const AABB& box) {
     std::vector<BodyID> found;
     broad_phase.CollideAABB(box, {}, found);
