@@ -17,6 +17,8 @@ void Body::Reset(const BodyCreationSettings& settings, BodyID id) {
   *this = Body();
   id_ = id;
   shape_ = settings.shape;
+  local_bounds_ = shape_->LocalBounds();
+  bounds_turn_ = shape_->BoundsTurnWithBody();
   pose_ = {settings.position, settings.rotation.normalized()};
   motion_type_ = settings.motion_type;
   motion_quality_ = settings.motion_quality;

@@ -69,7 +69,7 @@ class Body {
   /// How far any point of the body may move in `dt` at its current velocities (0 unless active).
   float MotionBound(float dt) const {
     if (!IsActive()) return 0.0f;
-    const float radius = shape_->LocalBounds().HalfExtents().norm() + center_of_mass_local_.norm();
+    const float radius = local_bounds_.HalfExtents().norm() + center_of_mass_local_.norm();
     return (linear_velocity_.norm() + angular_velocity_.norm() * radius) * dt;
   }
   const AABB& world_bounds() const { return world_bounds_; }
@@ -83,7 +83,7 @@ class Body {
   friend class BodyInterface;
 
   void Reset(const BodyCreationSettings& settings, BodyID id);
-  void UpdateWorldBounds() { world_bounds_ = shape_->WorldBounds(pose_); }
+  void UpdateWorldBounds() { world_bounds_ = Shape::WorldBoundsOf(local_bounds_, bounds_turn_, pose_); }
   /// Moves the shape origin by `motion` (small) without rounding it away where position() is large.
   void AddToPosition(const Vec3& motion);
 
@@ -99,6 +99,8 @@ class Body {
   Mat3 inverse_inertia_local_ = Mat3::Zero();
   Mat3 inertia_local_ = Mat3::Zero();
   AABB world_bounds_;
+  AABB local_bounds_;        // the shape's, kept here so that moving a body does not read its shape
+  bool bounds_turn_ = true;  // the shape's BoundsTurnWithBody()
   float inverse_mass_ = 0.0f;
   float friction_ = 0.2f;
   float restitution_ = 0.0f;

@@ -44,8 +44,18 @@ class Shape {
 
   /// Bounds in local space.
   virtual AABB LocalBounds() const = 0;
-  /// Bounds in world space for a body at `pose`; shapes override where they can be tighter.
-  virtual AABB WorldBounds(const Pose& pose) const { return LocalBounds().Transformed(pose); }
+  /// Whether the world bounds turn with the body (a box's do); a shape that looks the same from every side
+  /// (a sphere) says no, and its world bounds are its local bounds moved, which is tighter.
+  virtual bool BoundsTurnWithBody() const { return true; }
+  /// Bounds in world space for a body at `pose`.
+  AABB WorldBounds(const Pose& pose) const {
+    return WorldBoundsOf(LocalBounds(), BoundsTurnWithBody(), pose);
+  }
+  /// The same from the two facts alone: bodies keep them, so that moving a body reads no shape.
+  static AABB WorldBoundsOf(const AABB& local, bool turns_with_body, const Pose& pose) {
+    if (!turns_with_body) return {pose.position + local.min, pose.position + local.max};
+    return local.Transformed(pose);
+  }
 
   /// Mass, inertia about the centre of mass and centre of mass for uniform `density` (kg/m^3).
   virtual MassProperties ComputeMassProperties(float density) const = 0;

@@ -16,9 +16,7 @@ class SphereShape final : public ConvexShape {
   float radius() const { return radius_; }
 
   AABB LocalBounds() const override { return {Vec3::Constant(-radius_), Vec3::Constant(radius_)}; }
-  AABB WorldBounds(const Pose& pose) const override {
-    return {pose.position.array() - radius_, pose.position.array() + radius_};
-  }
+  bool BoundsTurnWithBody() const override { return false; }
   MassProperties ComputeMassProperties(float density) const override;
   bool CastRay(const Vec3& origin, const Vec3& direction, float max_fraction,
                ShapeRayHit& hit) const override;

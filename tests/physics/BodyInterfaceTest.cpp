@@ -1,5 +1,6 @@
 // BodyInterface: bad input is rejected with a clear error and leaves the world unchanged; thread safety.
 #include <atomic>
+#include <random>
 #include <thread>
 
 #include "TestWorld.h"
@@ -152,6 +153,48 @@ TEST_F(BodyInterfaceTest, SettersAndGettersRoundTrip) {
   EXPECT_TRUE(Velocity(*world_, box_).isApprox(Vec3(2, 0, 0), 1e-5f));
   const AABB bounds = *world_->bodies().GetWorldBounds(box_);
   EXPECT_TRUE(bounds.Contains(Vec3(1, 2, 3)));
+}
+
+// A body keeps its shape's local bounds and whether they turn with it, so that moves read no shape: its
+// world bounds after any move must still be the shape's own, and tight (a sphere's do not grow as it turns).
+TEST(BodyBounds, AfterEveryMoveTheyAreTheShapesOwnAndTight) {
+  auto world = MakeWorld();
+  const std::vector<Vec3> tetra = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1)};
+  const std::vector<ShapeRef> shapes = {Box(0.5f, 1.0f, 2.0f), Sphere(0.7f), Capsule(1.0f, 0.3f),
+                                        *ConvexHullShape::Create(tetra)};
+  std::mt19937 random(17);
+  std::uniform_real_distribution<float> coordinate(-50.0f, 50.0f), unit(-1.0f, 1.0f);
+  for (const ShapeRef& shape : shapes) {
+    const BodyID id = Add(*world, Dynamic(shape, Vec3(0, 10, 0)));
+    for (int move = 0; move < 20; ++move) {
+      const Vec3 position(coordinate(random), coordinate(random), coordinate(random));
+      const Quat rotation = Quat(unit(random), unit(random), unit(random), unit(random)).normalized();
+      ASSERT_TRUE(world->bodies().SetPositionAndRotation(id, position, rotation).ok());
+      const Pose pose{position, *world->bodies().GetRotation(id)};
+      const AABB bounds = *world->bodies().GetWorldBounds(id);
+      const AABB expected = shape->WorldBounds(pose);
+      EXPECT_EQ(bounds.min, expected.min);
+      EXPECT_EQ(bounds.max, expected.max);
+      // Tight: every face of the bounds is touched by the shape's farthest point that way.
+      for (int axis = 0; axis < 3; ++axis) {
+        const Vec3 direction = Vec3::Unit(axis);
+        const ConvexShape& convex = static_cast<const ConvexShape&>(*shape);
+        const float reach_max = pose.ToWorld(convex.Support(pose.rotation.conjugate() * direction))[axis];
+        const float reach_min = pose.ToWorld(convex.Support(pose.rotation.conjugate() * -direction))[axis];
+        // A box's and a sphere's bounds are exact; a capsule's and a hull's are their local box turned.
+        const bool exact = shape->type() == ShapeType::kSphere || shape->type() == ShapeType::kBox;
+        const float room = exact ? 1e-4f : 1.5f;
+        EXPECT_LE(bounds.max[axis] - reach_max, room) << "shape " << static_cast<int>(shape->type());
+        EXPECT_LE(reach_min - bounds.min[axis], room);
+        EXPECT_GE(bounds.max[axis], reach_max - 1e-4f);
+        EXPECT_LE(bounds.min[axis], reach_min + 1e-4f);
+      }
+      if (shape->type() == ShapeType::kSphere) {
+        EXPECT_TRUE(bounds.max.isApprox(position + Vec3::Constant(0.7f), 1e-6f));
+        EXPECT_TRUE(bounds.min.isApprox(position - Vec3::Constant(0.7f), 1e-6f));
+      }
+    }
+  }
 }
 
 // Worker threads create, move, query and destroy bodies while another thread steps the world.
