@@ -13,11 +13,14 @@ std::string Describe(BodyID id) {
 }
 
 thread_local std::uint64_t lock_wait_nanoseconds = 0;
+thread_local BodyLockCounts lock_counts;
 
 // Locks `lock` (constructed deferred), timing the wait only when the mutex is taken.
 template <class Lock>
 void LockTimingWait(Lock& lock) {
+  ++lock_counts.acquisitions;
   if (lock.try_lock()) return;
+  ++lock_counts.contended;
   const auto start = std::chrono::steady_clock::now();
   lock.lock();
   lock_wait_nanoseconds += static_cast<std::uint64_t>(
@@ -27,6 +30,10 @@ void LockTimingWait(Lock& lock) {
 
 std::uint64_t ThreadBodyLockWaitNanoseconds() {
   return lock_wait_nanoseconds;
+}
+
+BodyLockCounts ThreadBodyLockCounts() {
+  return lock_counts;
 }
 
 BodyManager::BodyManager(std::uint32_t capacity, std::uint32_t mutex_count)

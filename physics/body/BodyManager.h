@@ -77,6 +77,15 @@ class BodyManager {
 /// timed (a failed try-lock starts the clock), so the uncontended path costs nothing extra.
 std::uint64_t ThreadBodyLockWaitNanoseconds();
 
+/// How often this thread has taken a body mutex since it started, and how many of those found it taken (and
+/// waited): contended / acquisitions is the chance that another thread holds the same mutex, which with n
+/// mutexes is about the share of time the other threads spend holding one, over n.
+struct BodyLockCounts {
+  std::uint64_t acquisitions = 0;
+  std::uint64_t contended = 0;
+};
+BodyLockCounts ThreadBodyLockCounts();
+
 /// RAII read access to one body; check Succeeded() (false for a stale or unknown id).
 class BodyLockRead {
  public:

@@ -1,5 +1,6 @@
 // BodyInterface: bad input is rejected with a clear error and leaves the world unchanged; thread safety.
 #include <atomic>
+#include <chrono>
 #include <random>
 #include <thread>
 
@@ -274,6 +275,40 @@ TEST(BodyManagerLocks, LockAllHoldsExactlyTheMutexesOfSlotsInUse) {
   for (std::uint32_t m = 0; m < 8; ++m) EXPECT_TRUE(held(m)) << "mutex " << m;
   manager.UnlockAll();
   for (std::uint32_t m = 0; m < 8; ++m) EXPECT_FALSE(held(m)) << "mutex " << m;
+}
+
+// The per-thread lock counters the lock benchmarks report: every acquisition is counted, and one that finds
+// the mutex taken is counted as contended and its wait timed; a free mutex adds neither.
+TEST(BodyManagerLocks, ContendedAcquisitionsAreCountedAndTimed) {
+  BodyManager manager(8, 4);
+  const BodyID body = *manager.CreateBody(Dynamic(Sphere(1), Vec3(0, 0, 0)));
+  std::atomic<bool> holding{false}, release{false};
+  std::thread writer([&] {
+    BodyLockWrite lock(manager, body);
+    holding.store(true);
+    while (!release.load()) std::this_thread::yield();
+  });
+  while (!holding.load()) std::this_thread::yield();
+  const BodyLockCounts before = ThreadBodyLockCounts();
+  const std::uint64_t waited_before = ThreadBodyLockWaitNanoseconds();
+  std::thread releaser([&] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    release.store(true);
+  });
+  {
+    BodyLockRead blocked(manager, body);  // waits for the writer
+    EXPECT_TRUE(blocked.Succeeded());
+  }
+  const BodyLockCounts after_wait = ThreadBodyLockCounts();
+  EXPECT_EQ(after_wait.acquisitions - before.acquisitions, 1u);
+  EXPECT_EQ(after_wait.contended - before.contended, 1u);
+  EXPECT_GT(ThreadBodyLockWaitNanoseconds() - waited_before, 1'000'000u);  // most of the 20 ms
+  writer.join();
+  releaser.join();
+  { BodyLockRead free(manager, body); }
+  const BodyLockCounts after_free = ThreadBodyLockCounts();
+  EXPECT_EQ(after_free.acquisitions - after_wait.acquisitions, 1u);
+  EXPECT_EQ(after_free.contended, after_wait.contended);
 }
 
 }  // namespace

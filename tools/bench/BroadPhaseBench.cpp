@@ -293,6 +293,8 @@ GameObjectFigures MeasureGameObjectUpdate(const OpenWorld& world, int threads, s
   for (std::size_t k = 0; k < objects.size(); ++k)
     owned[k * static_cast<std::size_t>(threads) / objects.size()].push_back(objects[k]);
   std::vector<std::vector<double>> waits(static_cast<std::size_t>(threads));
+  std::vector<std::uint64_t> acquisitions(static_cast<std::size_t>(threads), 0);
+  std::vector<std::uint64_t> contended(static_cast<std::size_t>(threads), 0);
   std::vector<double> frame_ms;
   Clock::time_point frame_start;
   std::barrier sync(threads, [&]() noexcept {
@@ -306,6 +308,7 @@ GameObjectFigures MeasureGameObjectUpdate(const OpenWorld& world, int threads, s
     sync.arrive_and_wait();
     for (int frame = 0; frame < frames; ++frame) {
       const std::uint64_t before = ThreadBodyLockWaitNanoseconds();
+      const BodyLockCounts counts_before = ThreadBodyLockCounts();
       const float sway = 0.05f * static_cast<float>(frame % 2 == 0 ? 1 : -1);
       for (std::size_t k = 0; k < mine.size(); ++k) {
         // The object's own game logic, outside any lock.
@@ -320,6 +323,9 @@ GameObjectFigures MeasureGameObjectUpdate(const OpenWorld& world, int threads, s
       }
       waits[static_cast<std::size_t>(t)].push_back(
           static_cast<double>(ThreadBodyLockWaitNanoseconds() - before) / 1000.0);
+      const BodyLockCounts counts_after = ThreadBodyLockCounts();
+      acquisitions[static_cast<std::size_t>(t)] += counts_after.acquisitions - counts_before.acquisitions;
+      contended[static_cast<std::size_t>(t)] += counts_after.contended - counts_before.contended;
       sync.arrive_and_wait();
     }
   };
@@ -335,6 +341,12 @@ GameObjectFigures MeasureGameObjectUpdate(const OpenWorld& world, int threads, s
   figures.lock_wait_us_per_thread_frame =
       all_waits.empty() ? 0.0 : total / static_cast<double>(all_waits.size());
   figures.median_lock_wait_us = Median(all_waits);
+  const double thread_frames = static_cast<double>(threads) * static_cast<double>(frames);
+  for (int t = 0; t < threads; ++t) {
+    const auto thread = static_cast<std::size_t>(t);
+    figures.acquisitions_per_thread_frame += static_cast<double>(acquisitions[thread]) / thread_frames;
+    figures.contended_per_thread_frame += static_cast<double>(contended[thread]) / thread_frames;
+  }
   figures.p99_lock_wait_us = Percentile(all_waits, 0.99);
   figures.frame_ms = Median(frame_ms);
   return figures;

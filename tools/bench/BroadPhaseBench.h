@@ -71,6 +71,8 @@ struct GameObjectFigures {
   double median_lock_wait_us = 0;            ///< median thread-frame (robust to a preempted lock holder)
   double p99_lock_wait_us = 0;               ///< 99th percentile thread-frame
   double max_lock_wait_us = 0;               ///< worst thread-frame
+  double acquisitions_per_thread_frame = 0;  ///< body mutexes taken, mean over threads and frames
+  double contended_per_thread_frame = 0;     ///< of those, found taken by another thread
 };
 /// `work_us` of busy work per object stands in for its game logic (outside any lock).
 GameObjectFigures MeasureGameObjectUpdate(const OpenWorld& world, int threads, std::uint32_t mutexes,

@@ -77,7 +77,8 @@ int Run(const BroadPhaseBenchOptions& options) {
   std::printf(
       "game-object update: each thread takes a range of the %zu kinematic bodies, reads and sets each\n"
       "one's position and ray casts for every 4th, %d frames; lock wait = time blocked on body mutexes\n"
-      "(%d hardware threads); 'logic' = busy work per object outside locks\n",
+      "(%d hardware threads); 'logic' = busy work per object outside locks; contended = body mutexes per\n"
+      "thread per frame found taken by another thread, of all it took\n",
       static_cast<std::size_t>(std::count(world.layers.begin(), world.layers.end(), layers::kMoving)),
       options.frames, hardware);
   for (const double work_us : {0.0, options.object_work_us}) {
@@ -88,9 +89,10 @@ int Run(const BroadPhaseBenchOptions& options) {
         std::printf(
             "  logic %3.1f us, %2d threads, %2u mutexes: frame %7.3f ms, lock wait per thread per frame: "
             "mean "
-            "%9.2f us, median %9.2f us, p99 %9.2f us, worst %9.2f us\n",
+            "%9.2f us, median %9.2f us, p99 %9.2f us, worst %9.2f us; contended %6.1f of %6.0f locks\n",
             work_us, threads, mutexes, figures.frame_ms, figures.lock_wait_us_per_thread_frame,
-            figures.median_lock_wait_us, figures.p99_lock_wait_us, figures.max_lock_wait_us);
+            figures.median_lock_wait_us, figures.p99_lock_wait_us, figures.max_lock_wait_us,
+            figures.contended_per_thread_frame, figures.acquisitions_per_thread_frame);
       }
     }
     if (options.object_work_us <= 0.0) break;
