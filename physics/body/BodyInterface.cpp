@@ -202,6 +202,7 @@ Status BodyInterface::Teleport(BodyID id, const std::optional<Vec3>& position,
                                const std::optional<Quat>& rotation) {
   AABB vacated;
   bool in_world = false;
+  system_.broad_phase_->PrefetchUpdate(id);
   const Status moved = Write(id, [&](Body& body) {
     vacated = body.world_bounds();
     in_world = body.in_world();

@@ -15,6 +15,13 @@ std::string Describe(BodyID id) {
 thread_local std::uint64_t lock_wait_nanoseconds = 0;
 thread_local BodyLockCounts lock_counts;
 
+// Starts loading a body's cache lines before its lock is taken, so that the misses do not lengthen the
+// time the lock is held (other threads wait on exactly that time).
+void PrefetchForWrite(const Body& body) {
+  const char* const bytes = reinterpret_cast<const char*>(&body);
+  for (std::size_t offset = 0; offset < sizeof(Body); offset += 64) __builtin_prefetch(bytes + offset, 1);
+}
+
 // Locks `lock` (constructed deferred), timing the wait only when the mutex is taken.
 template <class Lock>
 void LockTimingWait(Lock& lock) {
@@ -129,6 +136,7 @@ BodyLockRead::BodyLockRead(const BodyManager& manager, BodyID id)
 
 BodyLockWrite::BodyLockWrite(BodyManager& manager, BodyID id)
     : lock_(manager.MutexFor(id.index < manager.capacity() ? id.index : 0), std::defer_lock) {
+  if (id.index < manager.capacity()) PrefetchForWrite(manager.BodyAt(id.index));
   LockTimingWait(lock_);
   // A writer that got the lock while a step runs backs off until the step ends: the step reads bodies
   // unlocked between its own LockAll windows. Taking the lock first orders this check after the step's

@@ -146,6 +146,9 @@ class BroadPhase {
   virtual Status RemoveBodies(std::span<const BodyID> ids) = 0;
   /// New bounds for a present body. Concurrent calls for the same body are the caller's to avoid.
   virtual Status UpdateBody(BodyID id, const AABB& bounds) = 0;
+  /// Starts loading what UpdateBody(id) will touch, so that a caller holding the body's lock for the update
+  /// holds it for less; changes nothing.
+  virtual void PrefetchUpdate(BodyID /*id*/) const {}
   virtual bool Contains(BodyID id) const = 0;
   virtual std::size_t body_count() const = 0;
 

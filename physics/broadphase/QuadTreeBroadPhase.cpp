@@ -293,6 +293,16 @@ Status QuadTreeBroadPhase::RemoveBodies(std::span<const BodyID> ids) {
   return Status::Ok();
 }
 
+void QuadTreeBroadPhase::PrefetchUpdate(BodyID id) const {
+  if (id.index >= max_bodies_) return;
+  // The node index is read without the body's lock: a stale one only prefetches a line nobody needs (pool
+  // blocks are never freed while the broad phase lives).
+  const std::uint32_t holder = locations_[id.index].node.load(kRelaxed);
+  if (holder == QuadTree::kInvalid) return;
+  const char* const node = reinterpret_cast<const char*>(&pool_.Get(holder));
+  __builtin_prefetch(node), __builtin_prefetch(node + 64);
+}
+
 Status QuadTreeBroadPhase::UpdateBody(BodyID id, const AABB& bounds) {
   if (Status valid = CheckBounds(bounds); !valid) return valid;
   const StripedGatePass modification(modification_gate_);

@@ -40,6 +40,7 @@ class QuadTreeBroadPhase final : public BroadPhase {
   void AddBodiesAbort(AddBatch& batch) override;
   Status RemoveBodies(std::span<const BodyID> ids) override;
   Status UpdateBody(BodyID id, const AABB& bounds) override;
+  void PrefetchUpdate(BodyID id) const override;
   bool Contains(BodyID id) const override;
   std::size_t body_count() const override { return body_count_.load(std::memory_order_relaxed); }
 
