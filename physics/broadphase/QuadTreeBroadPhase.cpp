@@ -296,8 +296,9 @@ Status QuadTreeBroadPhase::RemoveBodies(std::span<const BodyID> ids) {
 void QuadTreeBroadPhase::PrefetchUpdate(BodyID id) const {
   if (id.index >= max_bodies_) return;
   // The node index is read without the body's lock: a stale one only prefetches a line nobody needs (pool
-  // blocks are never freed while the broad phase lives).
-  const std::uint32_t holder = locations_[id.index].node.load(kRelaxed);
+  // blocks are never freed while the broad phase lives). Acquire, as every reader of it, so that a node in a
+  // fresh block comes with its block.
+  const std::uint32_t holder = locations_[id.index].node.load(std::memory_order_acquire);
   if (holder == QuadTree::kInvalid) return;
   const char* const node = reinterpret_cast<const char*>(&pool_.Get(holder));
   __builtin_prefetch(node), __builtin_prefetch(node + 64);
