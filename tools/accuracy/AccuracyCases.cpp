@@ -212,14 +212,26 @@ double KineticEnergy(const AccuracyBodyState& s, float mass, const Vec3& inertia
   return 0.5 * mass * s.linear_velocity.squaredNorm() + 0.5 * local.dot(inertia.cwiseProduct(local));
 }
 
-// A frictionless box sliding between two walls with restitution 1 for 60 s: relative energy change.
+// A frictionless box sliding between two walls with restitution 1 for 60 s: the largest relative change of
+// its mechanical energy (kinetic plus potential) at any step. Every step counts, not just the last: a box
+// that a wall hit sets tumbling and hopping trades kinetic for potential energy and back, so the end alone
+// can look right after a run that gained several times its energy on the way.
 Result<CaseOutcome> EnergyDrift(AccuracyEngine& engine, const AccuracySetting& setting) {
   const AccuracyScene scene = SlidingBoxScene();
-  const Result<bool> ran = Run(engine, scene, setting, 60.0);
+  const std::size_t slider = 3;
+  const AccuracyBody& box = scene.bodies[slider];
+  const double start = 0.5 * box.mass * box.linear_velocity.squaredNorm();  // it starts without spin
+  double worst = 0.0;
+  const Result<bool> ran = Run(engine, scene, setting, 60.0, [&](double) {
+    const AccuracyBodyState now = engine.State(slider);
+    const double potential_per_kg =
+        -(now.position - box.position.cast<double>()).dot(scene.gravity.cast<double>());
+    const double energy =
+        KineticEnergy(now, box.mass, engine.PrincipalInertia(slider)) + box.mass * potential_per_kg;
+    worst = std::max(worst, std::abs(energy - start) / start);
+  });
   if (!ran || !*ran) return Outcome(ran, 0.0);
-  const double start = 0.5 * 9.0;
-  return Outcome(ran,
-                 std::abs(KineticEnergy(engine.State(3), 1.0f, engine.PrincipalInertia(3)) - start) / start);
+  return Outcome(ran, worst);
 }
 
 // A tower of `count` unit boxes for 10 s: how far the top box moved (m).
@@ -355,8 +367,8 @@ std::vector<AccuracyCase> AccuracyCases() {
        "relative", 0.01, AngularMomentumDrift},
       {"intermediate_axis_flip", "spin about the middle axis: first flip time against RK4", "relative", 0.05,
        IntermediateAxisFlip},
-      {"energy_drift", "a frictionless box between walls with e = 1 for 60 s: energy change", "relative",
-       0.05, EnergyDrift},
+      {"energy_drift", "a frictionless box between walls with e = 1 for 60 s: largest energy change",
+       "relative", 0.05, EnergyDrift},
       {"tower_30", "30 unit boxes stacked for 10 s: top box displacement", "m", 0.1,
        [](AccuracyEngine& e, const AccuracySetting& s) { return Tower(e, s, 30); }},
   };
