@@ -36,10 +36,6 @@ void BodyInterface::WakeLocked(Body& body) {
   system_.RequestWake(body.sleep_island_);
 }
 
-void BodyInterface::RefreshBounds(const Body& body) {
-  if (body.in_world_) (void)system_.broad_phase_->UpdateBody(body.id_, system_.BroadPhaseBounds(body, 0.0f));
-}
-
 Result<BodyID> BodyInterface::CreateBody(const BodyCreationSettings& settings) {
   if (settings.object_layer >= system_.layers_->ObjectLayerCount())
     return MakeError(ErrorCode::kInvalidArgument,
@@ -90,6 +86,7 @@ Result<BodyAddBatch> BodyInterface::AddBodiesPrepare(std::span<const BodyID> ids
 void BodyInterface::UndoAdd(std::span<const BodyID> flagged, std::span<const BodyID> all) {
   for (const BodyID id : flagged) {
     BodyLockWrite lock(system_.body_manager_, id);
+    system_.move_order_.Retire(id.index);  // moves made since it was added leave the broad phase alone
     lock.body().in_world_ = false;
     lock.body().sleeping_ = false;
     system_.body_snapshots_.Withdraw(id);
@@ -139,7 +136,13 @@ Status BodyInterface::RemoveBody(BodyID id) {
     Body& body = lock.body();
     if (!body.in_world())
       return MakeError(ErrorCode::kInvalidState, "body " + std::to_string(id.index) + " is not in the world");
-    if (Status removed = system_.broad_phase_->RemoveBody(id); !removed) return removed;
+    // Moves whose broad-phase update is still on its way must not reach the body once it is out.
+    system_.move_order_.Retire(id.index);
+    if (Status removed = system_.broad_phase_->RemoveBody(id); !removed) {
+      // Still in the world: put back the bounds of its latest move, which the retirement may have dropped.
+      (void)system_.broad_phase_->UpdateBody(id, system_.BroadPhaseBounds(body, 0.0f));
+      return removed;
+    }
     vacated = body.world_bounds();
     body.in_world_ = false;
     body.sleeping_ = false;
@@ -201,23 +204,35 @@ Result<MotionType> BodyInterface::GetMotionType(BodyID id) const {
 Status BodyInterface::Teleport(BodyID id, const std::optional<Vec3>& position,
                                const std::optional<Quat>& rotation) {
   AABB vacated;
-  bool in_world = false;
-  system_.broad_phase_->PrefetchUpdate(id);
-  const Status moved = Write(id, [&](Body& body) {
-    vacated = body.world_bounds();
-    in_world = body.in_world();
-    if (position) {
-      body.pose_.position = *position;
-      body.position_remainder_.setZero();
-    }
-    if (rotation) body.pose_.rotation = rotation->normalized();
-    body.UpdateWorldBounds();
-    RefreshBounds(body);
-    if (body.in_world()) system_.body_snapshots_.Publish(body);
-    WakeLocked(body);
-    return Status::Ok();
-  });
-  if (!moved || !in_world) return moved;
+  {
+    // The body's lock is held for the pose alone (what other threads wait on); the broad phase gets the new
+    // bounds after it is released. The ticket keeps an earlier move of the same body, slower to get there,
+    // from overwriting them, and the gate keeps a step from starting before they are in.
+    const StripedGatePass moving(system_.body_manager_.move_gate());
+    bool in_world = false;
+    AABB bounds;
+    std::uint64_t ticket = 0;
+    system_.broad_phase_->PrefetchUpdate(id);
+    const Status moved = Write(id, [&](Body& body) {
+      vacated = body.world_bounds();
+      in_world = body.in_world();
+      if (position) {
+        body.pose_.position = *position;
+        body.position_remainder_.setZero();
+      }
+      if (rotation) body.pose_.rotation = rotation->normalized();
+      body.UpdateWorldBounds();
+      if (in_world) {
+        bounds = system_.BroadPhaseBounds(body, 0.0f);
+        ticket = system_.move_order_.Issue(id.index);
+        system_.body_snapshots_.Publish(body);
+      }
+      WakeLocked(body);
+      return Status::Ok();
+    });
+    if (!moved || !in_world) return moved;
+    system_.move_order_.Apply(id.index, ticket, [&] { (void)system_.broad_phase_->UpdateBody(id, bounds); });
+  }
   return ActivateBodiesInBox(vacated);
 }
 

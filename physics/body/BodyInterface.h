@@ -2,6 +2,7 @@
 // their state. Every call validates its input and returns an error (world unchanged) for stale ids,
 // NaN/Inf values or wrong states. Calls from many threads run at once with no global lock; reads go on
 // while a step runs, changes wait for it to end. AddBodiesPrepare may run on a loading thread at any time.
+// A move holds its body's lock only to write the pose; the broad phase gets the bounds right after.
 #pragma once
 
 #include <optional>
@@ -98,7 +99,6 @@ class BodyInterface {
   /// Moves a body to `pose` and wakes what rested on it where it was.
   Status Teleport(BodyID id, const std::optional<Vec3>& position, const std::optional<Quat>& rotation);
   void WakeLocked(Body& body);
-  void RefreshBounds(const Body& body);
   /// Puts batch body `i` in the world (finalize's per-body part).
   Status MarkAdded(const BodyAddBatch& batch, std::size_t i);
   /// Takes bodies added by a failed finalize back out again.

@@ -119,12 +119,17 @@ void BodyManager::BeginStep() {
   // Writers that waited through the previous step go first, so a thread stepping back to back cannot
   // starve them; writers arriving now are not counted and cannot hold the step up for long.
   while (waiting_writers_.load(std::memory_order_acquire) > 0) std::this_thread::yield();
+  // The move gate closes before the flag goes up: a move inside it takes its body's lock after this and must
+  // not find the flag up (it would wait for the end of a step that waits for it). Waiting for moves in flight
+  // counts as lock wait: LockAll waited for them when they updated the broad phase under their body's lock.
+  lock_wait_nanoseconds += static_cast<std::uint64_t>(move_gate_.Close().count());
   stepping_.store(true, std::memory_order_seq_cst);
 }
 
 void BodyManager::EndStep() {
   stepping_.store(false, std::memory_order_release);
   stepping_.notify_all();
+  move_gate_.Open();
 }
 
 BodyLockRead::BodyLockRead(const BodyManager& manager, BodyID id)

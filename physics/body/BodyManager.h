@@ -2,6 +2,8 @@
 // read/write mutexes; body slot i is guarded by mutex i % mutex_count. Create/Destroy are thread-safe.
 // Read a body through BodyLockRead, change it through BodyLockWrite. While a step runs, writers wait
 // (BeginStep/EndStep); readers wait only while the step holds every lock (LockAll), at its start and end.
+// Moves that finish their broad-phase part after releasing the body's lock pass move_gate(), which the step
+// waits on.
 #pragma once
 
 #include <atomic>
@@ -12,6 +14,7 @@
 
 #include "physics/body/Body.h"
 #include "physics/core/SpinningSharedMutex.h"
+#include "physics/core/StripedGate.h"
 
 namespace strata {
 
@@ -51,6 +54,10 @@ class BodyManager {
   void BeginStep();
   void EndStep();
   bool stepping() const { return stepping_.load(std::memory_order_acquire); }
+  /// Passed (StripedGatePass) by a move from before it takes the body's lock until its broad-phase update,
+  /// made after releasing the lock, is in. BeginStep closes it first: a step starts after every move in
+  /// flight is complete, and moves that come during the step wait for its end, as other writers do.
+  StripedGate& move_gate() { return move_gate_; }
 
   /// Every body index handed out so far is below this.
   std::uint32_t slot_limit() const { return slot_limit_.load(std::memory_order_acquire); }
@@ -67,6 +74,7 @@ class BodyManager {
   mutable std::mutex allocation_mutex_;  // guards free_slots_ and generations_
   mutable std::vector<SpinningSharedMutex> mutexes_;
   std::atomic<bool> stepping_{false};
+  StripedGate move_gate_;
   std::atomic<std::uint32_t> waiting_writers_{0};  // writers blocked by the step that is ending
   std::atomic<std::uint32_t> slot_limit_{0};
   std::uint32_t locked_count_ = 0;       // mutexes held by LockAll

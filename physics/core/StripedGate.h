@@ -6,6 +6,7 @@
 #include <array>
 #include <atomic>
 #include <bit>
+#include <chrono>
 #include <cstdint>
 #include <mutex>
 #include <thread>
@@ -33,14 +34,23 @@ class StripedGate {
   }
   void Leave() { stripes_[ThreadStripe()].inside.fetch_sub(1, std::memory_order_release); }
 
-  /// Keeps new entrants out and waits for those inside to leave. One closer at a time.
-  void Close() {
+  /// Keeps new entrants out and waits for those inside to leave. One closer at a time. Returns how long it
+  /// waited (zero, without reading the clock, when nobody was inside).
+  std::chrono::nanoseconds Close() {
     close_mutex_.lock();
     closed_.store(true, std::memory_order_seq_cst);
+    std::chrono::steady_clock::time_point waiting_since{};
     for (std::uint64_t used = used_.load(std::memory_order_seq_cst); used != 0; used &= used - 1) {
       const Stripe& stripe = stripes_[static_cast<std::size_t>(std::countr_zero(used))];
-      while (stripe.inside.load(std::memory_order_acquire) != 0) std::this_thread::yield();
+      while (stripe.inside.load(std::memory_order_acquire) != 0) {
+        if (waiting_since == std::chrono::steady_clock::time_point{})
+          waiting_since = std::chrono::steady_clock::now();
+        std::this_thread::yield();
+      }
     }
+    if (waiting_since == std::chrono::steady_clock::time_point{}) return std::chrono::nanoseconds{0};
+    return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() -
+                                                                waiting_since);
   }
   void Open() {
     closed_.store(false, std::memory_order_release);

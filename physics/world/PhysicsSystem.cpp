@@ -104,6 +104,7 @@ PhysicsSystem::PhysicsSystem(const PhysicsSystemConfig& config, const PhysicsSet
                               : std::shared_ptr<JobSystem>(MakeDefaultJobSystem(config.thread_count))),
       body_manager_(config.max_bodies, config.body_mutex_count),
       body_snapshots_(config.max_bodies),
+      move_order_(config.max_bodies),
       broad_phase_(config.broad_phase ? config.broad_phase
                                       : std::make_shared<QuadTreeBroadPhase>(config.max_bodies, layers_)),
       body_interface_(std::make_unique<BodyInterface>(*this)),

@@ -14,6 +14,7 @@
 
 #include "physics/body/BodyManager.h"
 #include "physics/body/BodySnapshotTable.h"
+#include "physics/body/BroadPhaseMoveOrder.h"
 #include "physics/broadphase/BroadPhase.h"
 #include "physics/core/JobGraph.h"
 #include "physics/core/JobSystem.h"
@@ -137,6 +138,7 @@ class PhysicsSystem {
   std::shared_ptr<JobSystem> jobs_;
   BodyManager body_manager_;
   BodySnapshotTable body_snapshots_;
+  BroadPhaseMoveOrder move_order_;  // orders the broad-phase updates moves make after their lock
   std::shared_ptr<BroadPhase> broad_phase_;
   std::unique_ptr<BodyInterface> body_interface_;
   std::unique_ptr<WorldQuery> query_;

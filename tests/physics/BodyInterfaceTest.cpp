@@ -1,4 +1,5 @@
 // BodyInterface: bad input is rejected with a clear error and leaves the world unchanged; thread safety.
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <random>
@@ -249,6 +250,71 @@ TEST(BodyInterfaceThreads, ConcurrentCreateMoveQueryAndStep) {
 
 TEST(BodyInterfaceThreadsStress, ConcurrentCreateMoveQueryAndStepLong) {
   ConcurrentCreateMoveQueryAndStep(8, 3000);
+}
+
+// Threads teleport the same few static bodies (the step never refreshes a static body's bounds) to places
+// no two moves share, while a step runs. A move gives the broad phase its bounds after releasing the body's
+// lock (BroadPhaseMoveOrderTest forces the reorderings that can cause); here the whole path runs beside the
+// step: the broad phase must end with each body at its last move. Checked after a full rebuild, which sizes
+// every leaf from the bounds it holds: each body is found where it is, and nowhere it only was.
+bool Found(const std::vector<BodyID>& ids, BodyID id) {
+  return std::find(ids.begin(), ids.end(), id) != ids.end();
+}
+
+void ConcurrentMovesOfTheSameBodies(int workers, int moves_per_worker) {
+  PhysicsSystemConfig config;
+  config.max_bodies = 64;
+  config.thread_count = 2;
+  auto world = std::move(*PhysicsSystem::Create(config));
+  BodyInterface& bodies = world->bodies();
+  std::vector<BodyID> moved;
+  for (int i = 0; i < 3; ++i) moved.push_back(Add(*world, Static(Box(0.5f, 0.5f, 0.5f), Vec3(0, -50, 0))));
+  Add(*world, Dynamic(Sphere(0.5f), Vec3(0, 100, 500)));  // gives the step something to do
+  // Move m of worker w goes to its own cell of a 4 m grid.
+  auto place = [&](int w, int m) {
+    return Vec3(4.0f * static_cast<float>(m), 0.0f, 4.0f * static_cast<float>(w));
+  };
+  std::atomic<int> failures{0};
+  std::atomic<bool> stop{false};
+  std::thread stepper([&] {
+    while (!stop) (void)world->Step(1.0f / 60.0f);
+  });
+  auto worker = [&](int w) {
+    std::mt19937 random(static_cast<unsigned>(11 + w));
+    for (int m = 0; m < moves_per_worker; ++m)
+      if (!bodies.SetPosition(moved[random() % moved.size()], place(w, m)).ok()) ++failures;
+  };
+  std::vector<std::thread> threads;
+  for (int w = 0; w < workers; ++w) threads.emplace_back(worker, w);
+  for (std::thread& thread : threads) thread.join();
+  stop = true;
+  stepper.join();
+  ASSERT_EQ(failures.load(), 0);
+  world->broad_phase().Optimize();
+  for (const BodyID id : moved) {
+    const Vec3 now = *bodies.GetPosition(id);
+    const auto here = world->query().CollideAABB(*bodies.GetWorldBounds(id));
+    ASSERT_TRUE(here.ok());
+    EXPECT_TRUE(Found(*here, id)) << "body " << id.index << " is missing where it is";
+    int stale = 0;
+    for (int w = 0; w < workers; ++w)
+      for (int m = 0; m < moves_per_worker; ++m) {
+        const Vec3 was = place(w, m);
+        if ((was - now).norm() < 1.0f) continue;
+        const auto there =
+            world->query().CollideAABB(AABB(was - Vec3::Constant(0.1f), was + Vec3::Constant(0.1f)));
+        stale += there.ok() && Found(*there, id) ? 1 : 0;
+      }
+    EXPECT_EQ(stale, 0) << "body " << id.index << " is still found where an earlier move put it";
+  }
+}
+
+TEST(BodyInterfaceThreads, MovesOfTheSameBodiesLeaveTheBroadPhaseAtEachBodysLastMove) {
+  ConcurrentMovesOfTheSameBodies(4, 300);
+}
+
+TEST(BodyInterfaceThreadsStress, MovesOfTheSameBodiesLeaveTheBroadPhaseAtEachBodysLastMoveLong) {
+  ConcurrentMovesOfTheSameBodies(8, 3000);
 }
 
 // The step's LockAll takes the mutexes that guard slots handed out so far: a small world's step takes as
