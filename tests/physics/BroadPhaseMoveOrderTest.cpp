@@ -42,26 +42,26 @@ TEST(BroadPhaseMoveOrder, RetiringMakesEveryMoveIssuedSoFarStale) {
 }
 
 // Threads move bodies under per-body mutexes (the body locks) and apply the bounds after unlocking, with a
-// random pause in between so that later moves often get there first. The oracle is the last move each body
-// was given under its lock; the updates of one body must never overlap.
+// random pause in between so that later moves often get there first. A move is named by its place in its
+// body's lock order. The oracle: what a body's broad phase holds only ever moves forward in that order and
+// ends at the body's last move; the updates of one body never overlap.
 TEST(BroadPhaseMoveOrderThreads, EachBodyEndsWithItsLastMoveWhateverOrderTheyArriveIn) {
   constexpr int kBodies = 3, kThreads = 4, kMoves = 2000;
   BroadPhaseMoveOrder order(kBodies);
   std::array<std::mutex, kBodies> locks;
-  std::array<int, kBodies> last_move{};    // under the body's lock
+  std::array<int, kBodies> moves_made{};   // under the body's lock
   std::array<int, kBodies> broad_phase{};  // written only inside Apply
   std::array<std::atomic<int>, kBodies> inside{};
-  std::atomic<int> overlaps{0};
-  std::atomic<int> skipped{0};
+  std::atomic<int> overlaps{0}, backwards{0}, skipped{0};
   auto mover = [&](int thread) {
     std::mt19937 random(static_cast<unsigned>(3 + thread));
     for (int m = 0; m < kMoves; ++m) {
       const auto body = static_cast<std::uint32_t>(random() % kBodies);
-      const int move = thread * kMoves + m + 1;
+      int move = 0;
       std::uint64_t ticket = 0;
       {
         const std::lock_guard lock(locks[body]);
-        last_move[body] = move;
+        move = ++moves_made[body];
         ticket = order.Issue(body);
       }
       if (random() % 4 == 0) std::this_thread::yield();
@@ -71,6 +71,7 @@ TEST(BroadPhaseMoveOrderThreads, EachBodyEndsWithItsLastMoveWhateverOrderTheyArr
       }
       const bool ran = order.Apply(body, ticket, [&] {
         if (inside[body].fetch_add(1) != 0) ++overlaps;
+        if (move < broad_phase[body]) ++backwards;
         broad_phase[body] = move;
         inside[body].fetch_sub(1);
       });
@@ -81,7 +82,9 @@ TEST(BroadPhaseMoveOrderThreads, EachBodyEndsWithItsLastMoveWhateverOrderTheyArr
   for (int t = 0; t < kThreads; ++t) threads.emplace_back(mover, t);
   for (std::thread& thread : threads) thread.join();
   EXPECT_EQ(overlaps.load(), 0);
-  for (int body = 0; body < kBodies; ++body) EXPECT_EQ(broad_phase[body], last_move[body]) << "body " << body;
+  EXPECT_EQ(backwards.load(), 0);
+  for (int body = 0; body < kBodies; ++body)
+    EXPECT_EQ(broad_phase[body], moves_made[body]) << "body " << body;
   // The pauses did reorder moves (else this test would show nothing).
   EXPECT_GT(skipped.load(), 0);
 }
