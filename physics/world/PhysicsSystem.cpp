@@ -187,7 +187,7 @@ AABB PhysicsSystem::BroadPhaseBounds(const Body& body, float dt) const {
   // Sweep over the coming step so speculative contacts are found before bodies touch.
   const float step = dt > 0.0f ? dt : last_dt_.load(std::memory_order_relaxed);
   const Vec3 travel = body.linear_velocity() * step;
-  const float turn = body.angular_velocity().norm() * step * body.shape()->LocalBounds().HalfExtents().norm();
+  const float turn = body.angular_velocity().norm() * step * body.local_bounds_.HalfExtents().norm();
   AABB swept = bounds;
   swept.min += travel;
   swept.max += travel;
