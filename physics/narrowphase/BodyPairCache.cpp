@@ -58,13 +58,15 @@ CachedBodyPair* BodyPairCache::Create(std::uint32_t job, BodyID owner, BodyID ot
   return entry;
 }
 
-CachedManifold* BodyPairCache::AddManifold(std::uint32_t job, CachedBodyPair& pair, std::uint32_t sub_shape_b,
-                                           const Vec3& normal_a, std::uint32_t point_count) {
+CachedManifold* BodyPairCache::AddManifold(std::uint32_t job, CachedBodyPair& pair, std::uint32_t sub_shape_a,
+                                           std::uint32_t sub_shape_b, const Vec3& normal_a,
+                                           std::uint32_t point_count) {
   BlockArena& arena = generations_[current_].jobs[job].arena;
   void* memory = arena.Allocate(sizeof(CachedManifold) + point_count * sizeof(CachedContactPoint),
                                 alignof(CachedManifold));
   auto* manifold = new (memory) CachedManifold;
   manifold->normal_a = normal_a;
+  manifold->sub_shape_a = sub_shape_a;
   manifold->sub_shape_b = sub_shape_b;
   manifold->point_count = point_count;
   // Appended, not prepended: replaying keeps the order, so constraint order does not flip every step.

@@ -25,10 +25,11 @@ struct CachedContactPoint {
   float normal_impulse;
 };
 
-/// One manifold of a pair (one sub-shape of B) with its points stored right after it.
+/// One manifold of a pair (one pair of sub-shapes) with its points stored right after it.
 struct CachedManifold {
   CachedManifold* next = nullptr;
   Vec3 normal_a;  ///< contact normal (A to B) in A's frame
+  std::uint32_t sub_shape_a = 0;
   std::uint32_t sub_shape_b = 0;
   std::uint32_t point_count = 0;
 
@@ -37,8 +38,7 @@ struct CachedManifold {
 };
 
 /// A body pair's entry: the relative pose when its manifolds were computed, and the manifolds (maybe none:
-/// a pair whose bounds overlap but whose shapes are apart is remembered too). A is the body the narrow
-/// phase puts first (the convex one), which need not be the owner.
+/// a pair whose bounds overlap but whose shapes are apart is remembered too). A is the owner.
 struct CachedBodyPair {
   BodyID other;  ///< the body paired with the owner
   BodyID a;
@@ -85,9 +85,10 @@ class BodyPairCache {
   /// job `job`'s arena; (a, b) is the pair as the narrow phase orders it.
   CachedBodyPair* Create(std::uint32_t job, BodyID owner, BodyID other, BodyID a, BodyID b,
                          const Vec3& delta_position, const Quat& delta_rotation);
-  /// Appends a manifold with `point_count` (uninitialised) points to `pair`, from job `job`'s arena.
-  CachedManifold* AddManifold(std::uint32_t job, CachedBodyPair& pair, std::uint32_t sub_shape_b,
-                              const Vec3& normal_a, std::uint32_t point_count);
+  /// Appends a manifold of sub-shapes (`sub_shape_a`, `sub_shape_b`) with `point_count` (uninitialised)
+  /// points to `pair`, from job `job`'s arena.
+  CachedManifold* AddManifold(std::uint32_t job, CachedBodyPair& pair, std::uint32_t sub_shape_a,
+                              std::uint32_t sub_shape_b, const Vec3& normal_a, std::uint32_t point_count);
 
   /// Entries added this step so far (exact once the narrow phase is over).
   std::size_t current_pair_count() const;

@@ -32,9 +32,16 @@ void ClosestPointsOfSegments(const Vec3& p0, const Vec3& p1, const Vec3& q0, con
   const float a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
   float s = 0.0f, t = 0.0f;
   const float c = d1.dot(r), b = d1.dot(d2);
+  if (e <= 0.0f) {
+    // The second segment is a point (a sphere's core): the nearest point of the first one to it.
+    s = a > 0.0f ? std::clamp(-c / a, 0.0f, 1.0f) : 0.0f;
+    on_p = p0 + s * d1;
+    on_q = q0;
+    return;
+  }
   const float denominator = a * e - b * b;
   if (denominator > 1e-12f) s = std::clamp((b * f - c * e) / denominator, 0.0f, 1.0f);
-  t = e > 0.0f ? (b * s + f) / e : 0.0f;
+  t = (b * s + f) / e;
   if (t < 0.0f)
     t = 0.0f, s = a > 0.0f ? std::clamp(-c / a, 0.0f, 1.0f) : 0.0f;
   else if (t > 1.0f)

@@ -2,6 +2,7 @@
 
 #include "physics/narrowphase/BoxBoxCollider.h"
 #include "physics/narrowphase/ClosestPoints.h"
+#include "physics/narrowphase/CollisionDispatch.h"
 #include "physics/narrowphase/Epa.h"
 #include "physics/narrowphase/ManifoldBuilder.h"
 #include "physics/narrowphase/PolyhedronCollider.h"
@@ -209,38 +210,9 @@ void MergeManifold(const ContactManifold& manifold, std::size_t first, std::vect
   out.push_back(manifold);
 }
 
-}  // namespace
-
-bool CollideConvexConvex(const ConvexShape& a, const Pose& pose_a, const ConvexShape& b, const Pose& pose_b,
-                         float max_separation, ContactManifold& manifold) {
-  CollisionScratch scratch;
-  return CollideConvexConvex(a, pose_a, b, pose_b, max_separation, manifold, scratch);
-}
-
-bool CollideConvexConvex(const ConvexShape& a, const Pose& pose_a, const ConvexShape& b, const Pose& pose_b,
-                         float max_separation, ContactManifold& manifold, CollisionScratch& scratch) {
-  if (a.type() == ShapeType::kSphere && b.type() == ShapeType::kSphere)
-    return CollideSpheres(static_cast<const SphereShape&>(a), pose_a, static_cast<const SphereShape&>(b),
-                          pose_b, max_separation, manifold);
-  if (a.type() == ShapeType::kSphere && b.type() == ShapeType::kBox)
-    return CollideSphereBox(static_cast<const SphereShape&>(a), pose_a, static_cast<const BoxShape&>(b),
-                            pose_b, max_separation, manifold);
-  if (a.type() == ShapeType::kBox && b.type() == ShapeType::kSphere) {
-    if (!CollideSphereBox(static_cast<const SphereShape&>(b), pose_b, static_cast<const BoxShape&>(a), pose_a,
-                          max_separation, manifold))
-      return false;
-    manifold.normal = -manifold.normal;
-    std::swap(manifold.points[0].position_a, manifold.points[0].position_b);
-    return true;
-  }
-  if (a.type() == ShapeType::kBox && b.type() == ShapeType::kBox)
-    return CollideBoxes(static_cast<const BoxShape&>(a), pose_a, static_cast<const BoxShape&>(b), pose_b,
-                        max_separation, manifold);
-  if (IsPolyhedron(a) && IsPolyhedron(b)) {
-    thread_local Polyhedron polyhedron_a, polyhedron_b;
-    if (MakePolyhedron(a, pose_a, polyhedron_a) && MakePolyhedron(b, pose_b, polyhedron_b))
-      return CollidePolyhedra(polyhedron_a, polyhedron_b, max_separation, manifold);
-  }
+// Any two convex shapes by their cores and supporting faces.
+bool CollideByGjk(const ConvexShape& a, const Pose& pose_a, const ConvexShape& b, const Pose& pose_b,
+                  float max_separation, ContactManifold& manifold, CollisionScratch& scratch) {
   Vec3 normal;
   ContactPoint deepest;
   Vec3 segment_a[2], segment_b[2];
@@ -273,6 +245,84 @@ bool CollideConvexConvex(const ConvexShape& a, const Pose& pose_a, const ConvexS
   manifold.normal = normal;
   BuildManifold(face_a, face_b, deepest, max_separation, manifold);
   return manifold.count > 0;
+}
+
+const ConvexShape& AsConvex(const Shape& shape) {
+  return static_cast<const ConvexShape&>(shape);
+}
+
+}  // namespace
+
+void CollideConvexByGjk(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b,
+                        float max_separation, const ContactManifold& prototype,
+                        std::vector<ContactManifold>& out, CollisionScratch& scratch) {
+  ContactManifold manifold = prototype;
+  if (CollideByGjk(AsConvex(a), pose_a, AsConvex(b), pose_b, max_separation, manifold, scratch))
+    out.push_back(manifold);
+}
+
+void CollideSpherePair(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b,
+                       float max_separation, const ContactManifold& prototype,
+                       std::vector<ContactManifold>& out, CollisionScratch& /*scratch*/) {
+  ContactManifold manifold = prototype;
+  if (CollideSpheres(static_cast<const SphereShape&>(a), pose_a, static_cast<const SphereShape&>(b), pose_b,
+                     max_separation, manifold))
+    out.push_back(manifold);
+}
+
+void CollideSphereWithBox(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b,
+                          float max_separation, const ContactManifold& prototype,
+                          std::vector<ContactManifold>& out, CollisionScratch& /*scratch*/) {
+  ContactManifold manifold = prototype;
+  if (CollideSphereBox(static_cast<const SphereShape&>(a), pose_a, static_cast<const BoxShape&>(b), pose_b,
+                       max_separation, manifold))
+    out.push_back(manifold);
+}
+
+void CollideBoxPair(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b,
+                    float max_separation, const ContactManifold& prototype, std::vector<ContactManifold>& out,
+                    CollisionScratch& /*scratch*/) {
+  ContactManifold manifold = prototype;
+  if (CollideBoxes(static_cast<const BoxShape&>(a), pose_a, static_cast<const BoxShape&>(b), pose_b,
+                   max_separation, manifold))
+    out.push_back(manifold);
+}
+
+void CollidePolyhedronPair(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b,
+                           float max_separation, const ContactManifold& prototype,
+                           std::vector<ContactManifold>& out, CollisionScratch& scratch) {
+  thread_local Polyhedron polyhedron_a, polyhedron_b;
+  if (!MakePolyhedron(AsConvex(a), pose_a, polyhedron_a) ||
+      !MakePolyhedron(AsConvex(b), pose_b, polyhedron_b)) {
+    CollideConvexByGjk(a, pose_a, b, pose_b, max_separation, prototype, out, scratch);
+    return;
+  }
+  ContactManifold manifold = prototype;
+  if (CollidePolyhedra(polyhedron_a, polyhedron_b, max_separation, manifold)) out.push_back(manifold);
+}
+
+void CollideConvexWithMesh(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b,
+                           float max_separation, const ContactManifold& prototype,
+                           std::vector<ContactManifold>& out, CollisionScratch& scratch) {
+  CollideConvexMesh(AsConvex(a), pose_a, static_cast<const TriangleMeshShape&>(b), pose_b, max_separation,
+                    prototype, out, scratch);
+}
+
+bool CollideConvexConvex(const ConvexShape& a, const Pose& pose_a, const ConvexShape& b, const Pose& pose_b,
+                         float max_separation, ContactManifold& manifold) {
+  CollisionScratch scratch;
+  return CollideConvexConvex(a, pose_a, b, pose_b, max_separation, manifold, scratch);
+}
+
+bool CollideConvexConvex(const ConvexShape& a, const Pose& pose_a, const ConvexShape& b, const Pose& pose_b,
+                         float max_separation, ContactManifold& manifold, CollisionScratch& scratch) {
+  // Reused, so a warm caller allocates nothing; a convex pair gives one manifold at most.
+  thread_local std::vector<ContactManifold> found;
+  found.clear();
+  CollisionDispatch::Default().Collide(a, pose_a, b, pose_b, max_separation, manifold, found, scratch);
+  if (found.empty()) return false;
+  manifold = found.front();
+  return true;
 }
 
 void CollideConvexMesh(const ConvexShape& a, const Pose& pose_a, const TriangleMeshShape& mesh,
@@ -396,17 +446,7 @@ void CollideShapes(const Shape& a, const Pose& pose_a, const Shape& b, const Pos
 void CollideShapes(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b,
                    float max_separation, const ContactManifold& prototype, std::vector<ContactManifold>& out,
                    CollisionScratch& scratch) {
-  if (!a.IsConvex()) return;  // mesh vs anything is handled with the mesh as B
-  const auto& convex_a = static_cast<const ConvexShape&>(a);
-  if (b.type() == ShapeType::kTriangleMesh) {
-    CollideConvexMesh(convex_a, pose_a, static_cast<const TriangleMeshShape&>(b), pose_b, max_separation,
-                      prototype, out, scratch);
-    return;
-  }
-  ContactManifold manifold = prototype;
-  if (CollideConvexConvex(convex_a, pose_a, static_cast<const ConvexShape&>(b), pose_b, max_separation,
-                          manifold, scratch))
-    out.push_back(manifold);
+  CollisionDispatch::Default().Collide(a, pose_a, b, pose_b, max_separation, prototype, out, scratch);
 }
 
 }  // namespace strata

@@ -1,6 +1,7 @@
-// CollideShapes: the narrow-phase entry points. Convex pairs run GJK on the shape cores (EPA on the exact
-// shapes when the cores overlap), with closed forms for sphere pairs; convex vs triangle mesh collides
-// with each nearby triangle and ignores internal edges. Pure functions; safe from any thread.
+// CollideShapes: the narrow-phase entry points and the collide functions behind them. Convex pairs run GJK
+// on the shape cores (EPA on the exact shapes when the cores overlap), with closed forms and separating-axis
+// tests where they are faster; convex vs triangle mesh collides with each nearby triangle and ignores
+// internal edges. Which function serves which pair is CollisionDispatch's table. Pure functions; any thread.
 #pragma once
 
 #include <vector>
@@ -18,8 +19,9 @@ struct CollisionScratch {
   EpaScratch epa;
 };
 
-/// Contact between two convex shapes. Returns true and fills `manifold` (normal and points; body ids are
-/// left as they were) when the shapes are closer than `max_separation` (speculative contacts).
+/// Contact between two convex shapes, by the form CollisionDispatch holds for the pair. Returns true and
+/// fills `manifold` (normal and points; body ids are left as they were) when the shapes are closer than
+/// `max_separation` (speculative contacts).
 bool CollideConvexConvex(const ConvexShape& a, const Pose& pose_a, const ConvexShape& b, const Pose& pose_b,
                          float max_separation, ContactManifold& manifold, CollisionScratch& scratch);
 bool CollideConvexConvex(const ConvexShape& a, const Pose& pose_a, const ConvexShape& b, const Pose& pose_b,
@@ -34,12 +36,41 @@ void CollideConvexMesh(const ConvexShape& a, const Pose& pose_a, const TriangleM
                        const Pose& pose_mesh, float max_separation, const ContactManifold& prototype,
                        std::vector<ContactManifold>& out);
 
-/// Dispatches on shape types (mesh vs mesh never collides; a mesh as A is swapped to B by the caller). The
-/// forms without scratch use buffers of their own.
+/// Contacts between any two shapes, through CollisionDispatch::Default() (either order; two triangle shapes
+/// give nothing). The forms without scratch use buffers of their own.
 void CollideShapes(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b,
                    float max_separation, const ContactManifold& prototype, std::vector<ContactManifold>& out,
                    CollisionScratch& scratch);
 void CollideShapes(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b,
                    float max_separation, const ContactManifold& prototype, std::vector<ContactManifold>& out);
+
+// The collide functions CollisionDispatch::Default() registers (the CollideFunction form: each appends what
+// it finds to `out`, every manifold starting as `prototype`). The shapes must be of the named types.
+
+/// Any two convex shapes: GJK on the cores (EPA on the exact shapes when the cores overlap), the closed form
+/// for two sphere or capsule cores.
+void CollideConvexByGjk(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b,
+                        float max_separation, const ContactManifold& prototype,
+                        std::vector<ContactManifold>& out, CollisionScratch& scratch);
+/// Two spheres in closed form.
+void CollideSpherePair(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b,
+                       float max_separation, const ContactManifold& prototype,
+                       std::vector<ContactManifold>& out, CollisionScratch& scratch);
+/// A sphere (A) and a box (B) in closed form.
+void CollideSphereWithBox(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b,
+                          float max_separation, const ContactManifold& prototype,
+                          std::vector<ContactManifold>& out, CollisionScratch& scratch);
+/// Two boxes by the separating-axis test (CollideBoxes).
+void CollideBoxPair(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b,
+                    float max_separation, const ContactManifold& prototype, std::vector<ContactManifold>& out,
+                    CollisionScratch& scratch);
+/// Two polyhedra (boxes, hulls) by the separating-axis test; GJK for a hull too large to take part.
+void CollidePolyhedronPair(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b,
+                           float max_separation, const ContactManifold& prototype,
+                           std::vector<ContactManifold>& out, CollisionScratch& scratch);
+/// A convex shape (A) and a triangle mesh (B): CollideConvexMesh.
+void CollideConvexWithMesh(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b,
+                           float max_separation, const ContactManifold& prototype,
+                           std::vector<ContactManifold>& out, CollisionScratch& scratch);
 
 }  // namespace strata

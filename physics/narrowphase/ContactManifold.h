@@ -16,11 +16,12 @@ struct ContactPoint {
   float separation;  ///< (position_b - position_a) . normal
 };
 
-/// Contact between body A and body B (or sub-shape `sub_shape_b` of B, a mesh triangle).
+/// Contact between body A and body B, or between their sub-shapes (a mesh triangle; 0 for a shape without).
 struct ContactManifold {
   static constexpr int kMaxPoints = 4;
   BodyID body_a;
   BodyID body_b;
+  std::uint32_t sub_shape_a = 0;
   std::uint32_t sub_shape_b = 0;
   Vec3 normal = Vec3::UnitY();  ///< unit, from A towards B
   int count = 0;

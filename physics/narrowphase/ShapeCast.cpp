@@ -1,5 +1,6 @@
 #include "physics/narrowphase/ShapeCast.h"
 
+#include "physics/narrowphase/CollisionDispatch.h"
 #include "physics/narrowphase/Gjk.h"
 
 namespace strata {
@@ -30,14 +31,19 @@ std::optional<ShapeCastHit> Advance(const ConvexShape& shape, const Pose& start,
 
 }  // namespace
 
-std::optional<ShapeCastHit> CastConvexShape(const ConvexShape& shape, const Pose& start,
-                                            const Vec3& displacement, const Shape& target,
-                                            const Pose& target_pose, float tolerance,
-                                            std::vector<Triangle>& triangles) {
-  if (target.IsConvex())
-    return Advance(shape, start, displacement,
-                   PosedConvex(static_cast<const ConvexShape&>(target), target_pose, false), tolerance);
-  // A mesh: every triangle near the swept bounds, nearest hit wins.
+std::optional<ShapeCastHit> CastOntoConvex(const ConvexShape& shape, const Pose& start,
+                                           const Vec3& displacement, const Shape& target,
+                                           const Pose& target_pose, float tolerance,
+                                           std::vector<Triangle>& /*triangles*/) {
+  return Advance(shape, start, displacement,
+                 PosedConvex(static_cast<const ConvexShape&>(target), target_pose, false), tolerance);
+}
+
+std::optional<ShapeCastHit> CastOntoTriangles(const ConvexShape& shape, const Pose& start,
+                                              const Vec3& displacement, const Shape& target,
+                                              const Pose& target_pose, float tolerance,
+                                              std::vector<Triangle>& triangles) {
+  // Every triangle near the swept bounds, nearest hit wins.
   AABB swept = shape.WorldBounds(start);
   AABB end = swept;
   end.min += displacement;
@@ -52,6 +58,14 @@ std::optional<ShapeCastHit> CastConvexShape(const ConvexShape& shape, const Pose
     if (hit && (!nearest || hit->fraction < nearest->fraction)) nearest = hit;
   }
   return nearest;
+}
+
+std::optional<ShapeCastHit> CastConvexShape(const ConvexShape& shape, const Pose& start,
+                                            const Vec3& displacement, const Shape& target,
+                                            const Pose& target_pose, float tolerance,
+                                            std::vector<Triangle>& triangles) {
+  return CollisionDispatch::Default().Cast(shape, start, displacement, target, target_pose, tolerance,
+                                           triangles);
 }
 
 }  // namespace strata

@@ -18,12 +18,26 @@ struct ShapeCastHit {
   Vec3 point = Vec3::Zero();    ///< on the target, world
 };
 
-/// Sweeps `shape` from `start` by `displacement` against `target` at `target_pose`; nullopt when it does
-/// not touch within the sweep, or when it already overlaps at the start (the contacts handle that). Hits
-/// are reported `tolerance` metres before touching. `triangles` is scratch for mesh targets.
+/// Sweeps `shape` from `start` by `displacement` against `target` at `target_pose`, by the cast
+/// CollisionDispatch::Default() holds for the target's type; nullopt when it does not touch within the
+/// sweep, or when it already overlaps at the start (the contacts handle that). Hits are reported
+/// `tolerance` metres before touching. `triangles` is scratch for targets made of triangles.
 std::optional<ShapeCastHit> CastConvexShape(const ConvexShape& shape, const Pose& start,
                                             const Vec3& displacement, const Shape& target,
                                             const Pose& target_pose, float tolerance,
                                             std::vector<Triangle>& triangles);
+
+// The casts CollisionDispatch::Default() registers (arguments as CastConvexShape).
+
+/// Onto a convex target: conservative advancement on the GJK distance.
+std::optional<ShapeCastHit> CastOntoConvex(const ConvexShape& shape, const Pose& start,
+                                           const Vec3& displacement, const Shape& target,
+                                           const Pose& target_pose, float tolerance,
+                                           std::vector<Triangle>& triangles);
+/// Onto a shape made of triangles: each triangle near the sweep (Shape::GetTrianglesInBox), nearest first.
+std::optional<ShapeCastHit> CastOntoTriangles(const ConvexShape& shape, const Pose& start,
+                                              const Vec3& displacement, const Shape& target,
+                                              const Pose& target_pose, float tolerance,
+                                              std::vector<Triangle>& triangles);
 
 }  // namespace strata

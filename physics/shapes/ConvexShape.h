@@ -34,7 +34,7 @@ class ConvexShape : public Shape {
   virtual void GetSupportingFace(const Vec3& direction, SupportingFace& face) const = 0;
 
  protected:
-  ConvexShape(ShapeType type, float core_radius) : Shape(type), core_radius_(core_radius) {}
+  ConvexShape(ShapeType type, float core_radius) : Shape(type, true), core_radius_(core_radius) {}
 
  private:
   float core_radius_;

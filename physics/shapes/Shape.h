@@ -40,7 +40,8 @@ class Shape {
   Shape& operator=(const Shape&) = delete;
 
   ShapeType type() const { return type_; }
-  bool IsConvex() const { return type_ != ShapeType::kTriangleMesh; }
+  /// Whether the shape is a ConvexShape (what the narrow phase sweeps and what dynamic bodies are made of).
+  bool IsConvex() const { return convex_; }
 
   /// Bounds in local space.
   virtual AABB LocalBounds() const = 0;
@@ -70,13 +71,14 @@ class Shape {
   void GetTrianglesInBox(const AABB& world_box, const Pose& pose, std::vector<Triangle>& out) const;
 
  protected:
-  explicit Shape(ShapeType type) : type_(type) {}
+  Shape(ShapeType type, bool convex) : type_(type), convex_(convex) {}
 
   /// Local-space triangles that may overlap `local_box` (a superset is fine; the caller filters).
   virtual void CollectLocalTriangles(const AABB& local_box, std::vector<Triangle>& out) const = 0;
 
  private:
   ShapeType type_;
+  bool convex_;
 };
 
 }  // namespace strata

@@ -41,7 +41,9 @@ Result<ShapeRef> TriangleMeshShape::Create(std::span<const Vec3> vertices,
 }
 
 TriangleMeshShape::TriangleMeshShape(std::vector<Vec3> vertices, std::vector<Indices> triangles)
-    : Shape(ShapeType::kTriangleMesh), vertices_(std::move(vertices)), triangles_(std::move(triangles)) {
+    : Shape(ShapeType::kTriangleMesh, false),
+      vertices_(std::move(vertices)),
+      triangles_(std::move(triangles)) {
   normals_.reserve(triangles_.size());
   for (const Indices& tri : triangles_)
     normals_.push_back(

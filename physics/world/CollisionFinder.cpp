@@ -141,16 +141,14 @@ void CollisionFinder::CollidePair(BodyPair pair, BodyPairCache::PreviousPairs& p
   if (!second.in_world() || second.id() != pair.b) return;
   if (!first.IsDynamic() && !second.IsDynamic()) return;  // kinematic vs static or kinematic: no contact
   ++job.stats.pairs;
-  // The narrow phase wants the convex shape first (a mesh is always B).
-  const bool swap = !first.shape()->IsConvex();
-  const Side a = MakeSide(swap ? second : first);
-  const Side b = MakeSide(swap ? first : second);
+  // The owner is A; the dispatch table takes either order of shapes.
+  const Side a = MakeSide(first);
+  const Side b = MakeSide(second);
 
   const Quat inverse_a = a.rotation.conjugate();
   const Vec3 delta_position = a.rotation_matrix.transpose() * (b.center_of_mass - a.center_of_mass);
   const Quat delta_rotation = inverse_a * b.rotation;
   const CachedBodyPair* previous = previous_pairs.Find(pair.b);
-  if (previous != nullptr && previous->a != a.body->id()) previous = nullptr;  // ordered the other way then
   const bool replay =
       previous != nullptr &&
       (delta_position - previous->delta_position).squaredNorm() < replay_max_distance_squared_ &&
@@ -176,7 +174,8 @@ void CollisionFinder::CollidePair(BodyPair pair, BodyPairCache::PreviousPairs& p
     const CachedManifold* match = nullptr;
     for (const CachedManifold* cached = previous ? previous->manifolds : nullptr; cached != nullptr && !match;
          cached = cached->next)
-      if (cached->sub_shape_b == manifold.sub_shape_b) match = cached;
+      if (cached->sub_shape_a == manifold.sub_shape_a && cached->sub_shape_b == manifold.sub_shape_b)
+        match = cached;
     AddComputedManifold(manifold, a, b, entry, match, job_index);
   }
 }
@@ -184,8 +183,8 @@ void CollisionFinder::CollidePair(BodyPair pair, BodyPairCache::PreviousPairs& p
 void CollisionFinder::ReplayManifolds(const CachedBodyPair& previous, const Side& a, const Side& b,
                                       CachedBodyPair& entry, std::uint32_t job_index) {
   for (const CachedManifold* old = previous.manifolds; old != nullptr; old = old->next) {
-    CachedManifold& cached =
-        *input_.cache->AddManifold(job_index, entry, old->sub_shape_b, old->normal_a, old->point_count);
+    CachedManifold& cached = *input_.cache->AddManifold(job_index, entry, old->sub_shape_a, old->sub_shape_b,
+                                                        old->normal_a, old->point_count);
     std::copy(old->points(), old->points() + old->point_count, cached.points());
     const Vec3 normal = a.rotation_matrix * old->normal_a;
     ContactArms arms[ContactManifold::kMaxPoints];
@@ -207,8 +206,8 @@ void CollisionFinder::AddComputedManifold(const ContactManifold& manifold, const
   const auto to_a = a.rotation_matrix.transpose();
   const auto to_b = b.rotation_matrix.transpose();
   CachedManifold& cached =
-      *input_.cache->AddManifold(job_index, entry, manifold.sub_shape_b, to_a * manifold.normal,
-                                 static_cast<std::uint32_t>(manifold.count));
+      *input_.cache->AddManifold(job_index, entry, manifold.sub_shape_a, manifold.sub_shape_b,
+                                 to_a * manifold.normal, static_cast<std::uint32_t>(manifold.count));
   const float match_distance_squared =
       input_.settings->contact_match_distance * input_.settings->contact_match_distance;
   ContactArms arms[ContactManifold::kMaxPoints];

@@ -113,6 +113,22 @@ std::shared_ptr<const TriangleMeshShape> FlatGrid(int cells, float size) {
   return std::static_pointer_cast<const TriangleMeshShape>(*TriangleMeshShape::Create(vertices, triangles));
 }
 
+TEST(Collision, CapsuleTouchesASphereOnItsTopWhicheverComesFirst) {
+  // The sphere's core is a point: the capsule's nearest core point is the top of its segment, not an end
+  // picked by default (which missed this contact with the capsule as A).
+  const ShapeRef capsule = Capsule(0.3f, 0.3f), ball = Sphere(0.5f);
+  const Pose standing{Vec3(0.05f, 0.0f, -0.03f), Quat::Identity()};
+  const Pose above{Vec3(0.0f, 1.05f, 0.0f), Quat::Identity()};
+  const float expected = (above.position - Vec3(0.05f, 0.3f, -0.03f)).norm() - 0.8f;  // -0.0485
+  ContactManifold capsule_first, ball_first;
+  ASSERT_TRUE(CollideConvexConvex(Convex(capsule), standing, Convex(ball), above, 0.02f, capsule_first));
+  ASSERT_TRUE(CollideConvexConvex(Convex(ball), above, Convex(capsule), standing, 0.02f, ball_first));
+  EXPECT_NEAR(capsule_first.MinSeparation(), expected, 1e-4f);
+  EXPECT_NEAR(ball_first.MinSeparation(), expected, 1e-4f);
+  EXPECT_GT(capsule_first.normal.y(), 0.99f);
+  EXPECT_LT(ball_first.normal.y(), -0.99f);
+}
+
 TEST(Collision, BoxOnMeshEdgeUsesFaceNormal) {
   const auto grid = FlatGrid(4, 1.0f);
   // A box whose bottom spans an internal diagonal and a grid line.
