@@ -1,7 +1,9 @@
 #include "assets/scene/SceneLoader.h"
 
+#include <stb/stb_image.h>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <fstream>
 #include <limits>
 #include <nlohmann/json.hpp>
@@ -14,6 +16,7 @@
 #include "physics/shapes/BoxShape.h"
 #include "physics/shapes/CapsuleShape.h"
 #include "physics/shapes/ConvexHullShape.h"
+#include "physics/shapes/HeightFieldShape.h"
 #include "physics/shapes/SphereShape.h"
 #include "physics/shapes/TriangleMeshShape.h"
 
@@ -169,6 +172,115 @@ Result<ShapeRef> ParseMesh(const Reader& reader, const Json& shape, const std::f
   return created;
 }
 
+// A grid size from the scene: a whole number of samples, within what a height field may hold.
+Status ParseSampleCount(const Reader& reader, const Json& shape, const std::string& key, std::uint32_t& out) {
+  if (!shape.contains(key)) return reader.Fail(key, "is required");
+  if (!shape[key].is_number_unsigned() || shape[key].get<std::uint64_t>() < 2 ||
+      shape[key].get<std::uint64_t>() > HeightFieldShape::kMaxSamples)
+    return reader.Fail(key, "must be a whole number of samples, at least 2");
+  out = static_cast<std::uint32_t>(shape[key].get<std::uint64_t>());
+  return Status::Ok();
+}
+
+// Heights from a picture: grey levels (8 or 16 bits) from `low` (black) to `high` (white), one sample a
+// pixel, rows of the picture along +z.
+Status ReadHeightPicture(const Reader& reader, const std::filesystem::path& path, float low, float high,
+                         std::uint32_t& columns, std::uint32_t& rows, std::vector<float>& heights) {
+  const Result<std::string> bytes = ReadInputFile(path, HeightFieldShape::kMaxSamples * sizeof(float));
+  if (!bytes) return reader.Fail("file", bytes.error().message);
+  const auto* data = reinterpret_cast<const stbi_uc*>(bytes->data());
+  const int length = static_cast<int>(bytes->size());
+  int width = 0, height = 0, channels = 0;
+  // The size first: a small file can declare a picture far larger than a height field may be.
+  if (!stbi_info_from_memory(data, length, &width, &height, &channels))
+    return reader.Fail("file", path.string() + ": not a PNG picture (" + stbi_failure_reason() + ")");
+  if (width < 2 || height < 2 ||
+      static_cast<std::uint64_t>(width) * static_cast<std::uint64_t>(height) > HeightFieldShape::kMaxSamples)
+    return reader.Fail("file", path.string() + ": a " + std::to_string(width) + " x " +
+                                   std::to_string(height) + " picture is outside 2 x 2 to " +
+                                   std::to_string(HeightFieldShape::kMaxSamples) + " samples");
+  stbi_us* grey = stbi_load_16_from_memory(data, length, &width, &height, &channels, 1);
+  if (grey == nullptr) return reader.Fail("file", path.string() + ": " + stbi_failure_reason());
+  columns = static_cast<std::uint32_t>(width), rows = static_cast<std::uint32_t>(height);
+  heights.resize(static_cast<std::size_t>(columns) * rows);
+  for (std::size_t i = 0; i < heights.size(); ++i)
+    heights[i] = low + (high - low) * (static_cast<float>(grey[i]) / 65535.0f);
+  stbi_image_free(grey);
+  return Status::Ok();
+}
+
+// Heights as raw 32-bit floats (little-endian, row after row), `columns` x `rows` of them; NaN is a hole.
+Status ReadRawHeights(const Reader& reader, const std::filesystem::path& path, std::uint32_t columns,
+                      std::uint32_t rows, std::vector<float>& heights) {
+  const std::uint64_t expected = static_cast<std::uint64_t>(columns) * rows * sizeof(float);
+  const Result<std::string> bytes = ReadInputFile(path, HeightFieldShape::kMaxSamples * sizeof(float));
+  if (!bytes) return reader.Fail("file", bytes.error().message);
+  if (bytes->size() != expected)
+    return reader.Fail("file", path.string() + ": " + std::to_string(bytes->size()) + " bytes, but " +
+                                   std::to_string(columns) + " x " + std::to_string(rows) +
+                                   " float heights take " + std::to_string(expected));
+  heights.resize(static_cast<std::size_t>(columns) * rows);
+  for (std::size_t i = 0; i < heights.size(); ++i) {
+    std::uint32_t bits = 0;
+    for (int b = 3; b >= 0; --b)
+      bits = (bits << 8) | static_cast<unsigned char>((*bytes)[4 * i + static_cast<std::size_t>(b)]);
+    std::memcpy(&heights[i], &bits, sizeof(float));
+  }
+  return Status::Ok();
+}
+
+Result<ShapeRef> ParseHeightField(const Reader& reader, const Json& shape,
+                                  const std::filesystem::path& base) {
+  float cell_size = 1.0f;
+  STRATA_TRY(reader.Number(shape, "cell_size", cell_size));
+  std::uint32_t columns = 0, rows = 0;
+  std::vector<float> heights;
+  const std::string where = shape.contains("file") ? "file" : "heights";
+  if (shape.contains("file")) {
+    if (!shape["file"].is_string()) return reader.Fail("file", "must be a path string");
+    const std::filesystem::path path = base / shape["file"].get<std::string>();
+    if (path.extension() == ".png") {
+      if (shape.contains("columns") || shape.contains("rows"))
+        return reader.Fail("file", "a picture's size is its own: leave out columns and rows");
+      Vec3 range(0.0f, 1.0f, 0.0f);
+      if (shape.contains("height_range")) {
+        const Json& value = shape["height_range"];
+        if (!value.is_array() || value.size() != 2 || !value[0].is_number() || !value[1].is_number())
+          return reader.Fail("height_range", "must be [low, high] in metres");
+        range = Vec3(value[0].get<float>(), value[1].get<float>(), 0.0f);
+        if (!IsFinite(range)) return reader.Fail("height_range", "must be finite");
+      }
+      STRATA_TRY(ReadHeightPicture(reader, path, range.x(), range.y(), columns, rows, heights));
+    } else {
+      if (shape.contains("height_range")) return reader.Fail("height_range", "is for a PNG picture only");
+      STRATA_TRY(ParseSampleCount(reader, shape, "columns", columns));
+      STRATA_TRY(ParseSampleCount(reader, shape, "rows", rows));
+      STRATA_TRY(ReadRawHeights(reader, path, columns, rows, heights));
+    }
+  } else {
+    STRATA_TRY(ParseSampleCount(reader, shape, "columns", columns));
+    STRATA_TRY(ParseSampleCount(reader, shape, "rows", rows));
+    if (!shape.contains("heights") || !shape["heights"].is_array())
+      return reader.Fail("heights", "must be an array of columns x rows heights (null for a hole)");
+    const Json& values = shape["heights"];
+    for (std::size_t i = 0; i < values.size(); ++i) {
+      if (values[i].is_null()) {
+        heights.push_back(HeightFieldShape::kHole);
+        continue;
+      }
+      const std::string key = "heights/" + std::to_string(i);
+      if (!values[i].is_number()) return reader.Fail(key, "must be a number, or null for a hole");
+      const double height = values[i].get<double>();
+      if (!std::isfinite(height) || std::abs(height) > std::numeric_limits<float>::max())
+        return reader.Fail(key, "must be finite and fit a 32-bit float");
+      heights.push_back(static_cast<float>(height));
+    }
+  }
+  Result<ShapeRef> created = HeightFieldShape::Create(columns, rows, cell_size, heights);
+  if (!created) return reader.Fail(where, created.error().message);
+  return created;
+}
+
 Result<ShapeRef> ParseShape(const Reader& reader, const Json& shape, const std::filesystem::path& base) {
   if (!shape.is_object()) return reader.Fail("", "must be an object");
   std::string type;
@@ -205,7 +317,13 @@ Result<ShapeRef> ParseShape(const Reader& reader, const Json& shape, const std::
     STRATA_TRY(reader.OnlyKeys(shape, {"type", "vertices", "indices", "file", "scale", "z_up"}));
     return ParseMesh(reader, shape, base);
   }
-  return reader.Fail("type", "must be one of sphere, box, capsule, convex_hull, mesh (got '" + type + "')");
+  if (type == "heightfield") {
+    STRATA_TRY(
+        reader.OnlyKeys(shape, {"type", "columns", "rows", "cell_size", "heights", "file", "height_range"}));
+    return ParseHeightField(reader, shape, base);
+  }
+  return reader.Fail(
+      "type", "must be one of sphere, box, capsule, convex_hull, mesh, heightfield (got '" + type + "')");
 }
 
 Result<SceneBody> ParseBody(const Reader& reader, const Json& body, const std::filesystem::path& base) {

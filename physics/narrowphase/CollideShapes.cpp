@@ -1,5 +1,7 @@
 #include "physics/narrowphase/CollideShapes.h"
 
+#include <algorithm>
+
 #include "physics/narrowphase/BoxBoxCollider.h"
 #include "physics/narrowphase/ClosestPoints.h"
 #include "physics/narrowphase/CollisionDispatch.h"
@@ -9,6 +11,7 @@
 #include "physics/narrowphase/TriangleCollider.h"
 #include "physics/shapes/BoxShape.h"
 #include "physics/shapes/CapsuleShape.h"
+#include "physics/shapes/HeightFieldShape.h"
 #include "physics/shapes/SphereShape.h"
 
 namespace strata {
@@ -143,7 +146,8 @@ void TriangleFace(const TriangleSupport& triangle, const Vec3& face_normal, cons
 // Mesh triangles have internal edges that a sliding body must not catch on: when the contact sits on
 // such an edge (or in the interior), the triangle's face normal is the true normal.
 // Triangles are one-sided, so the corrected normal always points from the body into the front face.
-Vec3 CorrectTriangleNormal(const TriangleMeshShape& mesh, std::uint32_t triangle, const Vec3& face_normal,
+template <class TriangleShape>
+Vec3 CorrectTriangleNormal(const TriangleShape& mesh, std::uint32_t triangle, const Vec3& face_normal,
                            const TriangleSupport& world, const Vec3& point_on_triangle, const Vec3& normal) {
   if (std::abs(normal.dot(face_normal)) > 0.9995f) return normal;
   const Vec3 v0 = world.vertex(1) - world.vertex(0), v1 = world.vertex(2) - world.vertex(0);
@@ -247,6 +251,115 @@ bool CollideByGjk(const ConvexShape& a, const Pose& pose_a, const ConvexShape& b
   return manifold.count > 0;
 }
 
+// A convex shape against anything made of triangles that TriangleMeshShape's triangle interface describes
+// (QueryBox, Vertex, Normal, ActiveEdges): the mesh and the height field.
+template <class TriangleShape>
+void CollideConvexTriangles(const ConvexShape& a, const Pose& pose_a, const TriangleShape& mesh,
+                            const Pose& pose_mesh, float max_separation, const ContactManifold& prototype,
+                            std::vector<ContactManifold>& out, CollisionScratch& scratch) {
+  // Everything runs in the mesh's frame, so the triangles are used as stored; the convex is posed there
+  // once and the manifolds go back to world space at the end.
+  const Quat to_mesh = pose_mesh.rotation.conjugate();
+  const Pose local_a{to_mesh * (pose_a.position - pose_mesh.position), to_mesh * pose_a.rotation};
+  const AABB local_box = a.WorldBounds(local_a).Expanded(max_separation);
+  std::vector<std::uint32_t>& triangles = scratch.triangles;
+  triangles.clear();
+  mesh.QueryBox(local_box, triangles);
+  if (triangles.empty()) return;
+  // Manifolds merge in the order the triangles come, so the order is the triangles' numbers, not the walk
+  // of a hierarchy: the same triangles collide the same whatever shape holds them (a mesh and its height
+  // field), and on every run.
+  std::sort(triangles.begin(), triangles.end());
+  const PosedConvex core_a(a, local_a, true), exact_a(a, local_a, false);
+  const Mat3 rotation_a = local_a.rotation.toRotationMatrix();
+  thread_local Polyhedron polyhedron_a, triangle_polyhedron;
+  const bool use_sat = IsPolyhedron(a) && MakePolyhedron(a, local_a, polyhedron_a);
+  Vec3 capsule_core[2];
+  if (a.type() == ShapeType::kCapsule) {
+    const Vec3 half_axis = rotation_a.col(1) * static_cast<const CapsuleShape&>(a).half_height();
+    capsule_core[0] = local_a.position - half_axis;
+    capsule_core[1] = local_a.position + half_axis;
+  }
+  const std::size_t first = out.size();
+  for (std::uint32_t t : triangles) {
+    const Vec3 face_normal = mesh.Normal(t);
+    const TriangleSupport triangle(mesh.Vertex(t, 0), mesh.Vertex(t, 1), mesh.Vertex(t, 2));
+    // The convex's deepest point below the triangle's plane: if even that stays above it by more than the
+    // speculative reach, no feature of the triangle can come closer.
+    const Vec3 lowest = local_a.position + rotation_a * a.Support(rotation_a.transpose() * -face_normal);
+    if (face_normal.dot(lowest - triangle.vertex(0)) > max_separation) continue;
+    ContactManifold manifold = prototype;
+    manifold.sub_shape_b = t;
+    Vec3 normal;
+    ContactPoint deepest;
+    const MeshTriangle corners{{triangle.vertex(0), triangle.vertex(1), triangle.vertex(2)}, face_normal};
+    bool within = true;
+    if (use_sat) {
+      if (a.type() == ShapeType::kBox) {
+        if (!CollideBoxTriangle(static_cast<const BoxShape&>(a), rotation_a, local_a.position, corners,
+                                max_separation, manifold))
+          continue;
+      } else {
+        MakeTrianglePolyhedron(triangle.vertex(0), triangle.vertex(1), triangle.vertex(2), face_normal,
+                               triangle_polyhedron);
+        if (!CollidePolyhedra(polyhedron_a, triangle_polyhedron, max_separation, manifold)) continue;
+      }
+      normal = manifold.normal;
+      deepest = manifold.points[0];
+      for (int i = 1; i < manifold.count; ++i)
+        if (manifold.points[i].separation < deepest.separation) deepest = manifold.points[i];
+    } else if (a.type() == ShapeType::kSphere) {
+      if (!SphereTriangleContact(local_a.position, a.core_radius(), triangle, face_normal, max_separation,
+                                 normal, deepest))
+        continue;
+    } else if (a.type() == ShapeType::kCapsule &&
+               CapsuleTriangleContact(capsule_core[0], capsule_core[1], a.core_radius(), corners,
+                                      max_separation, within, normal, deepest)) {
+      if (!within) continue;
+    } else if (!FindContact(core_a, exact_a, a.core_radius(), triangle, triangle, 0.0f, max_separation,
+                            normal, deepest, scratch.epa)) {
+      continue;
+    }
+    // A normal along the front face normal would pull the body through the triangle from behind.
+    if (normal.dot(face_normal) > 0.0f) continue;
+    const Vec3 corrected = CorrectTriangleNormal(mesh, t, face_normal, triangle, deepest.position_b, normal);
+    if (use_sat && corrected == normal) {
+      MergeManifold(manifold, first, out);
+      continue;
+    }
+    if (corrected != normal) {
+      normal = corrected;
+      deepest.separation = (deepest.position_b - deepest.position_a).dot(normal);
+    }
+    manifold.normal = normal;
+    if (a.type() == ShapeType::kSphere) {
+      // A sphere touches in one point: clipping a face against it could only give that point back.
+      if (deepest.separation > max_separation) continue;
+      manifold.count = 1;
+      manifold.points[0] = deepest;
+      MergeManifold(manifold, first, out);
+      continue;
+    }
+    SupportingFace face_a, face_b;
+    if (use_sat)
+      polyhedron_a.Face(MostAlignedFace(polyhedron_a, normal), face_a);
+    else
+      WorldFace(a, local_a, normal, face_a);
+    TriangleFace(triangle, face_normal, -normal, face_b);
+    manifold.normal = normal;
+    BuildManifold(face_a, face_b, deepest, max_separation, manifold);
+    if (manifold.count > 0) MergeManifold(manifold, first, out);
+  }
+  for (std::size_t m = first; m < out.size(); ++m) {
+    ContactManifold& manifold = out[m];
+    manifold.normal = pose_mesh.rotation * manifold.normal;
+    for (int i = 0; i < manifold.count; ++i) {
+      manifold.points[i].position_a = pose_mesh.ToWorld(manifold.points[i].position_a);
+      manifold.points[i].position_b = pose_mesh.ToWorld(manifold.points[i].position_b);
+    }
+  }
+}
+
 const ConvexShape& AsConvex(const Shape& shape) {
   return static_cast<const ConvexShape&>(shape);
 }
@@ -335,105 +448,14 @@ void CollideConvexMesh(const ConvexShape& a, const Pose& pose_a, const TriangleM
 void CollideConvexMesh(const ConvexShape& a, const Pose& pose_a, const TriangleMeshShape& mesh,
                        const Pose& pose_mesh, float max_separation, const ContactManifold& prototype,
                        std::vector<ContactManifold>& out, CollisionScratch& scratch) {
-  // Everything runs in the mesh's frame, so the triangles are used as stored; the convex is posed there
-  // once and the manifolds go back to world space at the end.
-  const Quat to_mesh = pose_mesh.rotation.conjugate();
-  const Pose local_a{to_mesh * (pose_a.position - pose_mesh.position), to_mesh * pose_a.rotation};
-  const AABB local_box = a.WorldBounds(local_a).Expanded(max_separation);
-  std::vector<std::uint32_t>& triangles = scratch.triangles;
-  triangles.clear();
-  // The hierarchy is walked in a fixed order, so the triangles (and the merged manifolds) come out the same
-  // on every run.
-  mesh.QueryBox(local_box, triangles);
-  if (triangles.empty()) return;
-  const PosedConvex core_a(a, local_a, true), exact_a(a, local_a, false);
-  const Mat3 rotation_a = local_a.rotation.toRotationMatrix();
-  thread_local Polyhedron polyhedron_a, triangle_polyhedron;
-  const bool use_sat = IsPolyhedron(a) && MakePolyhedron(a, local_a, polyhedron_a);
-  Vec3 capsule_core[2];
-  if (a.type() == ShapeType::kCapsule) {
-    const Vec3 half_axis = rotation_a.col(1) * static_cast<const CapsuleShape&>(a).half_height();
-    capsule_core[0] = local_a.position - half_axis;
-    capsule_core[1] = local_a.position + half_axis;
-  }
-  const std::size_t first = out.size();
-  for (std::uint32_t t : triangles) {
-    const Vec3& face_normal = mesh.Normal(t);
-    const TriangleSupport triangle(mesh.Vertex(t, 0), mesh.Vertex(t, 1), mesh.Vertex(t, 2));
-    // The convex's deepest point below the triangle's plane: if even that stays above it by more than the
-    // speculative reach, no feature of the triangle can come closer.
-    const Vec3 lowest = local_a.position + rotation_a * a.Support(rotation_a.transpose() * -face_normal);
-    if (face_normal.dot(lowest - triangle.vertex(0)) > max_separation) continue;
-    ContactManifold manifold = prototype;
-    manifold.sub_shape_b = t;
-    Vec3 normal;
-    ContactPoint deepest;
-    const MeshTriangle corners{{triangle.vertex(0), triangle.vertex(1), triangle.vertex(2)}, face_normal};
-    bool within = true;
-    if (use_sat) {
-      if (a.type() == ShapeType::kBox) {
-        if (!CollideBoxTriangle(static_cast<const BoxShape&>(a), rotation_a, local_a.position, corners,
-                                max_separation, manifold))
-          continue;
-      } else {
-        MakeTrianglePolyhedron(triangle.vertex(0), triangle.vertex(1), triangle.vertex(2), face_normal,
-                               triangle_polyhedron);
-        if (!CollidePolyhedra(polyhedron_a, triangle_polyhedron, max_separation, manifold)) continue;
-      }
-      normal = manifold.normal;
-      deepest = manifold.points[0];
-      for (int i = 1; i < manifold.count; ++i)
-        if (manifold.points[i].separation < deepest.separation) deepest = manifold.points[i];
-    } else if (a.type() == ShapeType::kSphere) {
-      if (!SphereTriangleContact(local_a.position, a.core_radius(), triangle, face_normal, max_separation,
-                                 normal, deepest))
-        continue;
-    } else if (a.type() == ShapeType::kCapsule &&
-               CapsuleTriangleContact(capsule_core[0], capsule_core[1], a.core_radius(), corners,
-                                      max_separation, within, normal, deepest)) {
-      if (!within) continue;
-    } else if (!FindContact(core_a, exact_a, a.core_radius(), triangle, triangle, 0.0f, max_separation,
-                            normal, deepest, scratch.epa)) {
-      continue;
-    }
-    // A normal along the front face normal would pull the body through the triangle from behind.
-    if (normal.dot(face_normal) > 0.0f) continue;
-    const Vec3 corrected = CorrectTriangleNormal(mesh, t, face_normal, triangle, deepest.position_b, normal);
-    if (use_sat && corrected == normal) {
-      MergeManifold(manifold, first, out);
-      continue;
-    }
-    if (corrected != normal) {
-      normal = corrected;
-      deepest.separation = (deepest.position_b - deepest.position_a).dot(normal);
-    }
-    manifold.normal = normal;
-    if (a.type() == ShapeType::kSphere) {
-      // A sphere touches in one point: clipping a face against it could only give that point back.
-      if (deepest.separation > max_separation) continue;
-      manifold.count = 1;
-      manifold.points[0] = deepest;
-      MergeManifold(manifold, first, out);
-      continue;
-    }
-    SupportingFace face_a, face_b;
-    if (use_sat)
-      polyhedron_a.Face(MostAlignedFace(polyhedron_a, normal), face_a);
-    else
-      WorldFace(a, local_a, normal, face_a);
-    TriangleFace(triangle, face_normal, -normal, face_b);
-    manifold.normal = normal;
-    BuildManifold(face_a, face_b, deepest, max_separation, manifold);
-    if (manifold.count > 0) MergeManifold(manifold, first, out);
-  }
-  for (std::size_t m = first; m < out.size(); ++m) {
-    ContactManifold& manifold = out[m];
-    manifold.normal = pose_mesh.rotation * manifold.normal;
-    for (int i = 0; i < manifold.count; ++i) {
-      manifold.points[i].position_a = pose_mesh.ToWorld(manifold.points[i].position_a);
-      manifold.points[i].position_b = pose_mesh.ToWorld(manifold.points[i].position_b);
-    }
-  }
+  CollideConvexTriangles(a, pose_a, mesh, pose_mesh, max_separation, prototype, out, scratch);
+}
+
+void CollideConvexWithHeightField(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b,
+                                  float max_separation, const ContactManifold& prototype,
+                                  std::vector<ContactManifold>& out, CollisionScratch& scratch) {
+  CollideConvexTriangles(AsConvex(a), pose_a, static_cast<const HeightFieldShape&>(b), pose_b, max_separation,
+                         prototype, out, scratch);
 }
 
 void CollideShapes(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b,

@@ -68,6 +68,10 @@ void CollideBoxPair(const Shape& a, const Pose& pose_a, const Shape& b, const Po
 void CollidePolyhedronPair(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b,
                            float max_separation, const ContactManifold& prototype,
                            std::vector<ContactManifold>& out, CollisionScratch& scratch);
+/// A convex shape (A) and a height field (B): as a mesh of the same triangles.
+void CollideConvexWithHeightField(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b,
+                                  float max_separation, const ContactManifold& prototype,
+                                  std::vector<ContactManifold>& out, CollisionScratch& scratch);
 /// A convex shape (A) and a triangle mesh (B): CollideConvexMesh.
 void CollideConvexWithMesh(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b,
                            float max_separation, const ContactManifold& prototype,

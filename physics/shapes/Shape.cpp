@@ -14,6 +14,8 @@ const char* ToString(ShapeType type) {
       return "convex_hull";
     case ShapeType::kTriangleMesh:
       return "mesh";
+    case ShapeType::kHeightField:
+      return "heightfield";
   }
   return "unknown";
 }

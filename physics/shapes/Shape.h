@@ -12,7 +12,7 @@
 
 namespace strata {
 
-enum class ShapeType : std::uint8_t { kSphere, kBox, kCapsule, kConvexHull, kTriangleMesh };
+enum class ShapeType : std::uint8_t { kSphere, kBox, kCapsule, kConvexHull, kTriangleMesh, kHeightField };
 
 /// Human-readable name of a shape type ("sphere", "box", ...).
 const char* ToString(ShapeType type);

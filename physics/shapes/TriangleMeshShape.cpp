@@ -11,8 +11,6 @@ namespace strata {
 
 namespace {
 constexpr std::uint32_t kMaxLeafTriangles = 4;
-// Neighbours whose normals differ by less than this are treated as one surface (edge inactive).
-constexpr float kCoplanarCosine = 0.996f;  // about 5 degrees
 }  // namespace
 
 Result<ShapeRef> TriangleMeshShape::Create(std::span<const Vec3> vertices,

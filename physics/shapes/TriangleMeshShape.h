@@ -18,6 +18,9 @@ namespace strata {
 class TriangleMeshShape final : public Shape {
  public:
   using Indices = std::array<std::uint32_t, 3>;
+  /// Neighbours whose normals differ by less than this (about 5 degrees) are one surface: the edge between
+  /// them is internal.
+  static constexpr float kCoplanarCosine = 0.996f;
 
   /// Fails for no vertices or triangles, NaN/Inf vertices, out-of-range indices, or when every triangle
   /// is degenerate. Degenerate (zero-area) triangles are dropped.

@@ -3,8 +3,10 @@
 
 #include <fstream>
 
+#include <stb/stb_image_write.h>
 #include "assets/scene/SceneLoader.h"
 #include "physics/body/BodyInterface.h"
+#include "physics/shapes/HeightFieldShape.h"
 #include "physics/shapes/TriangleMeshShape.h"
 
 namespace strata::test {
@@ -190,6 +192,89 @@ TEST(SceneLoader, MeshFilesImportThroughAssimp) {
   ASSERT_FALSE(broken.ok());
   EXPECT_NE(broken.error().message.find("broken.obj"), std::string::npos);
   std::filesystem::remove_all(directory);
+}
+
+const HeightFieldShape& FieldOf(const Scene& scene) {
+  return static_cast<const HeightFieldShape&>(*scene.bodies.front().settings.shape);
+}
+
+TEST(SceneLoader, HeightFieldsComeFromArraysPicturesAndRawFiles) {
+  // An array, null for a hole (the cell with that corner), rows along +z.
+  Result<Scene> scene = ParseScene(R"({"bodies": [{"motion": "static", "shape": {"type": "heightfield",
+      "columns": 3, "rows": 3, "cell_size": 2, "heights": [0, 1, 2, 3, 4, 5, 6, 7, null]}}]})",
+                                   "inline", kScenes);
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  const HeightFieldShape& field = FieldOf(*scene);
+  EXPECT_EQ(field.columns(), 3u);
+  EXPECT_EQ(field.rows(), 3u);
+  EXPECT_EQ(field.cell_size(), 2.0f);
+  EXPECT_EQ(field.Height(2, 0), 2.0f);
+  EXPECT_EQ(field.Height(0, 2), 6.0f);
+  EXPECT_TRUE(field.IsHole(1, 1));
+  EXPECT_FALSE(field.IsHole(0, 1));
+
+  // A grey picture: black at the low end of height_range, white at the high end.
+  const std::filesystem::path dir = std::filesystem::path(::testing::TempDir()) / "heightfield_scene";
+  std::filesystem::create_directories(dir);
+  const unsigned char grey[6] = {0, 51, 102, 153, 204, 255};
+  ASSERT_NE(stbi_write_png((dir / "terrain.png").string().c_str(), 3, 2, 1, grey, 3), 0);
+  scene =
+      ParseScene(R"({"bodies": [{"motion": "static", "shape": {"type": "heightfield", "file": "terrain.png",
+      "cell_size": 0.5, "height_range": [-1, 4]}}]})",
+                 "inline", dir);
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  EXPECT_EQ(FieldOf(*scene).columns(), 3u);
+  EXPECT_EQ(FieldOf(*scene).rows(), 2u);
+  for (std::uint32_t i = 0; i < 6; ++i)
+    EXPECT_NEAR(FieldOf(*scene).Height(i % 3, i / 3), -1.0f + i, 1e-5f) << i;
+
+  // Raw little-endian floats, NaN for a hole; the size comes from the scene and must match the file.
+  const float raw[6] = {0.5f, 1.5f, 2.5f, 3.5f, 4.5f, HeightFieldShape::kHole};
+  {
+    std::ofstream file(dir / "terrain.r32", std::ios::binary);
+    file.write(reinterpret_cast<const char*>(raw), sizeof(raw));
+  }
+  scene =
+      ParseScene(R"({"bodies": [{"motion": "static", "shape": {"type": "heightfield", "file": "terrain.r32",
+      "columns": 3, "rows": 2}}]})",
+                 "inline", dir);
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  EXPECT_EQ(FieldOf(*scene).Height(1, 1), 4.5f);
+  EXPECT_TRUE(FieldOf(*scene).IsHole(1, 0));
+  EXPECT_FALSE(FieldOf(*scene).IsHole(0, 0));
+  Result<SceneWorld> world = BuildSceneWorld(*scene);
+  ASSERT_TRUE(world.ok()) << world.error().message;
+
+  const std::string prefix = R"({"bodies": [{"motion": "static", "shape": {"type": "heightfield", )";
+  auto error = [&](const std::string& fields, const std::filesystem::path& base = kScenes) {
+    Result<Scene> bad = ParseScene(prefix + fields + "}}]}", "test.json", base);
+    EXPECT_FALSE(bad.ok()) << fields;
+    return bad.ok() ? std::string() : bad.error().message;
+  };
+  EXPECT_NE(error(R"("columns": 2, "rows": 2, "heights": [0, "a", 0, 0])")
+                .find("/bodies/0/shape/heights/1: must be a number"),
+            std::string::npos);
+  EXPECT_NE(error(R"("rows": 2, "heights": [0, 0, 0, 0])").find("/bodies/0/shape/columns: is required"),
+            std::string::npos);
+  EXPECT_NE(error(R"("columns": 1, "rows": 2, "heights": [0, 0])").find("columns: must be a whole number"),
+            std::string::npos);
+  EXPECT_NE(error(R"("columns": 2, "rows": 2, "heights": [0, 0, 0])").find("got 3 heights"),
+            std::string::npos);
+  EXPECT_NE(error(R"("columns": 2, "rows": 2, "cell_size": -1, "heights": [0, 0, 0, 0])").find("cell size"),
+            std::string::npos);
+  EXPECT_NE(error(R"("file": "terrain.png", "columns": 3)", dir).find("leave out columns and rows"),
+            std::string::npos);
+  EXPECT_NE(error(R"("file": "terrain.r32", "columns": 2, "rows": 2)", dir).find("24 bytes, but 2 x 2"),
+            std::string::npos);
+  {
+    std::ofstream file(dir / "not_a_picture.png");
+    file << "hello";
+  }
+  EXPECT_NE(error(R"("file": "not_a_picture.png")", dir).find("not a PNG picture"), std::string::npos);
+  EXPECT_NE(error(R"("file": "missing.png")", dir).find("missing.png"), std::string::npos);
+  EXPECT_NE(
+      error(R"("columns": 2, "rows": 2, "heights": [0, 0, 0, 0], "spacing": 1)").find("spacing: unknown key"),
+      std::string::npos);
 }
 
 }  // namespace

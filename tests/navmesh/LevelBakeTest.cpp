@@ -230,5 +230,26 @@ TEST(LevelBake, TheSavedFileIsTheSameBytesForAnyThreadCountAndPublishOrder) {
   EXPECT_EQ(reloaded->points, original->points);
 }
 
+TEST(LevelBake, AHeightFieldBakesTheNavMeshOfItsTriangles) {
+  // Terrain off the origin and across tile borders: the same bytes as the mesh of its triangles.
+  constexpr std::uint32_t kColumns = 31, kRows = 23;
+  constexpr float kCell = 1.0f;
+  std::vector<float> heights = RollingHeights(kColumns, kRows, kCell);
+  const ShapeRef field = HeightField(kColumns, kRows, kCell, heights);
+  const ShapeRef mesh = MeshOf(static_cast<const HeightFieldShape&>(*field));
+  const Vec3 corner(7.3f, -0.4f, 3.1f);
+  std::string baked[2];
+  for (int k = 0; k < 2; ++k) {
+    auto world = MakeWorld();
+    Add(*world, Static(k == 0 ? field : mesh, corner));
+    AABB bounds = (k == 0 ? field : mesh)->WorldBounds(Pose{corner, Quat::Identity()});
+    const Result<navmesh::LevelBake> bake = navmesh::BakeLevel(*world, bounds, Options(1));
+    ASSERT_TRUE(bake.ok()) << bake.error().message;
+    ASSERT_GT(bake->service->navmesh().tile_count(), 1);
+    baked[k] = SavedBytes(bake->service->navmesh(), k == 0 ? "field" : "mesh");
+  }
+  EXPECT_EQ(baked[0], baked[1]);
+}
+
 }  // namespace
 }  // namespace strata::test

@@ -3,11 +3,14 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "physics/body/BodyInterface.h"
 #include "physics/core/JobSystem.h"
 #include "physics/shapes/BoxShape.h"
 #include "physics/shapes/CapsuleShape.h"
 #include "physics/shapes/ConvexHullShape.h"
+#include "physics/shapes/HeightFieldShape.h"
 #include "physics/shapes/SphereShape.h"
 #include "physics/shapes/TriangleMeshShape.h"
 #include "physics/world/PhysicsSystem.h"
@@ -23,6 +26,42 @@ inline ShapeRef Sphere(float r) {
 }
 inline ShapeRef Capsule(float half_height, float r) {
   return *CapsuleShape::Create(half_height, r);
+}
+
+/// Rolling terrain: `columns` x `rows` samples `cell` apart, bumps on a slope that falls along +x everywhere.
+inline std::vector<float> RollingHeights(std::uint32_t columns, std::uint32_t rows, float cell) {
+  std::vector<float> heights;
+  for (std::uint32_t r = 0; r < rows; ++r)
+    for (std::uint32_t c = 0; c < columns; ++c) {
+      const float x = static_cast<float>(c) * cell, z = static_cast<float>(r) * cell;
+      heights.push_back(1.0f - 0.08f * x + 0.1f * std::sin(0.7f * x) * std::cos(0.5f * z));
+    }
+  return heights;
+}
+
+inline ShapeRef HeightField(std::uint32_t columns, std::uint32_t rows, float cell,
+                            const std::vector<float>& heights) {
+  auto shape = HeightFieldShape::Create(columns, rows, cell, heights);
+  EXPECT_TRUE(shape.ok()) << (shape.ok() ? "" : shape.error().message);
+  return *shape;
+}
+
+/// The triangle mesh of a height field without holes: the same corners, computed the same way, and the
+/// same triangle numbers.
+inline ShapeRef MeshOf(const HeightFieldShape& field) {
+  std::vector<Vec3> vertices;
+  for (std::uint32_t r = 0; r < field.rows(); ++r)
+    for (std::uint32_t c = 0; c < field.columns(); ++c)
+      vertices.emplace_back(static_cast<float>(c) * field.cell_size(), field.Height(c, r),
+                            static_cast<float>(r) * field.cell_size());
+  std::vector<TriangleMeshShape::Indices> triangles;
+  for (std::uint32_t r = 0; r + 1 < field.rows(); ++r)
+    for (std::uint32_t c = 0; c + 1 < field.columns(); ++c) {
+      const std::uint32_t i0 = r * field.columns() + c, i1 = i0 + 1, i2 = i0 + field.columns(), i3 = i2 + 1;
+      triangles.push_back({i0, i2, i1});
+      triangles.push_back({i1, i2, i3});
+    }
+  return *TriangleMeshShape::Create(vertices, triangles);
 }
 
 inline std::unique_ptr<PhysicsSystem> MakeWorld(PhysicsSettings settings = {},
