@@ -1,6 +1,7 @@
-// The narrow phase's dispatch table: every pair of built-in shapes has a way to collide and every target a
-// cast, either order of a pair gives the same contact turned round, a shape added by kind gets GJK, casts and
-// the triangle shapes at once, and a kinematic mesh (the owner of its pairs, so A) carries boxes.
+// The narrow phase's dispatch table: every pair of built-in shapes (the height field too) has a way to
+// collide and every target a cast, either order of a pair gives the same contact turned round, a shape added
+// by kind gets GJK, casts and the triangle shapes at once, and a kinematic mesh (the owner of its pairs, so
+// A) carries boxes.
 #include <algorithm>
 #include <array>
 
@@ -30,9 +31,22 @@ ShapeRef Ground(float half_size) {
   return *TriangleMeshShape::Create(vertices, triangles);
 }
 
-// One shape of every built-in type, each centred so that it reaches about 0.5 m from its reference point.
+ShapeRef Terrain(float half_size) {
+  // Flat, 2 m cells, its surface at y = 0 across [-half_size, half_size] once placed at (-half_size, 0,
+  // -half_size).
+  const auto samples = static_cast<std::uint32_t>(half_size) + 1;
+  return *HeightFieldShape::Create(samples, samples, 2.0f, std::vector<float>(samples * samples, 0.0f));
+}
+
+// One shape of every built-in type, each centred so that it reaches about 0.5 m from its reference point (the
+// terrain's reference point is its corner).
 std::vector<ShapeRef> EveryShape() {
-  return {Sphere(0.5f), Box(0.5f, 0.5f, 0.5f), Capsule(0.3f, 0.3f), Hull(), Ground(5.0f)};
+  return {Sphere(0.5f), Box(0.5f, 0.5f, 0.5f), Capsule(0.3f, 0.3f), Hull(), Ground(5.0f), Terrain(5.0f)};
+}
+
+// Where a shape is placed so that its top (or surface) is where the others expect it.
+Vec3 Origin(const Shape& shape) {
+  return shape.type() == ShapeType::kHeightField ? Vec3(-5.0f, 0.0f, -5.0f) : Vec3::Zero();
 }
 
 std::vector<ContactManifold> Contacts(const ShapeRef& a, const Pose& pose_a, const ShapeRef& b,
@@ -48,20 +62,22 @@ std::vector<ContactManifold> Contacts(const ShapeRef& a, const Pose& pose_a, con
 
 TEST(CollisionDispatch, EveryBuiltInPairCollidesExceptTwoMeshesAndEveryTargetHasACast) {
   const CollisionDispatch& table = CollisionDispatch::Default();
-  const std::array types = {ShapeType::kSphere, ShapeType::kBox, ShapeType::kCapsule, ShapeType::kConvexHull,
-                            ShapeType::kTriangleMesh};
+  const std::array types = {ShapeType::kSphere,     ShapeType::kBox,          ShapeType::kCapsule,
+                            ShapeType::kConvexHull, ShapeType::kTriangleMesh, ShapeType::kHeightField};
+  auto made_of_triangles = [](ShapeType type) {
+    return type == ShapeType::kTriangleMesh || type == ShapeType::kHeightField;
+  };
   for (const ShapeType a : types)
-    for (const ShapeType b : types) {
-      const bool both_meshes = a == ShapeType::kTriangleMesh && b == ShapeType::kTriangleMesh;
-      EXPECT_EQ(table.Collides(a, b), !both_meshes) << ToString(a) << " vs " << ToString(b);
-    }
+    for (const ShapeType b : types)
+      EXPECT_EQ(table.Collides(a, b), !made_of_triangles(a) || !made_of_triangles(b))
+          << ToString(a) << " vs " << ToString(b);
   // A sphere swept down onto each type of target 2 m below it touches about 1.5 m down.
   const ShapeRef ball = Sphere(0.25f);
   std::vector<Triangle> scratch;
   for (const ShapeRef& target : EveryShape()) {
     const std::optional<ShapeCastHit> hit =
         table.Cast(Convex(ball), Pose{Vec3(0, 2, 0), Quat::Identity()}, Vec3(0, -3, 0), *target,
-                   Pose{Vec3(0, -0.5f, 0), Quat::Identity()}, 1e-3f, scratch);
+                   Pose{Origin(*target) + Vec3(0, -0.5f, 0), Quat::Identity()}, 1e-3f, scratch);
     ASSERT_TRUE(hit.has_value()) << ToString(target->type());
     EXPECT_GT(hit->normal.y(), 0.7f) << ToString(target->type());
     EXPECT_GT(hit->fraction, 0.3f) << ToString(target->type());
@@ -78,7 +94,8 @@ void Place(const Shape& a, const Shape& b, Pose& pose_a, Pose& pose_b) {
     return;
   }
   const Shape& convex = a.IsConvex() ? a : b;
-  const Pose flat{};
+  const Shape& ground = a.IsConvex() ? b : a;
+  const Pose flat{Origin(ground), Quat::Identity()};
   const Pose above{Vec3(0.1f, -convex.LocalBounds().min.y() - 0.01f, 0.2f), Quat::Identity()};
   pose_a = a.IsConvex() ? above : flat;
   pose_b = a.IsConvex() ? flat : above;
@@ -117,7 +134,7 @@ TEST(CollisionDispatch, EitherOrderOfAPairGivesTheSameContactTurnedRound) {
       }
       ++pairs;
     }
-  EXPECT_EQ(pairs, 24);  // 5 x 5 less mesh against mesh
+  EXPECT_EQ(pairs, 32);  // 6 x 6 less the four pairs of two triangle shapes
 }
 
 TEST(CollisionDispatch, AMeshAsAHasItsTriangleOnItsOwnSide) {
