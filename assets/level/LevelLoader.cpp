@@ -5,6 +5,7 @@
 #include <map>
 #include <unordered_map>
 
+#include "physics/shapes/HeightFieldShape.h"
 #include "physics/world/PhysicsSystem.h"
 
 namespace strata {
@@ -26,7 +27,7 @@ Status LevelLoadOptions::Validate() const {
     return MakeError(ErrorCode::kInvalidArgument, "level: world_tile_size must be a positive number");
   if (!std::isfinite(friction) || friction < 0.0f)
     return MakeError(ErrorCode::kInvalidArgument, "level: friction must be >= 0");
-  return Status::Ok();
+  return height_map.Validate();
 }
 
 std::vector<LevelChunk> ChunkLevel(const ImportedMesh& mesh, float world_tile_size) {
@@ -72,11 +73,56 @@ bool LooksZUp(const ImportedMesh& mesh) {
   return facing_z > 2.0 * facing_y;
 }
 
+namespace {
+
+BodyCreationSettings LevelBody(ShapeRef shape, const LevelLoadOptions& options) {
+  BodyCreationSettings settings;
+  settings.shape = std::move(shape);
+  settings.motion_type = MotionType::kStatic;
+  settings.object_layer = options.layer;
+  settings.friction = options.friction;
+  return settings;
+}
+
+// The bodies go into the world as one batch (nothing is in it until FinalizeLevel).
+Status BatchLevel(PhysicsSystem& world, const std::filesystem::path& path, std::vector<BodyID>& created,
+                  PreparedLevel& level) {
+  Result<BodyAddBatch> batch = world.bodies().AddBodiesPrepare(created, Activation::kDontActivate);
+  if (!batch) {
+    DestroyAll(world, created);
+    return LevelError(path, batch.error().message);
+  }
+  level.batch = std::move(*batch);
+  return Status::Ok();
+}
+
+Result<PreparedLevel> PrepareTerrain(PhysicsSystem& world, const std::filesystem::path& path,
+                                     const LevelLoadOptions& options) {
+  const HeightMapImportOptions& terrain = options.height_map;
+  Result<HeightMap> map = ImportHeightMapPicture(path, terrain.low, terrain.high);
+  if (!map) return map.error();
+  Result<ShapeRef> shape = HeightFieldShape::Create(map->columns, map->rows, terrain.cell_size, map->heights);
+  if (!shape) return LevelError(path, shape.error().message);
+  Result<BodyID> id = world.bodies().CreateBody(LevelBody(*shape, options));
+  if (!id) return LevelError(path, id.error().message);
+  PreparedLevel level;
+  level.path = path;
+  level.bounds = (*shape)->LocalBounds();
+  level.triangles = static_cast<const HeightFieldShape&>(**shape).triangle_count();
+  level.chunks = 1;
+  std::vector<BodyID> created{*id};
+  if (Status batched = BatchLevel(world, path, created, level); !batched) return batched.error();
+  return level;
+}
+
+}  // namespace
+
 Result<PreparedLevel> PrepareLevel(PhysicsSystem& world, const std::filesystem::path& path,
                                    const LevelLoadOptions& options) {
   if (Status status = options.Validate(); !status.ok()) return LevelError(path, status.message());
   if (options.layer >= world.layers().ObjectLayerCount())
     return LevelError(path, "object layer out of range");
+  if (IsHeightMapPicture(path)) return PrepareTerrain(world, path, options);
   Result<ImportedMesh> mesh = ImportMesh(path, options.import);
   if (!mesh) return mesh.error();
 
@@ -94,12 +140,7 @@ Result<PreparedLevel> PrepareLevel(PhysicsSystem& world, const std::filesystem::
       return LevelError(path, "chunk (" + std::to_string(chunk.tile_x) + ", " + std::to_string(chunk.tile_z) +
                                   "): " + shape.error().message);
     }
-    BodyCreationSettings settings;
-    settings.shape = *shape;
-    settings.motion_type = MotionType::kStatic;
-    settings.object_layer = options.layer;
-    settings.friction = options.friction;
-    Result<BodyID> id = world.bodies().CreateBody(settings);
+    Result<BodyID> id = world.bodies().CreateBody(LevelBody(*shape, options));
     if (!id) {
       DestroyAll(world, created);
       return LevelError(path, id.error().message);
@@ -109,12 +150,7 @@ Result<PreparedLevel> PrepareLevel(PhysicsSystem& world, const std::filesystem::
     level.triangles += static_cast<const TriangleMeshShape&>(**shape).triangle_count();
     ++level.chunks;
   }
-  Result<BodyAddBatch> batch = world.bodies().AddBodiesPrepare(created, Activation::kDontActivate);
-  if (!batch) {
-    DestroyAll(world, created);
-    return LevelError(path, batch.error().message);
-  }
-  level.batch = std::move(*batch);
+  if (Status batched = BatchLevel(world, path, created, level); !batched) return batched.error();
   return level;
 }
 

@@ -1,15 +1,14 @@
 #include "assets/scene/SceneLoader.h"
 
-#include <stb/stb_image.h>
 #include <cmath>
 #include <cstdint>
-#include <cstring>
 #include <fstream>
 #include <limits>
 #include <nlohmann/json.hpp>
 #include <set>
 #include <sstream>
 
+#include "assets/import/HeightMapImporter.h"
 #include "assets/import/MeshImporter.h"
 #include "physics/body/BodyInterface.h"
 #include "physics/core/InputFile.h"
@@ -182,53 +181,6 @@ Status ParseSampleCount(const Reader& reader, const Json& shape, const std::stri
   return Status::Ok();
 }
 
-// Heights from a picture: grey levels (8 or 16 bits) from `low` (black) to `high` (white), one sample a
-// pixel, rows of the picture along +z.
-Status ReadHeightPicture(const Reader& reader, const std::filesystem::path& path, float low, float high,
-                         std::uint32_t& columns, std::uint32_t& rows, std::vector<float>& heights) {
-  const Result<std::string> bytes = ReadInputFile(path, HeightFieldShape::kMaxSamples * sizeof(float));
-  if (!bytes) return reader.Fail("file", bytes.error().message);
-  const auto* data = reinterpret_cast<const stbi_uc*>(bytes->data());
-  const int length = static_cast<int>(bytes->size());
-  int width = 0, height = 0, channels = 0;
-  // The size first: a small file can declare a picture far larger than a height field may be.
-  if (!stbi_info_from_memory(data, length, &width, &height, &channels))
-    return reader.Fail("file", path.string() + ": not a PNG picture (" + stbi_failure_reason() + ")");
-  if (width < 2 || height < 2 ||
-      static_cast<std::uint64_t>(width) * static_cast<std::uint64_t>(height) > HeightFieldShape::kMaxSamples)
-    return reader.Fail("file", path.string() + ": a " + std::to_string(width) + " x " +
-                                   std::to_string(height) + " picture is outside 2 x 2 to " +
-                                   std::to_string(HeightFieldShape::kMaxSamples) + " samples");
-  stbi_us* grey = stbi_load_16_from_memory(data, length, &width, &height, &channels, 1);
-  if (grey == nullptr) return reader.Fail("file", path.string() + ": " + stbi_failure_reason());
-  columns = static_cast<std::uint32_t>(width), rows = static_cast<std::uint32_t>(height);
-  heights.resize(static_cast<std::size_t>(columns) * rows);
-  for (std::size_t i = 0; i < heights.size(); ++i)
-    heights[i] = low + (high - low) * (static_cast<float>(grey[i]) / 65535.0f);
-  stbi_image_free(grey);
-  return Status::Ok();
-}
-
-// Heights as raw 32-bit floats (little-endian, row after row), `columns` x `rows` of them; NaN is a hole.
-Status ReadRawHeights(const Reader& reader, const std::filesystem::path& path, std::uint32_t columns,
-                      std::uint32_t rows, std::vector<float>& heights) {
-  const std::uint64_t expected = static_cast<std::uint64_t>(columns) * rows * sizeof(float);
-  const Result<std::string> bytes = ReadInputFile(path, HeightFieldShape::kMaxSamples * sizeof(float));
-  if (!bytes) return reader.Fail("file", bytes.error().message);
-  if (bytes->size() != expected)
-    return reader.Fail("file", path.string() + ": " + std::to_string(bytes->size()) + " bytes, but " +
-                                   std::to_string(columns) + " x " + std::to_string(rows) +
-                                   " float heights take " + std::to_string(expected));
-  heights.resize(static_cast<std::size_t>(columns) * rows);
-  for (std::size_t i = 0; i < heights.size(); ++i) {
-    std::uint32_t bits = 0;
-    for (int b = 3; b >= 0; --b)
-      bits = (bits << 8) | static_cast<unsigned char>((*bytes)[4 * i + static_cast<std::size_t>(b)]);
-    std::memcpy(&heights[i], &bits, sizeof(float));
-  }
-  return Status::Ok();
-}
-
 Result<ShapeRef> ParseHeightField(const Reader& reader, const Json& shape,
                                   const std::filesystem::path& base) {
   float cell_size = 1.0f;
@@ -250,12 +202,16 @@ Result<ShapeRef> ParseHeightField(const Reader& reader, const Json& shape,
         range = Vec3(value[0].get<float>(), value[1].get<float>(), 0.0f);
         if (!IsFinite(range)) return reader.Fail("height_range", "must be finite");
       }
-      STRATA_TRY(ReadHeightPicture(reader, path, range.x(), range.y(), columns, rows, heights));
+      Result<HeightMap> map = ImportHeightMapPicture(path, range.x(), range.y());
+      if (!map) return reader.Fail("file", map.error().message);
+      columns = map->columns, rows = map->rows, heights = std::move(map->heights);
     } else {
       if (shape.contains("height_range")) return reader.Fail("height_range", "is for a PNG picture only");
       STRATA_TRY(ParseSampleCount(reader, shape, "columns", columns));
       STRATA_TRY(ParseSampleCount(reader, shape, "rows", rows));
-      STRATA_TRY(ReadRawHeights(reader, path, columns, rows, heights));
+      Result<HeightMap> map = ImportRawHeights(path, columns, rows);
+      if (!map) return reader.Fail("file", map.error().message);
+      heights = std::move(map->heights);
     }
   } else {
     STRATA_TRY(ParseSampleCount(reader, shape, "columns", columns));

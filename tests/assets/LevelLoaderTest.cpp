@@ -12,6 +12,8 @@
 #include "assets/level/LevelLoader.h"
 #include "tools/levelgen/LevelGenerator.h"
 
+#include <stb/stb_image_write.h>
+
 namespace strata::test {
 namespace {
 
@@ -202,6 +204,42 @@ TEST(LevelLoad, BadFilesLeaveTheWorldUnchanged) {
   LevelLoadOptions bad_scale;
   bad_scale.import.scale = 0.0f;
   expect_error(good, "scale", bad_scale);
+}
+
+TEST(LevelLoad, AHeightMapPictureComesInAsOneTerrainBody) {
+  // 37 x 23 pixels (odd sizes), grey rising along x: black at -2 m, white at 10 m, 0.5 m between pixels.
+  constexpr int kWidth = 37, kHeight = 23;
+  std::vector<unsigned char> grey(kWidth * kHeight);
+  for (int z = 0; z < kHeight; ++z)
+    for (int x = 0; x < kWidth; ++x)
+      grey[z * kWidth + x] = static_cast<unsigned char>(x * 255 / (kWidth - 1));
+  const auto path = TempPath("terrain.png");
+  ASSERT_NE(stbi_write_png(path.string().c_str(), kWidth, kHeight, 1, grey.data(), kWidth), 0);
+  auto world = MakeWorld();
+  LevelLoadOptions options;
+  options.height_map = {0.5f, -2.0f, 10.0f};
+  const Result<LoadedLevel> level = LoadLevel(*world, path, options);
+  ASSERT_TRUE(level.ok()) << level.error().message;
+  EXPECT_EQ(level->bodies.size(), 1u);
+  EXPECT_EQ(level->chunks, 1u);
+  EXPECT_EQ(level->triangles, 2u * (kWidth - 1) * (kHeight - 1));
+  EXPECT_TRUE(level->bounds.min.isApprox(Vec3(0.0f, -2.0f, 0.0f)));
+  EXPECT_TRUE(level->bounds.max.isApprox(Vec3(18.0f, 10.0f, 11.0f)));
+  // Halfway along x (pixel 18, grey 127 of 255) the ground is about halfway up.
+  const auto hit = world->query().CastRay(Vec3(9.0f, 20.0f, 5.3f), Vec3(0.0f, -40.0f, 0.0f));
+  ASSERT_TRUE(hit.ok() && hit->has_value());
+  EXPECT_EQ((*hit)->body, level->bodies.front());
+  EXPECT_NEAR((*hit)->position.y(), -2.0f + 12.0f * 127.0f / 255.0f, 1e-4f);
+
+  // A picture too small to be terrain, and bad options, leave the world as it was.
+  const auto tiny = TempPath("tiny.png");
+  ASSERT_NE(stbi_write_png(tiny.string().c_str(), 1, 1, 1, grey.data(), 1), 0);
+  EXPECT_FALSE(LoadLevel(*world, tiny).ok());
+  options.height_map.cell_size = 0.0f;
+  const Result<LoadedLevel> bad = LoadLevel(*world, path, options);
+  ASSERT_FALSE(bad.ok());
+  EXPECT_NE(bad.error().message.find("cell size"), std::string::npos) << bad.error().message;
+  EXPECT_EQ(world->body_manager().body_count(), 1u);
 }
 
 }  // namespace

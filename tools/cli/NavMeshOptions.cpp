@@ -37,6 +37,14 @@ void AddLevelOptions(CLI::App& command, LevelLoadOptions& options) {
   command.add_flag("--z-up", options.import.z_up, "the level file is Z-up");
   command.add_option("--world-tile", options.world_tile_size, "side of the level's physics chunks (m)")
       ->capture_default_str();
+  command
+      .add_option("--terrain-cell", options.height_map.cell_size,
+                  "a .png terrain level: metres between pixels")
+      ->capture_default_str();
+  command.add_option("--terrain-low", options.height_map.low, "a .png terrain level: height of black (m)")
+      ->capture_default_str();
+  command.add_option("--terrain-high", options.height_map.high, "a .png terrain level: height of white (m)")
+      ->capture_default_str();
 }
 
 std::optional<Vec3> ParsePoint(const std::string& text) {
