@@ -12,6 +12,7 @@
 #include "physics/shapes/BoxShape.h"
 #include "physics/shapes/CapsuleShape.h"
 #include "physics/shapes/ConvexHullShape.h"
+#include "physics/shapes/HeightFieldShape.h"
 #include "physics/shapes/SphereShape.h"
 #include "physics/shapes/TriangleMeshShape.h"
 #include "physics/solver/IslandBuilder.h"
@@ -85,6 +86,45 @@ void BM_TriangleMeshRayCast1M(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_TriangleMeshRayCast1M);
+
+// The same million triangles as a height field: the grid is the index, so there is nothing to build.
+const HeightFieldShape& MillionTriangleField() {
+  static const ShapeRef field = [] {
+    constexpr int kSamples = 709;
+    std::vector<float> heights;
+    for (const Vec3& vertex : MillionTriangleGrid().vertices) heights.push_back(vertex.y());
+    return *HeightFieldShape::Create(kSamples, kSamples, 1.0f, heights);
+  }();
+  return static_cast<const HeightFieldShape&>(*field);
+}
+
+void BM_HeightFieldQueryBox1M(benchmark::State& state) {
+  const HeightFieldShape& field = MillionTriangleField();
+  std::mt19937 random(1);
+  std::uniform_real_distribution<float> coordinate(0.0f, 700.0f);
+  std::vector<std::uint32_t> found;
+  for (auto _ : state) {
+    found.clear();
+    const Vec3 center(coordinate(random), 0.0f, coordinate(random));
+    field.QueryBox(AABB::FromCenterHalfExtents(center, Vec3(1.5f, 3.0f, 1.5f)), found);
+    benchmark::DoNotOptimize(found.data());
+  }
+}
+BENCHMARK(BM_HeightFieldQueryBox1M);
+
+// The rays of BM_TriangleMeshRayCast1M (slanted, up to about 700 m long across the field).
+void BM_HeightFieldRayCast1M(benchmark::State& state) {
+  const HeightFieldShape& field = MillionTriangleField();
+  std::mt19937 random(2);
+  std::uniform_real_distribution<float> coordinate(0.0f, 700.0f);
+  ShapeRayHit hit;
+  for (auto _ : state) {
+    const Vec3 origin(coordinate(random), 10.0f, coordinate(random));
+    const Vec3 target(coordinate(random), -5.0f, coordinate(random));
+    benchmark::DoNotOptimize(field.CastRay(origin, (target - origin).normalized() * 100.0f, 1.0f, hit));
+  }
+}
+BENCHMARK(BM_HeightFieldRayCast1M);
 
 template <class MakeA, class MakeB>
 void CollidePair(benchmark::State& state, MakeA make_a, MakeB make_b, const Pose& pose_b) {
