@@ -1,8 +1,6 @@
-// CollisionDispatch: the narrow phase's table of functions by shape type: how two shapes collide, and how a
-// convex shape sweeps against a target. A shape joins by kind (AddConvexShape, AddTriangleShape: GJK and
-// conservative advancement against every other shape, or a shape made of triangles), and pairs with a
-// faster form register it on top (RegisterCollide), so a new shape is its own files plus one line in
-// Default(). Built once, on first use; read-only after that, so any thread may look up without a lock.
+// CollisionDispatch: the narrow phase's functions by shape type (collide by pair, cast by target), so a new
+// shape is its own files plus one line in BuildDefault (see physics/README.md, "Adding a shape").
+// Built once, on first use, and read-only after that: any thread may look up without a lock.
 #pragma once
 
 #include <array>
@@ -25,7 +23,8 @@ using CastFunction = std::optional<ShapeCastHit> (*)(const ConvexShape& shape, c
                                                      const Pose& target_pose, float tolerance,
                                                      std::vector<Triangle>& triangles);
 
-/// Shape-type pair -> collide function, target type -> cast function.
+/// Shape-type pair -> collide function, target type -> cast function. A shape joins by kind (convex, or made
+/// of triangles) and gets every pair at once; faster forms for a pair are registered on top.
 class CollisionDispatch {
  public:
   static constexpr std::size_t kMaxShapeTypes = 16;

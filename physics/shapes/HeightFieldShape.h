@@ -1,7 +1,6 @@
-// HeightFieldShape: terrain as a grid of heights, two triangles a cell, with holes. It is the triangles of
-// the equivalent TriangleMeshShape (same corners, normals, internal-edge flags and triangle numbers), found
-// from the grid instead of a hierarchy: a box query visits the cells under the box, a ray walks the cells
-// under its path. Immutable; thread-safe. Only static and kinematic bodies may use it (it has no volume).
+// HeightFieldShape: terrain as a grid of heights with holes: the triangles of the same TriangleMeshShape,
+// found from the grid instead of a hierarchy. Immutable; thread-safe. Static and kinematic bodies only (no
+// volume).
 #pragma once
 
 #include <cstdint>
@@ -15,7 +14,8 @@
 namespace strata {
 
 /// Heights at (column * cell_size, height, row * cell_size) in local space. Cell (x, z) spans columns x, x +
-/// 1 and rows z, z + 1; its triangles are 2 (z (columns - 1) + x) and the one after, front faces up.
+/// 1 and rows z, z + 1; its triangles are 2 (z (columns - 1) + x) and the one after, front faces up. A box
+/// query visits the cells under the box; a ray walks the cells under its path (Amanatides and Woo).
 class HeightFieldShape final : public Shape {
  public:
   /// A height that makes the cells around its sample holes (nothing there collides or is hit).
