@@ -22,11 +22,17 @@ Result<ShapeRef> HeightFieldShape::Create(std::uint32_t columns, std::uint32_t r
     return MakeError(
         ErrorCode::kInvalidArgument,
         "height field cell size must be a positive finite number, got " + std::to_string(cell_size));
+  const float extent = static_cast<float>(std::max(columns, rows) - 1) * cell_size;
+  if (extent > kMaxCoordinate)
+    return MakeError(ErrorCode::kInvalidArgument, "height field spans " + std::to_string(extent) +
+                                                      " m, more than " + std::to_string(kMaxCoordinate));
+  // NaN is a hole; anything else must be a height the normals' products can take (not infinite either).
   for (std::size_t i = 0; i < heights.size(); ++i)
-    if (std::isinf(heights[i]))
-      return MakeError(ErrorCode::kInvalidArgument, "height field sample " + std::to_string(i) + " (column " +
-                                                        std::to_string(i % columns) + ", row " +
-                                                        std::to_string(i / columns) + ") is infinite");
+    if (std::abs(heights[i]) > kMaxCoordinate)
+      return MakeError(ErrorCode::kInvalidArgument,
+                       "height field sample " + std::to_string(i) + " (column " +
+                           std::to_string(i % columns) + ", row " + std::to_string(i / columns) + ") is " +
+                           std::to_string(heights[i]) + ": heights must be finite and within 1e7 m");
   auto shape = std::make_shared<HeightFieldShape>(columns, rows, cell_size,
                                                   std::vector<float>(heights.begin(), heights.end()));
   if (!shape->bounds_.IsValid())

@@ -22,10 +22,14 @@ class HeightFieldShape final : public Shape {
   static constexpr float kHole = std::numeric_limits<float>::quiet_NaN();
   /// Most samples in all (64 MiB of heights): a 4096 x 4096 grid, 1 m cells for a 4 km square.
   static constexpr std::uint64_t kMaxSamples = std::uint64_t{1} << 24;
+  /// Largest height and extent along x or z (m): past this the float products of the triangle normals
+  /// overflow.
+  static constexpr float kMaxCoordinate = 1e7f;
 
   /// `heights` row after row (`columns` per row, `rows` rows). Fails for fewer than 2 x 2 samples or more
   /// than kMaxSamples, a count that is not columns x rows, a cell size that is not a positive
-  /// finite number, an infinite height, or no cell without a hole.
+  /// finite number, an infinite height, heights or an extent beyond kMaxCoordinate, or no cell without a
+  /// hole.
   static Result<ShapeRef> Create(std::uint32_t columns, std::uint32_t rows, float cell_size,
                                  std::span<const float> heights);
   HeightFieldShape(std::uint32_t columns, std::uint32_t rows, float cell_size, std::vector<float> heights);

@@ -21,7 +21,7 @@ std::string ParseError(const std::string& text) {
 }
 
 TEST(SceneLoader, BundledScenesLoadAndRun) {
-  for (const char* name : {"playground.json", "stack.json", "bounce.json"}) {
+  for (const char* name : {"playground.json", "stack.json", "bounce.json", "terrain.json"}) {
     Result<Scene> scene = LoadScene(kScenes / name);
     ASSERT_TRUE(scene.ok()) << scene.error().message;
     Result<SceneWorld> world = BuildSceneWorld(*scene);

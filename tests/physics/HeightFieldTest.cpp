@@ -138,6 +138,11 @@ TEST(HeightField, BadGridsAreRefusedWithTheReason) {
   std::vector<float> spiked = four;
   spiked[3] = std::numeric_limits<float>::infinity();
   expect_error(HeightFieldShape::Create(2, 2, 1.0f, spiked), ErrorCode::kInvalidArgument, "column 1, row 1");
+  std::vector<float> towering = four;
+  towering[2] = 2e7f;
+  expect_error(HeightFieldShape::Create(2, 2, 1.0f, towering), ErrorCode::kInvalidArgument,
+               "column 0, row 1");
+  expect_error(HeightFieldShape::Create(2, 2, 3e7f, four), ErrorCode::kInvalidArgument, "spans");
   const std::vector<float> holes(9, HeightFieldShape::kHole);
   expect_error(HeightFieldShape::Create(3, 3, 1.0f, holes), ErrorCode::kDegenerateShape, "hole");
   // Refused before anything the size of the grid is read or allocated.
