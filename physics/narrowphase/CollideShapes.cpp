@@ -364,6 +364,16 @@ const ConvexShape& AsConvex(const Shape& shape) {
   return static_cast<const ConvexShape&>(shape);
 }
 
+// A closed form or separating-axis test of two shape types that fills one manifold, in the table's form.
+template <class A, class B,
+          bool (*Collide)(const A&, const Pose&, const B&, const Pose&, float, ContactManifold&)>
+void AppendPair(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b, float max_separation,
+                const ContactManifold& prototype, std::vector<ContactManifold>& out) {
+  ContactManifold manifold = prototype;
+  if (Collide(static_cast<const A&>(a), pose_a, static_cast<const B&>(b), pose_b, max_separation, manifold))
+    out.push_back(manifold);
+}
+
 }  // namespace
 
 void CollideConvexByGjk(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b,
@@ -377,28 +387,19 @@ void CollideConvexByGjk(const Shape& a, const Pose& pose_a, const Shape& b, cons
 void CollideSpherePair(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b,
                        float max_separation, const ContactManifold& prototype,
                        std::vector<ContactManifold>& out, CollisionScratch& /*scratch*/) {
-  ContactManifold manifold = prototype;
-  if (CollideSpheres(static_cast<const SphereShape&>(a), pose_a, static_cast<const SphereShape&>(b), pose_b,
-                     max_separation, manifold))
-    out.push_back(manifold);
+  AppendPair<SphereShape, SphereShape, CollideSpheres>(a, pose_a, b, pose_b, max_separation, prototype, out);
 }
 
 void CollideSphereWithBox(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b,
                           float max_separation, const ContactManifold& prototype,
                           std::vector<ContactManifold>& out, CollisionScratch& /*scratch*/) {
-  ContactManifold manifold = prototype;
-  if (CollideSphereBox(static_cast<const SphereShape&>(a), pose_a, static_cast<const BoxShape&>(b), pose_b,
-                       max_separation, manifold))
-    out.push_back(manifold);
+  AppendPair<SphereShape, BoxShape, CollideSphereBox>(a, pose_a, b, pose_b, max_separation, prototype, out);
 }
 
 void CollideBoxPair(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b,
                     float max_separation, const ContactManifold& prototype, std::vector<ContactManifold>& out,
                     CollisionScratch& /*scratch*/) {
-  ContactManifold manifold = prototype;
-  if (CollideBoxes(static_cast<const BoxShape&>(a), pose_a, static_cast<const BoxShape&>(b), pose_b,
-                   max_separation, manifold))
-    out.push_back(manifold);
+  AppendPair<BoxShape, BoxShape, CollideBoxes>(a, pose_a, b, pose_b, max_separation, prototype, out);
 }
 
 void CollidePolyhedronPair(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b,

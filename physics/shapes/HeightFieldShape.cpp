@@ -241,9 +241,7 @@ bool HeightFieldShape::CastRay(const Vec3& origin, const Vec3& direction, float 
 }
 
 void HeightFieldShape::CollectLocalTriangles(const AABB& local_box, std::vector<Triangle>& out) const {
-  std::vector<std::uint32_t> hits;
-  QueryBox(local_box, hits);
-  for (std::uint32_t t : hits) out.push_back({{Vertex(t, 0), Vertex(t, 1), Vertex(t, 2)}});
+  AppendTrianglesInBox(*this, local_box, out);
 }
 
 }  // namespace strata

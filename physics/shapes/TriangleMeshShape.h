@@ -88,6 +88,16 @@ class TriangleMeshShape final : public Shape {
   AABB bounds_;
 };
 
+/// The local-space triangles a box query of `shape` (a TriangleMeshShape or anything with its QueryBox and
+/// Vertex) reports for `local_box`, appended to `out`: what such a shape's CollectLocalTriangles gives.
+template <class TriangleShape>
+void AppendTrianglesInBox(const TriangleShape& shape, const AABB& local_box, std::vector<Triangle>& out) {
+  std::vector<std::uint32_t> hits;
+  shape.QueryBox(local_box, hits);
+  for (const std::uint32_t t : hits)
+    out.push_back({{shape.Vertex(t, 0), shape.Vertex(t, 1), shape.Vertex(t, 2)}});
+}
+
 /// Moller-Trumbore ray/triangle test; returns the fraction or -1 (both sides count).
 float RayTriangle(const Vec3& origin, const Vec3& direction, const Vec3& a, const Vec3& b, const Vec3& c);
 

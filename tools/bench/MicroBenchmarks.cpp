@@ -60,30 +60,39 @@ void BM_TriangleMeshBuild1M(benchmark::State& state) {
 }
 BENCHMARK(BM_TriangleMeshBuild1M)->Unit(benchmark::kMillisecond);
 
-void BM_TriangleMeshQueryBox1M(benchmark::State& state) {
-  const TriangleMeshShape& mesh = MillionTriangleMesh();
+// 3 x 6 x 3 m boxes at random places on the terrain (a body's neighbourhood in the narrow phase).
+template <class TriangleShape>
+void QueryBoxes(benchmark::State& state, const TriangleShape& shape) {
   std::mt19937 random(1);
   std::uniform_real_distribution<float> coordinate(0.0f, 700.0f);
   std::vector<std::uint32_t> found;
   for (auto _ : state) {
     found.clear();
     const Vec3 center(coordinate(random), 0.0f, coordinate(random));
-    mesh.QueryBox(AABB::FromCenterHalfExtents(center, Vec3(1.5f, 3.0f, 1.5f)), found);
+    shape.QueryBox(AABB::FromCenterHalfExtents(center, Vec3(1.5f, 3.0f, 1.5f)), found);
     benchmark::DoNotOptimize(found.data());
   }
 }
-BENCHMARK(BM_TriangleMeshQueryBox1M);
 
-void BM_TriangleMeshRayCast1M(benchmark::State& state) {
-  const TriangleMeshShape& mesh = MillionTriangleMesh();
+// 100 m rays slanting down from 10 m above the terrain towards random places on it.
+void CastRays(benchmark::State& state, const Shape& shape) {
   std::mt19937 random(2);
   std::uniform_real_distribution<float> coordinate(0.0f, 700.0f);
   ShapeRayHit hit;
   for (auto _ : state) {
     const Vec3 origin(coordinate(random), 10.0f, coordinate(random));
     const Vec3 target(coordinate(random), -5.0f, coordinate(random));
-    benchmark::DoNotOptimize(mesh.CastRay(origin, (target - origin).normalized() * 100.0f, 1.0f, hit));
+    benchmark::DoNotOptimize(shape.CastRay(origin, (target - origin).normalized() * 100.0f, 1.0f, hit));
   }
+}
+
+void BM_TriangleMeshQueryBox1M(benchmark::State& state) {
+  QueryBoxes(state, MillionTriangleMesh());
+}
+BENCHMARK(BM_TriangleMeshQueryBox1M);
+
+void BM_TriangleMeshRayCast1M(benchmark::State& state) {
+  CastRays(state, MillionTriangleMesh());
 }
 BENCHMARK(BM_TriangleMeshRayCast1M);
 
@@ -99,30 +108,12 @@ const HeightFieldShape& MillionTriangleField() {
 }
 
 void BM_HeightFieldQueryBox1M(benchmark::State& state) {
-  const HeightFieldShape& field = MillionTriangleField();
-  std::mt19937 random(1);
-  std::uniform_real_distribution<float> coordinate(0.0f, 700.0f);
-  std::vector<std::uint32_t> found;
-  for (auto _ : state) {
-    found.clear();
-    const Vec3 center(coordinate(random), 0.0f, coordinate(random));
-    field.QueryBox(AABB::FromCenterHalfExtents(center, Vec3(1.5f, 3.0f, 1.5f)), found);
-    benchmark::DoNotOptimize(found.data());
-  }
+  QueryBoxes(state, MillionTriangleField());
 }
 BENCHMARK(BM_HeightFieldQueryBox1M);
 
-// The rays of BM_TriangleMeshRayCast1M (slanted, up to about 700 m long across the field).
 void BM_HeightFieldRayCast1M(benchmark::State& state) {
-  const HeightFieldShape& field = MillionTriangleField();
-  std::mt19937 random(2);
-  std::uniform_real_distribution<float> coordinate(0.0f, 700.0f);
-  ShapeRayHit hit;
-  for (auto _ : state) {
-    const Vec3 origin(coordinate(random), 10.0f, coordinate(random));
-    const Vec3 target(coordinate(random), -5.0f, coordinate(random));
-    benchmark::DoNotOptimize(field.CastRay(origin, (target - origin).normalized() * 100.0f, 1.0f, hit));
-  }
+  CastRays(state, MillionTriangleField());
 }
 BENCHMARK(BM_HeightFieldRayCast1M);
 
