@@ -40,31 +40,40 @@ void IslandSolver::BeginStep(const Input& input, std::uint32_t job_count) {
   context_.max_push_velocity = settings.contact_push_max_velocity;
   context_.restitution_threshold = settings.min_velocity_for_restitution;
   context_.elapsed = 0.0f;
+  joint_spring_ = MakeSoftSpring(std::min(settings.joint_hertz, 0.25f / substep_dt_),
+                                 settings.joint_damping_ratio, substep_dt_);
   const float gravity = settings.gravity.norm();
   context_.weight_per_impulse = gravity > 0.0f ? 1.0f / (gravity * substep_dt_) : 0.0f;
   const IslandBuilder& islands = *input.islands;
   const std::uint32_t island_count = islands.island_count();
   ordered_.resize(input.constraints.size());
   body_masks_.resize(input.solver_body_count);
+  SortJointsByIsland();
   island_direct_.resize(island_count);
   for (std::uint32_t island = 0; island < island_count; ++island)
     island_direct_[island] = IsDirectIsland(island);
   // Groups: a large island alone, or consecutive small islands of one kind (solved directly or not) until
   // they hold kGroupConstraints.
+  // An island's work: its contacts and its joints (joint-only islands, ragdolls in flight, must not all
+  // gather in one group).
+  auto work = [&](std::uint32_t island) {
+    return islands.constraint_count(island, island + 1) + island_joint_begin_[island + 1] -
+           island_joint_begin_[island];
+  };
   auto form_groups = [&](auto&& add) {
     std::uint32_t island = 0;
     while (island < island_count) {
       const std::uint32_t first = island;
-      if (islands.constraint_count(island, island + 1) >= LargeIslandSplitter::kMinConstraintsToSplit) {
+      if (work(island) >= LargeIslandSplitter::kMinConstraintsToSplit) {
         add(first, ++island, false);
         continue;
       }
       const bool direct = island_direct_[island] != 0;
       std::uint32_t total = 0;
       while (island < island_count && total < kGroupConstraints &&
-             islands.constraint_count(island, island + 1) < LargeIslandSplitter::kMinConstraintsToSplit &&
+             work(island) < LargeIslandSplitter::kMinConstraintsToSplit &&
              (island_direct_[island] != 0) == direct)
-        total += islands.constraint_count(island, island + 1), ++island;
+        total += work(island), ++island;
       add(first, island, direct);
     }
   };
@@ -89,7 +98,33 @@ void IslandSolver::BeginStep(const Input& input, std::uint32_t job_count) {
     job.arena.Recycle();
     job.split_of.reserve(largest);
     job.scratch.reserve(largest);
+    if (!input.joints.empty())
+      job.first_row_of_body.resize(input.solver_body_count, DirectJointSolver::kNoRow);
     job.deepest = 0.0f;
+  }
+}
+
+void IslandSolver::SortJointsByIsland() {
+  // A counting sort by island; within an island the joints keep the step's order (slot order).
+  const std::uint32_t island_count = input_.islands->island_count();
+  island_joint_begin_.assign(island_count + 2, 0);
+  for (const std::uint32_t body : input_.joint_island_body)
+    ++island_joint_begin_[input_.islands->island_of(body) + 2];
+  for (std::uint32_t island = 2; island < island_count + 2; ++island)
+    island_joint_begin_[island] += island_joint_begin_[island - 1];
+  joints_.resize(input_.joints.size());
+  for (std::size_t k = 0; k < input_.joints.size(); ++k)
+    joints_[island_joint_begin_[input_.islands->island_of(input_.joint_island_body[k]) + 1]++] =
+        input_.joints[k];
+  island_joint_begin_.pop_back();
+  // An island's joints go to a DirectJointSolver when one of them needs it (decided per island, so what
+  // other islands share its group changes nothing).
+  joint_direct_.assign(joints_.size(), 0);
+  for (std::uint32_t island = 0; island < island_count; ++island) {
+    const std::uint32_t begin = island_joint_begin_[island], end = island_joint_begin_[island + 1];
+    const bool direct = std::any_of(joints_.begin() + begin, joints_.begin() + end,
+                                    [&](const Constraint* joint) { return NeedsDirectSolve(*joint); });
+    std::fill(joint_direct_.begin() + begin, joint_direct_.begin() + end, direct ? 1 : 0);
   }
 }
 
@@ -99,6 +134,8 @@ bool IslandSolver::IsDirectIsland(std::uint32_t island) const {
   // its six motions; they would make the solve cost the cube of that), and at rest (a landing pile changes
   // which rows push every pass, and moving piles show no sag).
   if (!input_.settings->direct_small_islands) return false;
+  // Joints are solved by passes; an island with joints keeps its contacts in passes too.
+  if (island_joint_begin_[island + 1] != island_joint_begin_[island]) return false;
   const std::span<const std::uint32_t> bodies = input_.islands->bodies(island, island + 1);
   // A load passes through a body only between two contacts; two bodies touching each other and nothing else
   // (spheres that met in flight) gain nothing from it either.
@@ -122,16 +159,20 @@ void IslandSolver::AddGroup(std::uint32_t first_island, std::uint32_t end_island
   group.end_island = end_island;
   group.direct = direct;
   group.first_constraint = input_.islands->constraint_offset(first_island);
+  group.joints = joints_.data() + island_joint_begin_[first_island];
+  group.joint_count = island_joint_begin_[end_island] - island_joint_begin_[first_island];
 }
 
 void IslandSolver::PrepareGroup(std::uint32_t group_index, std::uint32_t job_index) {
   Group& group = groups_[group_index];
   const IslandBuilder& islands = *input_.islands;
   const std::uint32_t constraint_count = islands.constraint_count(group.first_island, group.end_island);
-  if (constraint_count == 0) {
+  if (constraint_count == 0 && group.joint_count == 0) {
     PrepareFreeGroup(group);
     return;
   }
+  group.free = false;
+  group.joint_solver = nullptr;
   const std::span<ContactConstraint*> ordered =
       std::span(ordered_).subspan(group.first_constraint, constraint_count);
   std::size_t k = 0;
@@ -177,6 +218,20 @@ void IslandSolver::PrepareGroup(std::uint32_t group_index, std::uint32_t job_ind
     group.sequential_count = group.splits.begin[splits] - group.splits.begin[parallel_splits];
     group.sequential_contacts = job.arena.AllocateArray<SolverContact*>(group.sequential_count);
   }
+  if (group.joint_count > 0) {
+    // The islands' joints that are solved exactly, in order.
+    const std::size_t first = static_cast<std::size_t>(group.joints - joints_.data());
+    const auto direct = static_cast<std::uint32_t>(
+        std::count(joint_direct_.begin() + first, joint_direct_.begin() + first + group.joint_count, 1));
+    if (direct > 0) {
+      Constraint** exact = job.arena.AllocateArray<Constraint*>(direct);
+      std::uint32_t n = 0;
+      for (std::uint32_t j = 0; j < group.joint_count; ++j)
+        if (joint_direct_[first + j] != 0) exact[n++] = group.joints[j];
+      group.joint_solver = DirectJointSolver::Create(job.arena, std::span<Constraint* const>(exact, direct),
+                                                     job.first_row_of_body.data());
+    }
+  }
   const float threshold = -input_.settings->min_velocity_for_restitution;
   group.has_restitution = std::any_of(ordered.begin(), ordered.end(), [&](const ContactConstraint* c) {
     if (c->restitution <= 0.0f) return false;
@@ -185,11 +240,14 @@ void IslandSolver::PrepareGroup(std::uint32_t group_index, std::uint32_t job_ind
                        [&](const ContactConstraintPoint& p) { return p.normal_velocity < threshold; });
   });
   const PhysicsSettings& settings = *input_.settings;
-  const auto per_substep =
-      splits * static_cast<std::uint32_t>(1 + settings.velocity_iterations + settings.relax_iterations) + 2;
+  group.round_splits = splits + (group.joint_count > 0 ? 1 : 0);
+  const auto per_substep = group.round_splits * static_cast<std::uint32_t>(1 + settings.velocity_iterations +
+                                                                           settings.relax_iterations) +
+                           2;
   group.round_count =
       1 + static_cast<std::uint32_t>(settings.substeps) * per_substep +
-      (group.has_restitution ? splits * static_cast<std::uint32_t>(settings.restitution_iterations) : 0);
+      (group.has_restitution ? splits * static_cast<std::uint32_t>(settings.restitution_iterations) : 0) +
+      (group.joint_solver != nullptr ? 1 : 0);
   group.one_job =
       group.bundle_count == 0 && islands.bodies(group.first_island, group.end_island).size() <= kBodyBatch;
   group.processed.store(0, std::memory_order_relaxed);
@@ -198,6 +256,8 @@ void IslandSolver::PrepareGroup(std::uint32_t group_index, std::uint32_t job_ind
 
 void IslandSolver::PrepareFreeGroup(Group& group) {
   group.splits = IslandSplits{};
+  group.round_splits = 0;
+  group.free = true;
   group.bundle_count = 0;
   group.sequential_count = 0;
   group.has_restitution = false;
@@ -218,7 +278,7 @@ void IslandSolver::RunFreeGroup(const Group& group) const {
 }
 
 IslandSolver::Round IslandSolver::Describe(const Group& group, std::uint32_t round) const {
-  const std::uint32_t splits = group.splits.split_count;
+  const std::uint32_t splits = group.round_splits;
   if (round == 0) return {RoundKind::kSetup};
   round -= 1;
   const PhysicsSettings& settings = *input_.settings;
@@ -228,7 +288,15 @@ IslandSolver::Round IslandSolver::Describe(const Group& group, std::uint32_t rou
   const auto substeps = static_cast<std::uint32_t>(settings.substeps);
   if (round >= substeps * per_substep) {
     round -= substeps * per_substep;
-    return {RoundKind::kRestitution, round % splits, static_cast<int>(round / splits)};
+    // The joints' position step comes last, after any restitution.
+    const std::uint32_t restitution =
+        group.has_restitution
+            ? group.splits.split_count * static_cast<std::uint32_t>(settings.restitution_iterations)
+            : 0;
+    if (round >= restitution) return {RoundKind::kJointPositions, group.splits.split_count, 0, 0};
+    // Only contacts bounce: the restitution rounds go over the contact splits.
+    const std::uint32_t contact_splits = group.splits.split_count;
+    return {RoundKind::kRestitution, round % contact_splits, static_cast<int>(round / contact_splits)};
   }
   const auto substep = static_cast<int>(round / per_substep);
   round %= per_substep;
@@ -265,8 +333,9 @@ std::uint32_t IslandSolver::RoundItems(const Group& split, const Round& round) c
     case RoundKind::kIntegrate:
       return static_cast<std::uint32_t>(input_.islands->bodies(split.first_island, split.end_island).size());
     default:
-      // The sequential split is one item: its constraints share bodies, so one thread takes them in order.
-      return IsSequential(split, round.split)
+      // The sequential split and the joints' are one item each: their constraints share bodies, so one
+      // thread takes them in order.
+      return IsJointSplit(split, round.split) || IsSequential(split, round.split)
                  ? 1
                  : split.bundle_begin[round.split + 1] - split.bundle_begin[round.split];
   }
@@ -322,6 +391,10 @@ void IslandSolver::RunBatch(Group& split, const Round& round, std::uint32_t begi
       for (std::uint32_t i = begin; i < end; ++i) Integrate(island_bodies[i]);
     else
       for (std::uint32_t i = begin; i < end; ++i) AddForces(island_bodies[i]);
+    return;
+  }
+  if (IsJointSplit(split, round.split)) {
+    RunJoints(split, round);
     return;
   }
   SubstepContext context = context_;
@@ -390,6 +463,55 @@ void IslandSolver::RunBatch(Group& split, const Round& round, std::uint32_t begi
   if (measure != nullptr) job.deepest = std::min(job.deepest, deepest);
 }
 
+bool IslandSolver::NeedsDirectSolve(const Constraint& joint) const {
+  const PhysicsSettings& settings = *input_.settings;
+  if (!settings.direct_joints) return false;
+  // Passes move a load between a light and a heavy body a mass ratio's share at a time.
+  const std::uint32_t a = joint.side_a().solver_index, b = joint.side_b().solver_index;
+  if (a == 0 || b == 0) return false;
+  const float inverse_a = input_.bodies[a].inverse_mass, inverse_b = input_.bodies[b].inverse_mass;
+  return std::max(inverse_a, inverse_b) >= settings.direct_joint_mass_ratio * std::min(inverse_a, inverse_b);
+}
+
+void IslandSolver::RunJoints(const Group& group, const Round& round) const {
+  ConstraintPassContext pass;
+  pass.h = substep_dt_;
+  pass.inverse_h = context_.inverse_h;
+  pass.rigid_spring = joint_spring_;
+  pass.use_bias = round.kind == RoundKind::kVelocity;
+  // Velocity passes see the poses at the substep's start, relax passes those after its integration.
+  const float elapsed =
+      substep_dt_ * static_cast<float>(round.substep + (round.kind == RoundKind::kRelax ? 1 : 0));
+  // Alternating the order from pass to pass carries a load along a chain both ways.
+  const bool reverse =
+      ((round.iteration + round.substep + (round.kind == RoundKind::kRelax ? 1 : 0)) & 1) != 0;
+  DirectJointSolver* const direct = group.joint_solver;
+  const std::uint8_t* const exact = joint_direct_.data() + (group.joints - joints_.data());
+  if (round.kind == RoundKind::kJointPositions) {
+    direct->SolvePositions(input_.bodies, input_.poses, input_.dt);
+    return;
+  }
+  for (std::uint32_t k = 0; k < group.joint_count; ++k) {
+    const std::uint32_t index = reverse ? group.joint_count - 1 - k : k;
+    Constraint& joint = *group.joints[index];
+    SolverBody stand_in_a, stand_in_b;
+    ConstraintBodies bodies =
+        joint.BodiesForPass(input_.bodies, input_.poses, elapsed, stand_in_a, stand_in_b);
+    if (round.kind == RoundKind::kWarmStart)
+      joint.WarmStart(bodies, pass);
+    else
+      joint.SolveVelocity(bodies, pass, exact[index] == 0);
+  }
+  if (direct == nullptr) return;
+  // The rows that always hold last, exactly: limits and drives before them cannot pull a chain apart.
+  // Built from the poses the pass sees: at the substep's start for warm start and velocity passes, after
+  // its integration for relax passes (a whipping chain's links turn enough in a substep that stale rows
+  // let it drift apart).
+  if (round.kind == RoundKind::kWarmStart || (round.kind == RoundKind::kRelax && round.iteration == 0))
+    direct->Build(input_.bodies, input_.poses, elapsed);
+  if (round.kind != RoundKind::kWarmStart) direct->Solve(input_.bodies, pass);
+}
+
 void IslandSolver::SetupDirectSolvers(Group& group, JobState& job) {
   const IslandBuilder& islands = *input_.islands;
   std::uint32_t offset = 0;
@@ -407,7 +529,7 @@ IslandSolver::BatchResult IslandSolver::TryRunWholeGroup(Group& group, JobState&
   const std::uint64_t done = static_cast<std::uint64_t>(group.round_count) << 32;
   if (status == done || !group.status.compare_exchange_strong(status, done, std::memory_order_acq_rel))
     return BatchResult::kDone;
-  if (group.splits.split_count == 0) {
+  if (group.free) {
     RunFreeGroup(group);  // the same work as its rounds, without describing each
   } else {
     // The rounds in their order, each whole, as single batches would have run them.

@@ -8,7 +8,9 @@
 // something bounces. Each of these is a round; a round's batches may run on any job, and the job finishing a
 // round's last batch opens the next one. Constraints
 // of different small islands share no body, so grouping them changes no island's solve order, only fills
-// the lanes. The result is the same for any thread count.
+// the lanes. Joints (Constraint) of a group's islands are one more split, solved one joint at a time after
+// the contact splits in every warm-start, velocity and relax round. The result is the same for any thread
+// count.
 // BeginStep runs alone; PrepareGroup and SolveJob run from the step's jobs.
 #pragma once
 
@@ -18,6 +20,8 @@
 #include <span>
 #include <vector>
 
+#include "physics/constraints/Constraint.h"
+#include "physics/constraints/DirectJointSolver.h"
 #include "physics/core/BlockArena.h"
 #include "physics/solver/ContactBundle.h"
 #include "physics/solver/ContactConstraint.h"
@@ -46,6 +50,8 @@ class IslandSolver {
     SolverBody* bodies;                               ///< solver index = island body index + 1
     SolverPose* poses;
     const SolverVelocityStep* velocity_steps;  ///< what gravity and forces add per substep, by solver body
+    std::span<Constraint* const> joints;       ///< the step's joints, bound to their solver bodies
+    std::span<const std::uint32_t> joint_island_body;  ///< per joint: a moving body's island body index
     std::uint32_t solver_body_count;
     float dt;
     const PhysicsSettings* settings;
@@ -75,7 +81,16 @@ class IslandSolver {
   std::uint32_t max_split_count() const;
 
  private:
-  enum class RoundKind { kSetup, kAddForces, kWarmStart, kVelocity, kIntegrate, kRelax, kRestitution };
+  enum class RoundKind {
+    kSetup,
+    kAddForces,
+    kWarmStart,
+    kVelocity,
+    kIntegrate,
+    kRelax,
+    kRestitution,
+    kJointPositions
+  };
   struct Round {
     RoundKind kind;
     std::uint32_t split = 0;
@@ -90,6 +105,11 @@ class IslandSolver {
     ContactBundle** bundles = nullptr;  // the parallel splits' bundles, split after split
     std::uint32_t bundle_begin[IslandSplits::kMaxSplits + 1] = {};
     std::uint32_t bundle_count = 0;
+    Constraint* const* joints = nullptr;  // the joints' split (after the contact splits), in island order
+    std::uint32_t joint_count = 0;
+    DirectJointSolver* joint_solver = nullptr;       // the rigid rows of its islands that need an exact solve
+    std::uint32_t round_splits = 0;                  // contact splits, plus one for the joints if any
+    bool free = false;                               // no contacts and no joints: forces and integration only
     ContactConstraint* const* sequential = nullptr;  // the sequential split's constraints
     SolverContact** sequential_contacts = nullptr;   // ...as set up in the setup round
     std::uint32_t sequential_count = 0;
@@ -107,6 +127,7 @@ class IslandSolver {
     BlockArena arena;  // set-up contacts and bundles, kept until the next step
     std::vector<std::uint8_t> split_of;
     std::vector<ContactConstraint*> scratch;
+    std::vector<std::uint32_t> first_row_of_body;  // DirectJointSolver scratch, by solver index
     float deepest = 0.0f;
   };
   enum class BatchResult { kRan, kWaiting, kDone };
@@ -116,6 +137,12 @@ class IslandSolver {
   Round Describe(const Group& group, std::uint32_t round) const;
   std::uint32_t RoundItems(const Group& group, const Round& round) const;
   void RunBatch(Group& group, const Round& round, std::uint32_t begin, std::uint32_t end, JobState& job);
+  bool IsJointSplit(const Group& group, std::uint32_t s) const {
+    return group.joint_count > 0 && s == group.splits.split_count;
+  }
+  void RunJoints(const Group& group, const Round& round) const;
+  // Whether a joint asks for its island's rigid rows to be solved exactly (see PhysicsSettings).
+  bool NeedsDirectSolve(const Constraint& joint) const;
   bool IsSequential(const Group& group, std::uint32_t s) const {
     return group.splits.last_is_sequential && s + 1 == group.splits.split_count;
   }
@@ -124,6 +151,7 @@ class IslandSolver {
   void PrepareFreeGroup(Group& group);
   void RunFreeGroup(const Group& group) const;
   bool IsDirectIsland(std::uint32_t island) const;
+  void SortJointsByIsland();
   void SetupDirectSolvers(Group& group, JobState& job);
   void Integrate(std::uint32_t island_body) const;  // positions and deltas of a dynamic body
   void AddForces(std::uint32_t island_body) const;  // a substep's share of gravity and forces
@@ -134,9 +162,13 @@ class IslandSolver {
   Input input_{};
   SubstepContext context_{};  // elapsed set per round
   float substep_dt_ = 0.0f;
-  std::vector<ContactConstraint*> ordered_;  // every island's constraints, island after island
-  std::vector<std::uint32_t> body_masks_;    // LargeIslandSplitter scratch, by solver body
-  std::vector<std::uint8_t> island_direct_;  // by island: solved by a DirectContactSolver
+  std::vector<ContactConstraint*> ordered_;        // every island's constraints, island after island
+  std::vector<std::uint32_t> body_masks_;          // LargeIslandSplitter scratch, by solver body
+  std::vector<std::uint8_t> island_direct_;        // by island: solved by a DirectContactSolver
+  std::vector<std::uint32_t> island_joint_begin_;  // by island, into joints_: its joints
+  std::vector<Constraint*> joints_;                // every island's joints, island after island
+  std::vector<std::uint8_t> joint_direct_;         // by joints_ entry: its rigid rows are solved exactly
+  SoftSpring joint_spring_;                        // the joints' rigid rows while they push drift out
   std::unique_ptr<Group[]> groups_;
   std::uint32_t group_capacity_ = 0;
   std::uint32_t group_count_ = 0;

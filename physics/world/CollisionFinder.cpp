@@ -132,6 +132,11 @@ void CollisionFinder::RunJob(std::uint32_t job_index) {
   }
 }
 
+bool CollisionFinder::Jointed(std::uint32_t a, std::uint32_t b) const {
+  const std::uint64_t key = (static_cast<std::uint64_t>(std::min(a, b)) << 32) | std::max(a, b);
+  return std::binary_search(input_.jointed_pairs.begin(), input_.jointed_pairs.end(), key);
+}
+
 void CollisionFinder::CollidePair(BodyPair pair, BodyPairCache::PreviousPairs& previous_pairs,
                                   std::uint32_t job_index) {
   Job& job = jobs_[job_index];
@@ -140,6 +145,7 @@ void CollisionFinder::CollidePair(BodyPair pair, BodyPairCache::PreviousPairs& p
   // The broad phase may briefly hold a body another thread is adding or removing.
   if (!second.in_world() || second.id() != pair.b) return;
   if (!first.IsDynamic() && !second.IsDynamic()) return;  // kinematic vs static or kinematic: no contact
+  if (!input_.jointed_pairs.empty() && Jointed(pair.a.index, pair.b.index)) return;
   ++job.stats.pairs;
   // The owner is A; the dispatch table takes either order of shapes.
   const Side a = MakeSide(first);

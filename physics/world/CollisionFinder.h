@@ -50,6 +50,8 @@ class CollisionFinder {
     const SolverPose* solver_poses;
     BodyPairCache* cache;
     IslandBuilder* islands;
+    /// Body pairs joined by a joint that do not collide: (lower index << 32 | higher index), sorted.
+    std::span<const std::uint64_t> jointed_pairs;
   };
 
   /// Constraints go into blocks from `pool`.
@@ -95,6 +97,8 @@ class CollisionFinder {
     Mat3 rotation_matrix;
   };
 
+  // Whether bodies `a` and `b` (indices) are joined by a joint that keeps them from colliding.
+  bool Jointed(std::uint32_t a, std::uint32_t b) const;
   void CollidePair(BodyPair pair, BodyPairCache::PreviousPairs& previous_pairs, std::uint32_t job_index);
   /// Makes last step's manifolds this step's, moved with the bodies.
   void ReplayManifolds(const CachedBodyPair& previous, const Side& a, const Side& b, CachedBodyPair& entry,

@@ -103,6 +103,7 @@ PhysicsSystem::PhysicsSystem(const PhysicsSystemConfig& config, const PhysicsSet
       jobs_(config.job_system ? config.job_system
                               : std::shared_ptr<JobSystem>(MakeDefaultJobSystem(config.thread_count))),
       body_manager_(config.max_bodies, config.body_mutex_count),
+      constraints_(body_manager_),
       body_snapshots_(config.max_bodies),
       move_order_(config.max_bodies),
       broad_phase_(config.broad_phase ? config.broad_phase
@@ -200,6 +201,9 @@ Status PhysicsSystem::Step(float dt) {
     return MakeError(ErrorCode::kInvalidArgument,
                      "step dt must be a positive finite number, got " + std::to_string(dt));
   std::lock_guard step(step_mutex_);
+  // Joint calls wait for the step's end; taken before any body lock (ConstraintManager::Add reads bodies
+  // before it takes this mutex).
+  std::lock_guard joints(constraints_.mutex());
   StepScope no_writers(body_manager_);
   // An untimed world reads no clock at all (two reads are a tenth of a one-body step).
   const bool timed = start_graph_.timed();
@@ -252,6 +256,7 @@ void PhysicsSystem::PrepareStep() {
     std::lock_guard lock(wake_mutex_);
     wake_keys_.swap(pending_wakes_);
   }
+  WakeConstrainedBodies();
   std::sort(wake_keys_.begin(), wake_keys_.end());
   for (const BodyID id : active_) {
     active_flags_[id.index] = 0;
@@ -291,6 +296,7 @@ void PhysicsSystem::PrepareStep() {
   velocity_steps_[0] = SolverVelocityStep();
   solver_poses_[0] = SolverPose();
   islands_.Reset(active_count);
+  BindConstraints();
   // Enough blocks for any split of last step's work over the jobs: its bytes (the cache holds two steps'),
   // a margin for what blocks leave unused at their ends, and one partly filled block per arena.
   const std::size_t step_bytes =
@@ -311,8 +317,71 @@ void PhysicsSystem::PrepareStep() {
   input.solver_poses = solver_poses_.data();
   input.cache = &pair_cache_;
   input.islands = &islands_;
+  input.jointed_pairs = jointed_pairs_;
   collisions_.BeginStep(input, job_count_);
   next_chunk_.store(0, std::memory_order_relaxed);
+}
+
+void PhysicsSystem::WakeConstrainedBodies() {
+  // A joint between an awake body and a sleeping one (added so, or the awake one was moved) wakes the
+  // sleeping one's island; a joint's islands otherwise sleep and wake together.
+  constraints_.ForEachActive([&](Constraint& joint) {
+    const BodyID ids[2] = {joint.body_a(), joint.body_b()};
+    const Body* sides[2] = {nullptr, nullptr};
+    for (int k = 0; k < 2; ++k) {
+      if (ids[k].IsInvalid()) continue;
+      const Body& body = body_manager_.BodyAt(ids[k].index);
+      if (ids[k].index < body_manager_.locked_slot_limit() && body.in_world() && body.id() == ids[k])
+        sides[k] = &body;
+    }
+    for (int k = 0; k < 2; ++k) {
+      const Body* sleeper = sides[k];
+      const Body* other = sides[1 - k];
+      if (sleeper != nullptr && other != nullptr && sleeper->sleeping() && sleeper->IsDynamic() &&
+          other->IsActive())
+        wake_keys_.push_back(sleeper->sleep_island());
+    }
+  });
+}
+
+void PhysicsSystem::BindConstraints() {
+  step_joints_.clear();
+  joint_island_body_.clear();
+  jointed_pairs_.clear();
+  const float h = step_dt_ / static_cast<float>(settings_.substeps);
+  constraints_.ForEachActive([&](Constraint& joint) {
+    ConstraintSide sides[2];
+    bool moves[2] = {false, false};
+    const BodyID ids[2] = {joint.body_a(), joint.body_b()};
+    for (int k = 0; k < 2; ++k) {
+      if (ids[k].IsInvalid()) continue;  // the world: still, at the identity
+      if (ids[k].index >= body_manager_.locked_slot_limit()) return;
+      const Body& body = body_manager_.BodyAt(ids[k].index);
+      // A joint whose body left the world (or was destroyed) waits until it is back.
+      if (!body.in_world() || body.id() != ids[k]) return;
+      moves[k] = body.IsActive() && body.IsDynamic();
+      if (moves[k]) {
+        sides[k].solver_index = solver_index_[ids[k].index];
+        continue;
+      }
+      sides[k].start = {body.CenterOfMass(), body.rotation()};
+      if (body.IsActive()) {  // kinematic: carries the joint along its velocity
+        sides[k].linear_velocity = body.linear_velocity();
+        sides[k].angular_velocity = body.angular_velocity();
+      }
+    }
+    if (!moves[0] && !moves[1]) return;  // asleep, or between bodies that cannot move
+    joint.BeginStep(sides[0], sides[1], h);
+    if (moves[0] && moves[1]) islands_.Link(sides[0].solver_index - 1, sides[1].solver_index - 1);
+    step_joints_.push_back(&joint);
+    if (!joint.collide_connected() && !ids[0].IsInvalid()) {
+      const std::uint32_t low = std::min(ids[0].index, ids[1].index),
+                          high = std::max(ids[0].index, ids[1].index);
+      jointed_pairs_.push_back((static_cast<std::uint64_t>(low) << 32) | high);
+    }
+    joint_island_body_.push_back((moves[0] ? sides[0].solver_index : sides[1].solver_index) - 1);
+  });
+  std::sort(jointed_pairs_.begin(), jointed_pairs_.end());
 }
 
 void PhysicsSystem::ApplyForces(std::uint32_t job) {
@@ -386,8 +455,8 @@ void PhysicsSystem::FindCollisions(std::uint32_t job) {
 }
 
 void PhysicsSystem::FinalizeIslands() {
-  collisions_.Gather(constraints_, constraint_island_body_);
-  islands_.Finalize(constraint_island_body_);
+  collisions_.Gather(contacts_, contact_island_body_);
+  islands_.Finalize(contact_island_body_);
   // Kinematic bodies follow their velocity whatever they touch: moved now to their end-of-step pose (the
   // contacts that touch them follow them by their velocity).
   for (std::uint32_t i = 0; i < active_.size(); ++i) {
@@ -403,10 +472,12 @@ void PhysicsSystem::FinalizeIslands() {
   }
   IslandSolver::Input input;
   input.islands = &islands_;
-  input.constraints = constraints_;
+  input.constraints = contacts_;
   input.bodies = solver_bodies_.data();
   input.poses = solver_poses_.data();
   input.velocity_steps = velocity_steps_.data();
+  input.joints = step_joints_;
+  input.joint_island_body = joint_island_body_;
   input.solver_body_count = static_cast<std::uint32_t>(solver_bodies_.size());
   input.dt = step_dt_;
   input.settings = &settings_;
@@ -543,6 +614,11 @@ void PhysicsSystem::FinishStep() {
   stats_.max_splits = island_solver_.max_split_count();
   stats_.direct_islands = island_solver_.direct_island_count();
   stats_.max_penetration = -island_solver_.deepest_penetration();
+  stats_.constraints = step_joints_.size();
+  for (Constraint* joint : step_joints_) {
+    joint->EndStep();
+    stats_.constraints_broken += joint->broken() ? 1 : 0;
+  }
   for (FinishCounters& counters : finish_counters_) {
     stats_.bodies_put_to_sleep += counters.bodies_put_to_sleep;
     stats_.linear_velocity_clamps += counters.linear_velocity_clamps;

@@ -16,6 +16,7 @@
 #include "physics/body/BodySnapshotTable.h"
 #include "physics/body/BroadPhaseMoveOrder.h"
 #include "physics/broadphase/BroadPhase.h"
+#include "physics/constraints/ConstraintManager.h"
 #include "physics/core/JobGraph.h"
 #include "physics/core/JobSystem.h"
 #include "physics/narrowphase/BodyPairCache.h"
@@ -63,6 +64,8 @@ struct StepStats {
   std::size_t linear_velocity_clamps = 0;   ///< bodies slowed to their max_linear_velocity
   std::size_t angular_velocity_clamps = 0;  ///< bodies slowed to their max_angular_velocity
   std::size_t linear_cast_hits = 0;         ///< linear-cast bodies stopped at a first impact
+  std::size_t constraints = 0;              ///< joints solved (at least one of their bodies awake)
+  std::size_t constraints_broken = 0;       ///< joints that broke this step
 };
 
 /// Where the last step's time went: the stages in order, with their start, end and summed job time.
@@ -85,6 +88,9 @@ class PhysicsSystem {
 
   /// Thread-safe body creation, membership and state access.
   BodyInterface& bodies() { return *body_interface_; }
+  /// Thread-safe joints (calls made during a step wait for its end).
+  ConstraintManager& constraints() { return constraints_; }
+  const ConstraintManager& constraints() const { return constraints_; }
   /// Thread-safe ray, box and shape queries.
   const WorldQuery& query() const { return *query_; }
 
@@ -119,6 +125,8 @@ class PhysicsSystem {
 
   // Stages of Step, in order. Each runs as jobs of the step's graphs (see BuildStepGraphs).
   void PrepareStep();                      // serial: wake islands, collect active bodies
+  void WakeConstrainedBodies();            // part of PrepareStep: a joint wakes its sleeping side
+  void BindConstraints();                  // part of PrepareStep: the step's joints and their islands
   void ApplyForces(std::uint32_t job);     // parallel over active bodies
   void UpdateBroadPhase();                 // one job, beside FindCollisions
   void FindCollisions(std::uint32_t job);  // parallel over active bodies
@@ -137,6 +145,7 @@ class PhysicsSystem {
   std::shared_ptr<const LayerSetup> layers_;
   std::shared_ptr<JobSystem> jobs_;
   BodyManager body_manager_;
+  ConstraintManager constraints_;  // its mutex is held by Step from start to end
   BodySnapshotTable body_snapshots_;
   BroadPhaseMoveOrder move_order_;  // orders the broad-phase updates moves make after their lock
   std::shared_ptr<BroadPhase> broad_phase_;
@@ -168,8 +177,11 @@ class PhysicsSystem {
   std::vector<SolverBody> solver_bodies_;    // [0] the fixed body, then the active bodies
   std::vector<SolverPose> solver_poses_;
   std::vector<SolverVelocityStep> velocity_steps_;  // what each substep adds to a dynamic body's velocity
-  std::vector<ContactConstraint*> constraints_;
-  std::vector<std::uint32_t> constraint_island_body_;
+  std::vector<ContactConstraint*> contacts_;
+  std::vector<Constraint*> step_joints_;          // the joints this step solves, in slot order
+  std::vector<std::uint32_t> joint_island_body_;  // per step joint: a moving body's active index
+  std::vector<std::uint64_t> jointed_pairs_;      // body index pairs a joint keeps from colliding, sorted
+  std::vector<std::uint32_t> contact_island_body_;
   std::uint32_t sleep_key_base_ = 0;  // island i falling asleep this step gets key base + i
   struct alignas(64) FinishCounters {
     std::size_t bodies_put_to_sleep = 0;

@@ -398,7 +398,7 @@ TEST(Cli, BenchSweepsThreadCountsAndWritesJson) {
   EXPECT_NE(output.find("serial stages"), std::string::npos);
   std::ifstream file(json);
   const nlohmann::json document = nlohmann::json::parse(file);
-  ASSERT_EQ(document["scenes"].size(), 2u);
+  ASSERT_EQ(document["scenes"].size(), 4u);  // pyramid, convex_vs_mesh, ragdolls, chains
   for (const auto& scene : document["scenes"]) {
     const auto& runs = scene["strata"];
     ASSERT_EQ(runs.size(), 2u);

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <optional>
 #include <string>
 
 #include "physics/body/BodyInterface.h"
@@ -15,6 +16,7 @@
 #include "physics/shapes/BoxShape.h"
 #include "physics/shapes/CapsuleShape.h"
 #include "physics/shapes/ConvexHullShape.h"
+#include "physics/shapes/HeightFieldShape.h"
 #include "physics/shapes/SphereShape.h"
 #include "physics/shapes/TriangleMeshShape.h"
 #include "physics/world/PhysicsSystem.h"
@@ -43,6 +45,9 @@ ShapeRef MakeShape(const BenchScene& scene, const BenchBody& body) {
       return *ConvexHullShape::Create(scene.hull_points);
     case BenchShape::kMesh:
       return *TriangleMeshShape::Create(scene.mesh_vertices, scene.mesh_triangles);
+    case BenchShape::kHeightField:
+      return *HeightFieldShape::Create(scene.field_columns, scene.field_rows, scene.field_cell,
+                                       scene.field_heights);
   }
   return nullptr;
 }
@@ -64,6 +69,7 @@ void AddProfile(const StepProfile& profile, EngineResult& result) {
 }  // namespace
 
 float BenchMass(const BenchScene& scene, const BenchBody& body) {
+  if (body.mass > 0.0f) return body.mass;
   return MakeShape(scene, body)->ComputeMassProperties(BodyCreationSettings().density).mass;
 }
 
@@ -100,13 +106,8 @@ long PeakMemoryKb() {
   return 0;
 }
 
-EngineResult RunStrata(const BenchScene& scene, int threads, JobSystemKind job_system) {
-  EngineResult result;
-  PhysicsSystemConfig config;
+std::optional<StrataScene> BuildStrataScene(const BenchScene& scene, PhysicsSystemConfig config) {
   config.max_bodies = static_cast<std::uint32_t>(scene.bodies.size()) + 16;
-  config.thread_count = threads;
-  if (job_system == JobSystemKind::kThreadPool)
-    config.job_system = std::make_shared<ThreadPoolJobSystem>(threads);
   PhysicsSettings settings;
   settings.substeps = scene.substeps;
   settings.velocity_iterations = scene.velocity_iterations;
@@ -115,10 +116,10 @@ EngineResult RunStrata(const BenchScene& scene, int threads, JobSystemKind job_s
   settings.body_pair_cache_max_distance = scene.pair_cache_max_distance;
   settings.body_pair_cache_max_angle = scene.pair_cache_max_angle;
   auto system = PhysicsSystem::Create(config, settings);
-  if (!system) return result;
-  PhysicsSystem& world = **system;
-  ShapeRef hull, mesh;  // shared by all bodies that use them, as a game would
-  std::vector<BodyID> dynamic_ids;
+  if (!system) return std::nullopt;
+  StrataScene built{std::move(*system), {}};
+  PhysicsSystem& world = *built.world;
+  ShapeRef hull, mesh, field;  // shared by all bodies that use them, as a game would
   std::vector<BodyID> all_ids;
   for (const BenchBody& body : scene.bodies) {
     BodyCreationSettings create;
@@ -126,19 +127,66 @@ EngineResult RunStrata(const BenchScene& scene, int threads, JobSystemKind job_s
       create.shape = hull ? hull : (hull = MakeShape(scene, body));
     else if (body.shape == BenchShape::kMesh)
       create.shape = mesh ? mesh : (mesh = MakeShape(scene, body));
+    else if (body.shape == BenchShape::kHeightField)
+      create.shape = field ? field : (field = MakeShape(scene, body));
     else
       create.shape = MakeShape(scene, body);
     create.position = body.position;
+    create.rotation = body.rotation;
     create.motion_type = body.dynamic ? MotionType::kDynamic : MotionType::kStatic;
     create.object_layer = body.dynamic ? layers::kMoving : layers::kNonMoving;
     create.friction = body.friction;
     create.restitution = body.restitution;
+    if (body.mass > 0.0f) create.mass = body.mass;
     auto id = world.bodies().CreateBody(create);
-    if (!id) return result;
+    if (!id) return std::nullopt;
     all_ids.push_back(*id);
-    if (body.dynamic) dynamic_ids.push_back(*id);
+    if (body.dynamic) built.dynamic_bodies.push_back(*id);
   }
-  if (!world.bodies().AddBodies(all_ids).ok()) return result;
+  if (!world.bodies().AddBodies(all_ids).ok()) return std::nullopt;
+  for (const BenchJoint& joint : scene.joints) {
+    const BodyID a = joint.body_a >= 0 ? all_ids[joint.body_a] : BodyID{};
+    const BodyID b = all_ids[joint.body_b];
+    JointSettings made;
+    switch (joint.kind) {
+      case BenchJointKind::kPoint: {
+        PointJointSettings point;
+        point.body_a = a, point.body_b = b, point.anchor = joint.anchor;
+        made = point;
+        break;
+      }
+      case BenchJointKind::kHinge: {
+        HingeJointSettings hinge;
+        hinge.body_a = a, hinge.body_b = b, hinge.anchor = joint.anchor;
+        hinge.axis = joint.axis, hinge.normal = joint.normal;
+        hinge.limits = true, hinge.min_angle = joint.min_angle, hinge.max_angle = joint.max_angle;
+        made = hinge;
+        break;
+      }
+      case BenchJointKind::kSwingTwist: {
+        SwingTwistJointSettings cone;
+        cone.body_a = a, cone.body_b = b, cone.anchor = joint.anchor;
+        cone.twist_axis = joint.axis, cone.normal = joint.normal, cone.cone_half_angle = joint.cone;
+        cone.min_twist = joint.min_angle, cone.max_twist = joint.max_angle;
+        made = cone;
+        break;
+      }
+    }
+    if (!world.constraints().Add(made)) return std::nullopt;
+  }
+  return built;
+}
+
+EngineResult RunStrata(const BenchScene& scene, int threads, JobSystemKind job_system) {
+  EngineResult result;
+  PhysicsSystemConfig config;
+  config.thread_count = threads;
+  if (job_system == JobSystemKind::kThreadPool)
+    config.job_system = std::make_shared<ThreadPoolJobSystem>(threads);
+  std::optional<StrataScene> built = BuildStrataScene(scene, config);
+  if (!built) return result;
+  PhysicsSystem& world = *built->world;
+  const std::vector<BodyID>& dynamic_ids = built->dynamic_bodies;
   std::vector<double> times;
   times.reserve(scene.steps);
   std::size_t pairs = 0, replayed = 0;

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <functional>
 
+#include "physics/world/PhysicsSystem.h"
 #include "tools/bench/BenchScenes.h"
 
 namespace strata::bench {
@@ -57,6 +58,15 @@ long PeakMemoryKb();
 
 /// Mass (kg) of a dynamic benchmark body at Strata's default density, so every engine moves the same mass.
 float BenchMass(const BenchScene& scene, const BenchBody& body);
+
+/// A Strata world holding a scene's bodies and joints.
+struct StrataScene {
+  std::unique_ptr<PhysicsSystem> world;
+  std::vector<BodyID> dynamic_bodies;  ///< in the scene's order
+};
+/// Builds `scene` in a world made with `config` (max_bodies is set from the scene); nullopt if anything
+/// in it is refused.
+std::optional<StrataScene> BuildStrataScene(const BenchScene& scene, PhysicsSystemConfig config);
 
 /// Strata on `threads` worker threads (0 = all cores).
 EngineResult RunStrata(const BenchScene& scene, int threads,

@@ -78,9 +78,124 @@ BenchScene MakeConvexVsMesh() {
   return scene;
 }
 
+void AddRagdoll(BenchScene& scene, const Vec3& pelvis, const Quat& rotation) {
+  // Standing, facing +z, arms down, in metres from the pelvis; a part's capsule runs along y.
+  auto part = [&](BenchShape shape, const Vec3& at, const Vec3& half_extents, float radius,
+                  float half_height) {
+    BenchBody body{shape, half_extents, radius, half_height, pelvis + rotation * at, true, 0.5f, 0.0f};
+    body.rotation = rotation;
+    scene.bodies.push_back(body);
+    return static_cast<int>(scene.bodies.size()) - 1;
+  };
+  auto capsule = [&](const Vec3& at, float half_height, float radius) {
+    return part(BenchShape::kCapsule, at, Vec3::Zero(), radius, half_height);
+  };
+  const int hips = part(BenchShape::kBox, Vec3::Zero(), Vec3(0.15f, 0.1f, 0.1f), 0, 0);
+  const int belly = capsule(Vec3(0.0f, 0.22f, 0.0f), 0.04f, 0.1f);
+  const int chest = part(BenchShape::kBox, Vec3(0.0f, 0.46f, 0.0f), Vec3(0.17f, 0.12f, 0.1f), 0, 0);
+  const int head = part(BenchShape::kSphere, Vec3(0.0f, 0.72f, 0.0f), Vec3::Zero(), 0.11f, 0);
+  auto joint = [&](BenchJointKind kind, int a, int b, const Vec3& at, const Vec3& axis, float low, float high,
+                   float cone) {
+    BenchJoint j;
+    j.kind = kind;
+    j.body_a = a;
+    j.body_b = b;
+    j.anchor = pelvis + rotation * at;
+    j.axis = rotation * axis;
+    j.normal = rotation * (std::abs(axis.z()) < 0.9f ? Vec3::UnitZ() : Vec3::UnitX());
+    j.min_angle = low;
+    j.max_angle = high;
+    j.cone = cone;
+    scene.joints.push_back(j);
+  };
+  const Vec3 up = Vec3::UnitY(), down = -Vec3::UnitY(), side = Vec3::UnitX();
+  joint(BenchJointKind::kSwingTwist, hips, belly, Vec3(0.0f, 0.1f, 0.0f), up, -0.3f, 0.3f, 0.4f);
+  joint(BenchJointKind::kSwingTwist, belly, chest, Vec3(0.0f, 0.34f, 0.0f), up, -0.3f, 0.3f, 0.4f);
+  joint(BenchJointKind::kSwingTwist, chest, head, Vec3(0.0f, 0.6f, 0.0f), up, -0.8f, 0.8f, 0.6f);
+  for (const float x : {-1.0f, 1.0f}) {
+    const int upper_arm = capsule(Vec3(0.24f * x, 0.42f, 0.0f), 0.1f, 0.05f);
+    const int forearm = capsule(Vec3(0.24f * x, 0.12f, 0.0f), 0.1f, 0.045f);
+    const int thigh = capsule(Vec3(0.09f * x, -0.33f, 0.0f), 0.15f, 0.07f);
+    const int shin = capsule(Vec3(0.09f * x, -0.79f, 0.0f), 0.15f, 0.06f);
+    joint(BenchJointKind::kSwingTwist, chest, upper_arm, Vec3(0.22f * x, 0.56f, 0.0f), down, -0.8f, 0.8f,
+          1.2f);
+    joint(BenchJointKind::kHinge, upper_arm, forearm, Vec3(0.24f * x, 0.27f, 0.0f), side, -2.4f, 0.0f, 0.0f);
+    joint(BenchJointKind::kSwingTwist, hips, thigh, Vec3(0.09f * x, -0.1f, 0.0f), down, -0.4f, 0.4f, 0.8f);
+    joint(BenchJointKind::kHinge, thigh, shin, Vec3(0.09f * x, -0.565f, 0.0f), side, 0.0f, 2.4f, 0.0f);
+  }
+}
+
+BenchScene MakeRagdolls() {
+  BenchScene scene;
+  scene.name = "ragdolls";
+  // A 64 m x 64 m field of gentle hills, 1 m cells.
+  scene.field_columns = scene.field_rows = 65;
+  scene.field_cell = 1.0f;
+  for (std::uint32_t z = 0; z < scene.field_rows; ++z)
+    for (std::uint32_t x = 0; x < scene.field_columns; ++x)
+      scene.field_heights.push_back(0.6f * std::sin(0.3f * x) * std::cos(0.25f * z));
+  BenchBody ground{BenchShape::kHeightField,   Vec3::Zero(), 0,    0,
+                   Vec3(-32.0f, 0.0f, -32.0f), false,        0.6f, 0.0f};
+  scene.bodies.push_back(ground);
+  // Five heaps of twenty, each ragdoll lying at its own turn, 0.9 m above the one below.
+  for (int heap = 0; heap < 5; ++heap) {
+    const Vec3 base(-12.0f + 6.0f * heap, 2.0f, 0.0f);
+    for (int k = 0; k < 20; ++k) {
+      const Quat lying = Quat(Eigen::AngleAxisf(0.37f * k + heap, Vec3::UnitY())) *
+                         Quat(Eigen::AngleAxisf(0.5f * kPi, Vec3::UnitX()));
+      AddRagdoll(scene, base + Vec3(0.1f * (k % 3), 0.9f * k, 0.1f * (k % 2)), lying);
+    }
+  }
+  scene.sleeping = false;
+  return scene;
+}
+
+BenchScene MakeChains() {
+  BenchScene scene;
+  scene.name = "chains";
+  scene.bodies.push_back({BenchShape::kBox, Vec3(30, 1, 30), 0, 0, Vec3(0, -1, 0), false, 0.5f, 0.0f});
+  constexpr int kChains = 20, kLinks = 40;
+  constexpr float kHalf = 0.1f, kRadius = 0.03f, kBall = 0.25f;
+  const float angle = 60.0f * kPi / 180.0f;
+  for (int c = 0; c < kChains; ++c) {
+    // Anchors 12 m up on a line; neighbouring chains swing towards each other.
+    const Vec3 top(-9.5f + 1.0f * c, 12.0f, 0.0f);
+    const float sign = c % 2 == 0 ? 1.0f : -1.0f;
+    const Vec3 along(0.0f, -std::cos(angle), sign * std::sin(angle));
+    const Quat laid = Quat::FromTwoVectors(Vec3(0.0f, -1.0f, 0.0f), along);
+    int previous = -1;
+    for (int i = 0; i <= kLinks; ++i) {
+      const bool ball = i == kLinks;
+      const float reach = ball ? 2 * kLinks * kHalf + kBall : (2 * i + 1) * kHalf;
+      BenchBody body{ball ? BenchShape::kSphere : BenchShape::kCapsule,
+                     Vec3::Zero(),
+                     ball ? kBall : kRadius,
+                     ball ? 0.0f : kHalf,
+                     top + reach * along,
+                     true,
+                     0.5f,
+                     0.0f};
+      body.rotation = laid;
+      if (ball) body.mass = 10.0f;
+      scene.bodies.push_back(body);
+      BenchJoint joint;
+      joint.kind = BenchJointKind::kPoint;
+      joint.body_a = previous;
+      joint.body_b = static_cast<int>(scene.bodies.size()) - 1;
+      joint.anchor = top + (2 * i * kHalf) * along;
+      scene.joints.push_back(joint);
+      previous = joint.body_b;
+    }
+  }
+  scene.sleeping = false;
+  return scene;
+}
+
 BenchScene MakeBenchScene(const std::string& name) {
   if (name == "pyramid") return MakePyramid();
   if (name == "convex_vs_mesh") return MakeConvexVsMesh();
+  if (name == "ragdolls") return MakeRagdolls();
+  if (name == "chains") return MakeChains();
   return {};
 }
 

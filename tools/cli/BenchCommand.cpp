@@ -123,7 +123,7 @@ bool JsonDestinationExists(const std::string& path) {
 int RunBench(BenchOptions options) {
   std::vector<std::string> names;
   if (options.scene == "all")
-    names = {"pyramid", "convex_vs_mesh"};
+    names = {"pyramid", "convex_vs_mesh", "ragdolls", "chains"};
   else
     names = {options.scene};
   if (options.job_system != "default" && options.job_system != "pool") {
@@ -143,7 +143,8 @@ int RunBench(BenchOptions options) {
   for (const std::string& name : names) {
     bench::BenchScene scene = bench::MakeBenchScene(name);
     if (scene.bodies.empty()) {
-      std::cerr << "strata bench: unknown scene '" << name << "' (pyramid, convex_vs_mesh, all)\n";
+      std::cerr << "strata bench: unknown scene '" << name
+                << "' (pyramid, convex_vs_mesh, ragdolls, chains, all)\n";
       return 2;
     }
     if (options.steps > 0) scene.steps = options.steps;
@@ -210,7 +211,7 @@ std::function<int()> AddBenchCommand(CLI::App& app) {
   CLI::App* command = app.add_subcommand(
       "bench",
       "Run the pyramid and convex_vs_mesh benchmarks at several thread counts (Bullet side by side)");
-  command->add_option("--scene", options->scene, "pyramid, convex_vs_mesh or all");
+  command->add_option("--scene", options->scene, "pyramid, convex_vs_mesh, ragdolls, chains or all");
   command->add_option("--steps", options->steps, "Steps per scene (default: the scene's 500)")
       ->check(CLI::PositiveNumber);
   command

@@ -1,0 +1,38 @@
+// FixedJoint: welds B to A (or to the world) as they are when it is added: the anchor points meet and the
+// relative rotation stays. Threading as Constraint.
+#pragma once
+
+#include <memory>
+
+#include "physics/constraints/Constraint.h"
+#include "physics/constraints/PointConstraintPart.h"
+#include "physics/constraints/RotationConstraintPart.h"
+
+namespace strata {
+
+struct FixedJointSettings : JointSettingsBase {
+  Vec3 anchor = Vec3::Zero();  ///< world
+};
+
+class FixedJoint final : public Constraint {
+ public:
+  /// Fails on bad settings; `a` and `b` are where the bodies are now.
+  static Result<std::unique_ptr<FixedJoint>> Create(const FixedJointSettings& settings, const BodyFrame& a,
+                                                    const BodyFrame& b);
+
+  std::string Describe() const override;
+  void WarmStart(ConstraintBodies& bodies, const ConstraintPassContext& pass) override;
+  void SolveVelocity(ConstraintBodies& bodies, const ConstraintPassContext& pass, bool rigid_rows) override;
+  int RigidRowCount() const override;
+  void RigidRows(const ConstraintBodies& bodies, JointRow* rows) override;
+
+ private:
+  FixedJoint(const FixedJointSettings& settings, const LocalFrames& frames);
+  Impulses AccumulatedImpulses() const override;
+  void ScaleImpulses(float ratio) override;
+
+  PointConstraintPart point_;
+  RotationConstraintPart rotation_;
+};
+
+}  // namespace strata

@@ -1,0 +1,72 @@
+// HingeJoint: a door hinge: the anchors meet and B turns relative to A only about the hinge axis, within
+// optional angle limits, against optional friction, driven by an optional motor towards a target speed
+// with at most a given torque. Threading as Constraint (change the motor between steps).
+#pragma once
+
+#include <memory>
+
+#include "physics/constraints/AngleConstraintPart.h"
+#include "physics/constraints/Constraint.h"
+#include "physics/constraints/HingeRotationConstraintPart.h"
+#include "physics/constraints/PointConstraintPart.h"
+
+namespace strata {
+
+/// A motor that drives a joint's relative speed towards `target_speed` with at most `max_torque` (or
+/// force, for a slider).
+struct JointMotor {
+  bool enabled = false;
+  float target_speed = 0.0f;  ///< rad/s (m/s for a slider)
+  float max_torque = 0.0f;    ///< N m (N for a slider), >= 0
+};
+
+struct HingeJointSettings : JointSettingsBase {
+  Vec3 anchor = Vec3::Zero();        ///< world
+  Vec3 axis = Vec3::UnitY();         ///< world, turning B about it counter-clockwise is a positive angle
+  Vec3 normal = Vec3::Zero();        ///< angle 0 direction at right angles to the axis (zero: any)
+  bool limits = false;               ///< keep the angle within [min_angle, max_angle]
+  float min_angle = -kPi;            ///< rad, in [-pi, 0]
+  float max_angle = kPi;             ///< rad, in [0, pi]
+  float max_friction_torque = 0.0f;  ///< N m against turning (while the motor is off)
+  JointMotor motor;
+};
+
+class HingeJoint final : public Constraint {
+ public:
+  static Result<std::unique_ptr<HingeJoint>> Create(const HingeJointSettings& settings, const BodyFrame& a,
+                                                    const BodyFrame& b);
+
+  std::string Describe() const override;
+  void WarmStart(ConstraintBodies& bodies, const ConstraintPassContext& pass) override;
+  void SolveVelocity(ConstraintBodies& bodies, const ConstraintPassContext& pass, bool rigid_rows) override;
+  int RigidRowCount() const override;
+  void RigidRows(const ConstraintBodies& bodies, JointRow* rows) override;
+
+  /// B's angle about the axis relative to A (rad, (-pi, pi]), from the two bodies' poses.
+  float Angle(const Quat& rotation_a, const Quat& rotation_b) const;
+  const JointMotor& motor() const { return motor_; }
+  /// Fails (nothing changed) on a non-finite speed or a negative torque.
+  Status SetMotor(const JointMotor& motor);
+
+ private:
+  HingeJoint(const HingeJointSettings& settings, const LocalFrames& frames);
+  Impulses AccumulatedImpulses() const override;
+  void ScaleImpulses(float ratio) override;
+  void PrepareRows(const ConstraintBodies& bodies, const WorldFrames& frames);
+
+  bool limits_;
+  float min_angle_;
+  float max_angle_;
+  float max_friction_torque_;
+  JointMotor motor_;
+  PointConstraintPart point_;
+  HingeRotationConstraintPart rotation_;
+  AngleConstraintPart lower_;
+  AngleConstraintPart upper_;
+  AngleConstraintPart drive_;  // the motor, or friction
+};
+
+/// Checks a motor's numbers.
+Status ValidateMotor(const JointMotor& motor);
+
+}  // namespace strata

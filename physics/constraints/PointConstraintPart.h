@@ -1,0 +1,67 @@
+// PointConstraintPart: three linear rows that hold an anchor on A on an anchor on B (ball joints, and the
+// point of hinges, cones and fixed joints), solved together with their 3x3 effective mass. Set up each
+// pass from that pass's arms; keeps its impulse accumulated over the step's passes. Owned by one
+// constraint, used by the job solving it.
+#pragma once
+
+#include "physics/constraints/ConstraintBodies.h"
+
+namespace strata {
+
+/// Anchor on A at arm `r_a` == anchor on B at arm `r_b`.
+class PointConstraintPart {
+ public:
+  void Prepare(const ConstraintBodies& bodies, const Vec3& r_a, const Vec3& r_b) {
+    r_a_ = r_a;
+    r_b_ = r_b;
+    // K = (mA + mB) I - [rA]x IA [rA]x - [rB]x IB [rB]x.
+    const Mat3 skew_a = Skew(r_a), skew_b = Skew(r_b);
+    const Mat3 k = (bodies.a->inverse_mass + bodies.b->inverse_mass) * Mat3::Identity() -
+                   skew_a * InverseInertiaOf(*bodies.a) * skew_a -
+                   skew_b * InverseInertiaOf(*bodies.b) * skew_b;
+    bool invertible = false;
+    float determinant = 0.0f;
+    k.computeInverseAndDetWithCheck(effective_mass_, determinant, invertible, 0.0f);
+    if (!invertible || !(std::abs(determinant) > 0.0f)) effective_mass_.setZero();
+  }
+  Vec3 VelocityError(const ConstraintBodies& bodies) const {
+    return PointVelocity(*bodies.b, r_b_) - PointVelocity(*bodies.a, r_a_);
+  }
+  void Apply(ConstraintBodies& bodies, const Vec3& impulse) const {
+    ApplyImpulseAt(*bodies.a, -impulse, r_a_);
+    ApplyImpulseAt(*bodies.b, impulse, r_b_);
+  }
+  void WarmStart(ConstraintBodies& bodies) const { Apply(bodies, impulse_); }
+  /// Solves towards the gap `error` (B's anchor minus A's, world) with the softness of `target`'s
+  /// scales; `target.bias` is ignored (the bias is the gap's).
+  void Solve(ConstraintBodies& bodies, const Vec3& bias, const RowTarget& target) {
+    const Vec3 change = -target.mass_scale * (effective_mass_ * (VelocityError(bodies) + bias)) -
+                        target.impulse_scale * impulse_;
+    impulse_ += change;
+    Apply(bodies, change);
+  }
+  /// Its three rows (world axes) for DirectJointSolver, with the gap `separation` (B's anchor minus A's).
+  void Rows(const Vec3& separation, JointRow* rows) {
+    for (int k = 0; k < 3; ++k) {
+      const Vec3 axis = Vec3::Unit(k);
+      rows[k] = {axis, r_a_.cross(axis), r_b_.cross(axis), separation[k], &impulse_[k]};
+    }
+  }
+  const Vec3& impulse() const { return impulse_; }
+  void ScaleImpulse(float ratio) { impulse_ *= ratio; }
+  void ResetImpulse() { impulse_.setZero(); }
+
+  static Mat3 Skew(const Vec3& v) {
+    Mat3 m;
+    m << 0.0f, -v.z(), v.y(), v.z(), 0.0f, -v.x(), -v.y(), v.x(), 0.0f;
+    return m;
+  }
+
+ private:
+  Vec3 r_a_ = Vec3::Zero();
+  Vec3 r_b_ = Vec3::Zero();
+  Mat3 effective_mass_ = Mat3::Zero();
+  Vec3 impulse_ = Vec3::Zero();
+};
+
+}  // namespace strata
