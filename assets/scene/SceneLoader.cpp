@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <fstream>
 #include <limits>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <set>
 #include <sstream>
@@ -348,6 +349,166 @@ Result<SceneBody> ParseBody(const Reader& reader, const Json& body, const std::f
   return out;
 }
 
+// Angles in scene files are in degrees.
+constexpr float kRadiansPerDegree = kPi / 180.0f;
+
+Status ParseAngleRange(const Reader& reader, const Json& json, const std::string& key, float& low,
+                       float& high) {
+  if (!json.contains(key)) return Status::Ok();
+  const Json& value = json[key];
+  if (!value.is_array() || value.size() != 2 || !value[0].is_number() || !value[1].is_number())
+    return reader.Fail(key, "must be [low, high]");
+  const double a = value[0].get<double>(), b = value[1].get<double>();
+  if (!std::isfinite(a) || !std::isfinite(b) || std::abs(a) > 1e6 || std::abs(b) > 1e6)
+    return reader.Fail(key, "must be finite numbers");
+  low = static_cast<float>(a);
+  high = static_cast<float>(b);
+  return Status::Ok();
+}
+
+Status ParseMotor(const Reader& reader, const Json& json, JointMotor& motor) {
+  if (!json.contains("motor")) return Status::Ok();
+  const Json& value = json["motor"];
+  const Reader at = reader.At("motor");
+  if (!value.is_object()) return reader.Fail("motor", "must be an object {speed, max_torque or max_force}");
+  if (Status keys = at.OnlyKeys(value, {"speed", "max_torque", "max_force"}); !keys) return keys;
+  motor.enabled = true;
+  if (Status s = at.Number(value, "speed", motor.target_speed); !s) return s;
+  if (Status s = at.Number(value, "max_torque", motor.max_torque); !s) return s;
+  return at.Number(value, "max_force", motor.max_torque);
+}
+
+Result<SceneConstraint> ParseConstraint(const Reader& reader, const Json& json,
+                                        const std::map<std::string, int>& body_index,
+                                        const std::vector<SceneBody>& bodies) {
+  if (!json.is_object()) return reader.Fail("", "must be an object");
+  SceneConstraint out;
+  std::string type;
+  if (Status s = reader.String(json, "type", type); !s) return s.error();
+  if (type.empty())
+    return reader.Fail("type", "is required: fixed, point, distance, hinge, slider or swing_twist");
+  if (Status s = reader.String(json, "name", out.name); !s) return s.error();
+  auto body = [&](const char* key, int& index) -> Status {
+    if (!json.contains(key)) return Status::Ok();
+    std::string name;
+    if (Status s = reader.String(json, key, name); !s) return s;
+    const auto found = body_index.find(name);
+    if (found == body_index.end()) return reader.Fail(key, "no body is named '" + name + "'");
+    index = found->second;
+    return Status::Ok();
+  };
+  out.body_b = -1;
+  if (Status s = body("body_a", out.body_a); !s) return s.error();
+  if (Status s = body("body_b", out.body_b); !s) return s.error();
+  if (out.body_b < 0) return reader.Fail("body_b", "is required (body_a may be left out: the world)");
+  if (out.body_a == out.body_b) return reader.Fail("body_b", "is the same body as body_a");
+  auto moves = [&](int index) {
+    return index >= 0 && bodies[index].settings.motion_type == MotionType::kDynamic;
+  };
+  if (!moves(out.body_a) && !moves(out.body_b))
+    return reader.Fail("body_b", "a joint needs at least one dynamic body");
+  // Placeholder ids for validation; BuildSceneWorld puts the real ones in.
+  JointSettingsBase base;
+  base.body_a = out.body_a >= 0 ? BodyID{static_cast<std::uint32_t>(out.body_a), 0} : BodyID{};
+  base.body_b = BodyID{static_cast<std::uint32_t>(out.body_b), 0};
+  std::initializer_list<const char*> common = {"type",      "name",       "body_a",           "body_b",
+                                               "max_force", "max_torque", "collide_connected"};
+  auto keys = [&](std::initializer_list<const char*> own) {
+    std::vector<const char*> all(common);
+    all.insert(all.end(), own.begin(), own.end());
+    for (const auto& [key, value] : json.items())
+      if (std::find_if(all.begin(), all.end(), [&](const char* k) { return key == k; }) == all.end())
+        return Status(reader.Fail(key, "unknown key for a " + type + " joint"));
+    return Status::Ok();
+  };
+  STRATA_TRY(reader.Number(json, "max_force", base.max_force));
+  STRATA_TRY(reader.Number(json, "max_torque", base.max_torque));
+  STRATA_TRY(reader.Boolean(json, "collide_connected", base.collide_connected));
+  std::string failing_key;  // where a settings error points
+  if (type == "fixed" || type == "point") {
+    STRATA_TRY(keys({"anchor"}));
+    Vec3 anchor = Vec3::Zero();
+    STRATA_TRY(reader.Vector(json, "anchor", anchor));
+    if (type == "fixed") {
+      FixedJointSettings joint;
+      static_cast<JointSettingsBase&>(joint) = base;
+      joint.anchor = anchor;
+      out.settings = joint;
+    } else {
+      PointJointSettings joint;
+      static_cast<JointSettingsBase&>(joint) = base;
+      joint.anchor = anchor;
+      out.settings = joint;
+    }
+  } else if (type == "distance") {
+    STRATA_TRY(keys({"anchor_a", "anchor_b", "rest_length", "min_distance", "max_distance", "spring_hertz",
+                     "spring_damping_ratio"}));
+    DistanceJointSettings joint;
+    static_cast<JointSettingsBase&>(joint) = base;
+    STRATA_TRY(reader.Vector(json, "anchor_a", joint.anchor_a));
+    STRATA_TRY(reader.Vector(json, "anchor_b", joint.anchor_b));
+    STRATA_TRY(reader.Number(json, "rest_length", joint.rest_length));
+    STRATA_TRY(reader.Number(json, "min_distance", joint.min_distance));
+    STRATA_TRY(reader.Number(json, "max_distance", joint.max_distance));
+    STRATA_TRY(reader.Number(json, "spring_hertz", joint.spring_hertz));
+    STRATA_TRY(reader.Number(json, "spring_damping_ratio", joint.spring_damping_ratio));
+    out.settings = joint;
+  } else if (type == "hinge") {
+    STRATA_TRY(keys({"anchor", "axis", "normal", "limits", "max_friction_torque", "motor"}));
+    HingeJointSettings joint;
+    static_cast<JointSettingsBase&>(joint) = base;
+    STRATA_TRY(reader.Vector(json, "anchor", joint.anchor));
+    STRATA_TRY(reader.Vector(json, "axis", joint.axis));
+    STRATA_TRY(reader.Vector(json, "normal", joint.normal));
+    if (json.contains("limits")) {
+      joint.limits = true;
+      STRATA_TRY(ParseAngleRange(reader, json, "limits", joint.min_angle, joint.max_angle));
+      joint.min_angle *= kRadiansPerDegree;
+      joint.max_angle *= kRadiansPerDegree;
+      failing_key = "limits";
+    }
+    STRATA_TRY(reader.Number(json, "max_friction_torque", joint.max_friction_torque));
+    STRATA_TRY(ParseMotor(reader, json, joint.motor));
+    out.settings = joint;
+  } else if (type == "slider") {
+    STRATA_TRY(keys({"anchor", "axis", "limits", "max_friction_force", "motor"}));
+    SliderJointSettings joint;
+    static_cast<JointSettingsBase&>(joint) = base;
+    STRATA_TRY(reader.Vector(json, "anchor", joint.anchor));
+    STRATA_TRY(reader.Vector(json, "axis", joint.axis));
+    if (json.contains("limits")) {
+      joint.limits = true;
+      STRATA_TRY(ParseAngleRange(reader, json, "limits", joint.min_position, joint.max_position));
+      failing_key = "limits";
+    }
+    STRATA_TRY(reader.Number(json, "max_friction_force", joint.max_friction_force));
+    STRATA_TRY(ParseMotor(reader, json, joint.motor));
+    out.settings = joint;
+  } else if (type == "swing_twist") {
+    STRATA_TRY(keys({"anchor", "twist_axis", "normal", "cone", "twist", "max_friction_torque"}));
+    SwingTwistJointSettings joint;
+    static_cast<JointSettingsBase&>(joint) = base;
+    STRATA_TRY(reader.Vector(json, "anchor", joint.anchor));
+    STRATA_TRY(reader.Vector(json, "twist_axis", joint.twist_axis));
+    STRATA_TRY(reader.Vector(json, "normal", joint.normal));
+    float cone = joint.cone_half_angle / kRadiansPerDegree;
+    STRATA_TRY(reader.Number(json, "cone", cone));
+    joint.cone_half_angle = cone * kRadiansPerDegree;
+    float low = -180.0f, high = 180.0f;
+    STRATA_TRY(ParseAngleRange(reader, json, "twist", low, high));
+    joint.min_twist = low * kRadiansPerDegree;
+    joint.max_twist = high * kRadiansPerDegree;
+    STRATA_TRY(reader.Number(json, "max_friction_torque", joint.max_friction_torque));
+    out.settings = joint;
+  } else {
+    return reader.Fail("type",
+                       "must be fixed, point, distance, hinge, slider or swing_twist (got '" + type + "')");
+  }
+  if (Status valid = ValidateJointSettings(out.settings); !valid)
+    return reader.Fail(failing_key, valid.message());
+  return out;
+}
+
 Status ParseSettings(const Reader& reader, const Json& json, Scene& scene) {
   if (!json.is_object()) return reader.Fail("", "must be an object");
   if (json.contains("position_iterations"))
@@ -390,7 +551,7 @@ Result<Scene> ParseScene(const std::string& text, const std::string& source,
   }
   const Reader root(source, "");
   if (!json.is_object()) return root.Fail("", "the scene must be a JSON object");
-  if (Status keys = root.OnlyKeys(json, {"settings", "bodies"}); !keys) return keys.error();
+  if (Status keys = root.OnlyKeys(json, {"settings", "bodies", "constraints"}); !keys) return keys.error();
   Scene scene;
   if (json.contains("settings"))
     if (Status settings = ParseSettings(root.At("settings"), json["settings"], scene); !settings)
@@ -406,6 +567,25 @@ Result<Scene> ParseScene(const std::string& text, const std::string& source,
       return reader.Fail("name", "duplicate body name '" + body->name + "'");
     scene.bodies.push_back(std::move(*body));
   }
+  if (json.contains("constraints")) {
+    if (!json["constraints"].is_array()) return root.Fail("constraints", "must be an array");
+    std::map<std::string, int> body_index;
+    for (std::size_t i = 0; i < scene.bodies.size(); ++i)
+      body_index[scene.bodies[i].name] = static_cast<int>(i);
+    std::set<std::string> joint_names;
+    for (std::size_t i = 0; i < json["constraints"].size(); ++i) {
+      const std::string path = "constraints/" + std::to_string(i);
+      const Reader reader = root.At(path);
+      Result<SceneConstraint> joint =
+          ParseConstraint(reader, json["constraints"][i], body_index, scene.bodies);
+      if (!joint) return joint.error();
+      if (joint->name.empty()) joint->name = "joint" + std::to_string(i);
+      if (!joint_names.insert(joint->name).second)
+        return reader.Fail("name", "duplicate constraint name '" + joint->name + "'");
+      joint->path = "/" + path;
+      scene.constraints.push_back(std::move(*joint));
+    }
+  }
   return scene;
 }
 
@@ -419,7 +599,7 @@ Result<SceneWorld> BuildSceneWorld(const Scene& scene, PhysicsSystemConfig confi
   config.max_bodies = std::max<std::uint32_t>(16, static_cast<std::uint32_t>(scene.bodies.size()));
   Result<std::unique_ptr<PhysicsSystem>> system = PhysicsSystem::Create(config, scene.physics);
   if (!system) return system.error();
-  SceneWorld world{std::move(*system), {}};
+  SceneWorld world{std::move(*system), {}, {}};
   std::vector<BodyID> ids;
   for (const SceneBody& body : scene.bodies) {
     Result<BodyID> id = world.system->bodies().CreateBody(body.settings);
@@ -427,6 +607,18 @@ Result<SceneWorld> BuildSceneWorld(const Scene& scene, PhysicsSystemConfig confi
     ids.push_back(*id);
   }
   if (Status added = world.system->bodies().AddBodies(ids); !added) return added.error();
+  for (const SceneConstraint& constraint : scene.constraints) {
+    JointSettings settings = constraint.settings;
+    std::visit(
+        [&](auto& joint) {
+          joint.body_a = constraint.body_a >= 0 ? ids[constraint.body_a] : BodyID{};
+          joint.body_b = ids[constraint.body_b];
+        },
+        settings);
+    Result<ConstraintID> id = world.system->constraints().Add(settings);
+    if (!id) return MakeError(id.error().code, constraint.path + ": " + id.error().message);
+    world.constraint_ids.push_back(*id);
+  }
   world.ids = std::move(ids);
   return world;
 }

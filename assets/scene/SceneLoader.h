@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "physics/body/BodyCreationSettings.h"
+#include "physics/constraints/ConstraintManager.h"
 #include "physics/world/PhysicsSystem.h"
 
 namespace strata {
@@ -20,11 +21,21 @@ struct SceneBody {
   BodyCreationSettings settings;
 };
 
+/// One joint of a scene.
+struct SceneConstraint {
+  std::string name;
+  std::string path;  ///< its JSON path, for errors found when the world is built
+  int body_a = -1;   ///< index into Scene::bodies; -1: the world
+  int body_b = 0;
+  JointSettings settings;  ///< body ids are filled in by BuildSceneWorld
+};
+
 /// A parsed, validated scene.
 struct Scene {
   PhysicsSettings physics;
   float dt = 1.0f / 60.0f;  ///< seconds per step
   std::vector<SceneBody> bodies;
+  std::vector<SceneConstraint> constraints;
 };
 
 /// Body positions in a scene lie within this of the origin on every axis (m).
@@ -38,13 +49,14 @@ Result<Scene> LoadScene(const std::filesystem::path& path);
 Result<Scene> ParseScene(const std::string& text, const std::string& source,
                          const std::filesystem::path& base_directory);
 
-/// A world holding the scene's bodies, and their ids in scene order.
+/// A world holding the scene's bodies and joints, and their ids in scene order.
 struct SceneWorld {
   std::unique_ptr<PhysicsSystem> system;
   std::vector<BodyID> ids;
+  std::vector<ConstraintID> constraint_ids;
 };
 
-/// Creates a world sized for the scene and adds every body. `config` supplies threads and layers.
+/// Creates a world sized for the scene and adds every body and joint. `config` supplies threads and layers.
 Result<SceneWorld> BuildSceneWorld(const Scene& scene, PhysicsSystemConfig config = {});
 
 }  // namespace strata

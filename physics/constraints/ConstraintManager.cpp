@@ -49,6 +49,12 @@ Result<std::unique_ptr<Constraint>> MakeJoint(const JointSettings& settings, con
 
 }  // namespace
 
+Status ValidateJointSettings(const JointSettings& settings) {
+  const Result<std::unique_ptr<Constraint>> joint = MakeJoint(settings, BodyFrame{}, BodyFrame{});
+  if (!joint) return joint.error();
+  return Status::Ok();
+}
+
 Result<ConstraintID> ConstraintManager::Add(const JointSettings& settings) {
   const JointSettingsBase& base =
       std::visit([](const auto& s) -> const JointSettingsBase& { return s; }, settings);

@@ -37,6 +37,9 @@ struct ConstraintID {
 using JointSettings = std::variant<FixedJointSettings, PointJointSettings, DistanceJointSettings,
                                    HingeJointSettings, SliderJointSettings, SwingTwistJointSettings>;
 
+/// Checks settings as Add would, but for bodies where they are (no body is read): the settings alone.
+Status ValidateJointSettings(const JointSettings& settings);
+
 class ConstraintManager {
  public:
   /// At most this many joints at once.

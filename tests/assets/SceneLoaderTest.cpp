@@ -6,6 +6,7 @@
 #include <stb/stb_image_write.h>
 #include "assets/scene/SceneLoader.h"
 #include "physics/body/BodyInterface.h"
+#include "physics/constraints/ConstraintManager.h"
 #include "physics/shapes/HeightFieldShape.h"
 #include "physics/shapes/TriangleMeshShape.h"
 
@@ -21,7 +22,7 @@ std::string ParseError(const std::string& text) {
 }
 
 TEST(SceneLoader, BundledScenesLoadAndRun) {
-  for (const char* name : {"playground.json", "stack.json", "bounce.json", "terrain.json"}) {
+  for (const char* name : {"playground.json", "stack.json", "bounce.json", "terrain.json", "joints.json"}) {
     Result<Scene> scene = LoadScene(kScenes / name);
     ASSERT_TRUE(scene.ok()) << scene.error().message;
     Result<SceneWorld> world = BuildSceneWorld(*scene);
@@ -29,6 +30,70 @@ TEST(SceneLoader, BundledScenesLoadAndRun) {
     EXPECT_EQ(world->ids.size(), scene->bodies.size());
     for (int step = 0; step < 120; ++step) ASSERT_TRUE(world->system->Step(scene->dt).ok());
   }
+}
+
+TEST(SceneLoader, JointsHoldTheirBodiesAndTheLampCordBreaks) {
+  Result<Scene> scene = LoadScene(kScenes / "joints.json");
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  ASSERT_EQ(scene->constraints.size(), 9u);
+  Result<SceneWorld> world = BuildSceneWorld(*scene);
+  ASSERT_TRUE(world.ok()) << world.error().message;
+  ASSERT_EQ(world->constraint_ids.size(), 9u);
+  for (int step = 0; step < 180; ++step) ASSERT_TRUE(world->system->Step(scene->dt).ok());
+  auto index_of = [&](const std::string& name) {
+    for (std::size_t i = 0; i < scene->constraints.size(); ++i)
+      if (scene->constraints[i].name == name) return i;
+    ADD_FAILURE() << name;
+    return std::size_t{0};
+  };
+  ConstraintManager& joints = world->system->constraints();
+  // The 10 kg lamp weighs 98 N, its cord gives at 80 N; everything else holds.
+  for (std::size_t i = 0; i < scene->constraints.size(); ++i)
+    EXPECT_EQ(*joints.IsBroken(world->constraint_ids[i]), scene->constraints[i].name == "lamp_cord")
+        << scene->constraints[i].name;
+  // The chain's top joint carries three links and the 30 kg weight as they swing: about their 33 g.
+  const float top = joints.GetForces(world->constraint_ids[index_of("chain_top")])->force.norm();
+  EXPECT_GT(top, 0.5f * 33.0f * 9.81f);
+  EXPECT_LT(top, 2.0f * 33.0f * 9.81f);
+  // The motor turns the wheel at its speed; the rail's carriage stops at its limit.
+  BodyInterface& bodies = world->system->bodies();
+  EXPECT_NEAR(bodies.GetAngularVelocity(world->ids[8])->y(), 2.0f, 0.05f);
+  EXPECT_NEAR(bodies.GetPosition(world->ids[9])->x(), 4.0f, 0.01f);
+}
+
+TEST(SceneLoader, BadJointsNameTheirJsonPath) {
+  const std::string bodies = R"("bodies": [{"name": "a", "shape": {"type": "sphere", "radius": 1}},
+                                           {"name": "wall", "shape": {"type": "box", "half_extents": [1, 1, 1]},
+                                            "motion": "static"}])";
+  auto error = [&](const std::string& constraints) {
+    return ParseError("{" + bodies + R"(, "constraints": [)" + constraints + "]}");
+  };
+  EXPECT_NE(error(R"({"type": "point", "body_b": "nobody"})").find("/constraints/0/body_b: no body is named"),
+            std::string::npos);
+  EXPECT_NE(error(R"({"type": "rope", "body_b": "a"})").find("/constraints/0/type"), std::string::npos);
+  EXPECT_NE(error(R"({"type": "point", "body_b": "wall"})").find("at least one dynamic body"),
+            std::string::npos);
+  EXPECT_NE(error(R"({"type": "point", "body_b": "a", "axis": [0, 1, 0]})")
+                .find("/constraints/0/axis: unknown key"),
+            std::string::npos);
+  EXPECT_NE(error(R"({"type": "hinge", "body_b": "a", "limits": [30, 60]})").find("/constraints/0/limits"),
+            std::string::npos);
+  EXPECT_NE(error(R"({"type": "hinge", "body_b": "a", "axis": [0, 0, 0]})").find("/constraints/0"),
+            std::string::npos);
+  EXPECT_NE(error(R"({"type": "distance", "body_b": "a", "anchor_b": [0, 2, 0], "min_distance": 3,
+                      "max_distance": 1})")
+                .find("min_distance"),
+            std::string::npos);
+  EXPECT_NE(error(R"({"type": "point", "body_b": "a", "max_force": -5})").find("max_force"),
+            std::string::npos);
+  EXPECT_NE(
+      error(R"({"type": "point", "body_b": "a", "anchor": [1e300, 0, 0]})").find("/constraints/0/anchor"),
+      std::string::npos);
+  EXPECT_NE(error(R"({"type": "point", "body_b": "a"}, {"type": "point", "body_b": "a", "body_a": "a"})")
+                .find("/constraints/1/body_b"),
+            std::string::npos);
+  EXPECT_NE(ParseError("{" + bodies + R"(, "constraints": {}})").find("/constraints: must be an array"),
+            std::string::npos);
 }
 
 TEST(SceneLoader, FieldsAreRead) {

@@ -142,6 +142,37 @@ TEST(Cli, SimulateWritesOneLinePerRecordedStep) {
   std::filesystem::remove(out);
 }
 
+TEST(Cli, SimulateWritesConstraintForcesWhenAsked) {
+  const auto out = TempFile("joints.jsonl");
+  ASSERT_EQ(RunCli("simulate " + (kScenes / "joints.json").string() +
+                   " --steps 60 --every 60 --constraint-forces --out " + out.string()),
+            0);
+  std::ifstream file(out);
+  std::string line;
+  ASSERT_TRUE(std::getline(file, line));
+  const auto json = nlohmann::json::parse(line);
+  ASSERT_EQ(json["constraints"].size(), 9u);
+  const auto& rod = json["constraints"][1];
+  EXPECT_EQ(rod["name"], "pendulum_rod");
+  EXPECT_EQ(rod["force"].size(), 3u);
+  EXPECT_GT(rod["force"][1].get<float>(), 0.0f) << "the rod holds the bob up";
+  EXPECT_FALSE(rod["broken"].get<bool>());
+  std::filesystem::remove(out);
+  // Without the flag the lines have no constraints, and a bad joint exits 2 naming its JSON path.
+  ASSERT_EQ(RunCli("simulate " + (kScenes / "joints.json").string() + " --steps 1 --out " + out.string()), 0);
+  std::ifstream plain(out);
+  ASSERT_TRUE(std::getline(plain, line));
+  EXPECT_FALSE(nlohmann::json::parse(line).contains("constraints"));
+  std::filesystem::remove(out);
+  const auto bad = TempFile("bad_joint.json");
+  std::ofstream(bad) << R"({"bodies": [{"name": "a", "shape": {"type": "sphere", "radius": 1}}],
+                            "constraints": [{"type": "hinge", "body_b": "a", "limits": [10, 20]}]})";
+  std::string errors;
+  EXPECT_EQ(RunCliErrors("simulate " + bad.string() + " --steps 1", errors), 2);
+  EXPECT_NE(errors.find("/constraints/0/limits"), std::string::npos) << errors;
+  std::filesystem::remove(bad);
+}
+
 TEST(Cli, BadSceneExitsWithTwoAndWritesNothing) {
   const auto scene = TempFile("bad.json");
   std::ofstream(scene) << R"({"bodies": [{"shape": {"type": "sphere", "radius": -2}}]})";

@@ -1,5 +1,6 @@
 // `strata simulate SCENE.json --steps N [--out states.jsonl] [--every K]`: runs a scene and writes one JSON
-// line per recorded step. A bad scene exits with code 2 before anything is written.
+// line per recorded step (with --constraint-forces, each joint's force and torque too). A bad scene exits
+// with code 2 before anything is written.
 #include <chrono>
 #include <cstdio>
 #include <fstream>
@@ -22,9 +23,11 @@ struct SimulateOptions {
   std::string out;
   int every = 1;
   int threads = 0;
+  bool constraint_forces = false;
 };
 
-nlohmann::json StateLine(const Scene& scene, SceneWorld& world, int step, float time) {
+nlohmann::json StateLine(const Scene& scene, SceneWorld& world, int step, float time,
+                         bool constraint_forces) {
   nlohmann::json bodies = nlohmann::json::array();
   BodyInterface& interface = world.system->bodies();
   for (std::size_t i = 0; i < world.ids.size(); ++i) {
@@ -41,7 +44,20 @@ nlohmann::json StateLine(const Scene& scene, SceneWorld& world, int step, float 
                       {"angular_velocity", {w.x(), w.y(), w.z()}},
                       {"sleeping", !active && scene.bodies[i].settings.motion_type != MotionType::kStatic}});
   }
-  return {{"step", step}, {"time", time}, {"bodies", bodies}};
+  nlohmann::json line = {{"step", step}, {"time", time}, {"bodies", bodies}};
+  if (!constraint_forces) return line;
+  // Each joint's force and torque on its body_b over the last step (N, N m, world axes).
+  nlohmann::json joints = nlohmann::json::array();
+  for (std::size_t i = 0; i < world.constraint_ids.size(); ++i) {
+    const ConstraintID id = world.constraint_ids[i];
+    const ConstraintForces forces = *world.system->constraints().GetForces(id);
+    joints.push_back({{"name", scene.constraints[i].name},
+                      {"force", {forces.force.x(), forces.force.y(), forces.force.z()}},
+                      {"torque", {forces.torque.x(), forces.torque.y(), forces.torque.z()}},
+                      {"broken", *world.system->constraints().IsBroken(id)}});
+  }
+  line["constraints"] = joints;
+  return line;
 }
 
 // A person-readable account of the run, printed when the states go to a file.
@@ -104,7 +120,9 @@ int RunSimulate(const SimulateOptions& options) {
     linear_clamps += world->system->last_step_stats().linear_velocity_clamps;
     angular_clamps += world->system->last_step_stats().angular_velocity_clamps;
     if (step % options.every == 0 || step == options.steps) {
-      out << StateLine(*scene, *world, step, static_cast<float>(step) * scene->dt).dump() << "\n";
+      out << StateLine(*scene, *world, step, static_cast<float>(step) * scene->dt, options.constraint_forces)
+                 .dump()
+          << "\n";
       ++lines;
     }
   }
@@ -137,6 +155,8 @@ std::function<int()> AddSimulateCommand(CLI::App& app) {
   command->add_option("--out", options->out, "Write JSON lines here instead of standard output");
   command->add_option("--every", options->every, "Record every K-th step (and the last)")
       ->check(CLI::PositiveNumber);
+  command->add_flag("--constraint-forces", options->constraint_forces,
+                    "Add each joint's force and torque (and whether it broke) to every state line");
   command->add_option("--threads", options->threads, "Worker threads (0 = all cores)")
       ->check(CLI::NonNegativeNumber);
   return [options] { return RunSimulate(*options); };
