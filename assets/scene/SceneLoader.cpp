@@ -463,6 +463,9 @@ Result<SceneConstraint> ParseConstraint(const Reader& reader, const Json& json,
     if (json.contains("limits")) {
       joint.limits = true;
       STRATA_TRY(ParseAngleRange(reader, json, "limits", joint.min_angle, joint.max_angle));
+      if (joint.min_angle < -180.0f || joint.min_angle > 0.0f || joint.max_angle < 0.0f ||
+          joint.max_angle > 180.0f)
+        return reader.Fail("limits", "must be [min, max] degrees, min in [-180, 0] and max in [0, 180]");
       joint.min_angle *= kRadiansPerDegree;
       joint.max_angle *= kRadiansPerDegree;
       failing_key = "limits";
@@ -496,6 +499,8 @@ Result<SceneConstraint> ParseConstraint(const Reader& reader, const Json& json,
     joint.cone_half_angle = cone * kRadiansPerDegree;
     float low = -180.0f, high = 180.0f;
     STRATA_TRY(ParseAngleRange(reader, json, "twist", low, high));
+    if (low < -180.0f || low > 0.0f || high < 0.0f || high > 180.0f)
+      return reader.Fail("twist", "must be [min, max] degrees, min in [-180, 0] and max in [0, 180]");
     joint.min_twist = low * kRadiansPerDegree;
     joint.max_twist = high * kRadiansPerDegree;
     STRATA_TRY(reader.Number(json, "max_friction_torque", joint.max_friction_torque));
