@@ -32,8 +32,8 @@ class PointConstraintPart {
     ApplyImpulseAt(*bodies.b, impulse, r_b_);
   }
   void WarmStart(ConstraintBodies& bodies) const { Apply(bodies, impulse_); }
-  /// Solves towards the gap `error` (B's anchor minus A's, world) with the softness of `target`'s
-  /// scales; `target.bias` is ignored (the bias is the gap's).
+  /// Solves the three rows with `bias` added to their velocity error (the bias rate times the gap, B's
+  /// anchor minus A's) and the mass and impulse scales of `target` (its own bias is not used).
   void Solve(ConstraintBodies& bodies, const Vec3& bias, const RowTarget& target) {
     const Vec3 change = -target.mass_scale * (effective_mass_ * (VelocityError(bodies) + bias)) -
                         target.impulse_scale * impulse_;

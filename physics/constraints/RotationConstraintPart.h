@@ -32,6 +32,7 @@ class RotationConstraintPart {
     ApplyAngularImpulse(*bodies.b, impulse);
   }
   void WarmStart(ConstraintBodies& bodies) const { Apply(bodies, impulse_); }
+  /// As PointConstraintPart::Solve, with the bias from the turn (see Error).
   void Solve(ConstraintBodies& bodies, const Vec3& bias, const RowTarget& target) {
     const Vec3 change = -target.mass_scale * (effective_mass_ * (VelocityError(bodies) + bias)) -
                         target.impulse_scale * impulse_;
