@@ -1,11 +1,11 @@
 // DirectJointSolver: solves the rows of a group's joints that always hold (anchor points, hinge axes, fixed
 // rotations, rods) exactly, all at once, instead of one joint after another. Sequential passes move a load
 // along a chain one link per pass and between a 100 kg ball and a 1 kg link a hundredth at a time, so a
-// 100-link chain swung from 60 degrees stretched by 5 cm; the exact solve holds it within 0.1 mm. The rows' coupling matrix
-// J M^-1 J^T is banded for chains and nearly so for trees (joints in the order they were made), so it is
-// factored as a skyline LDL^T: rows couple only through a body they share. Built per substep from that
-// substep's poses and factored once: the soft velocity passes scale the rigid solution (Box2D's mass and
-// impulse scales, for all rows at once).
+// 100-link chain swung from 60 degrees stretched by 5 cm; the exact solve holds it within 0.1 mm. The
+// rows' coupling matrix J M^-1 J^T is banded for chains and nearly so for trees (joints in the order they
+// were made), so it is factored as a skyline LDL^T: rows couple only through a body they share. Built per
+// substep from that substep's poses and factored once: the soft velocity passes scale the rigid solution
+// (Box2D's mass and impulse scales, for all rows at once).
 // Allocated in a job's arena for one step; used by the one job that solves its group's joints.
 #pragma once
 
