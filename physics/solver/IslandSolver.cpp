@@ -107,6 +107,12 @@ void IslandSolver::BeginStep(const Input& input, std::uint32_t job_count) {
 void IslandSolver::SortJointsByIsland() {
   // A counting sort by island; within an island the joints keep the step's order (slot order).
   const std::uint32_t island_count = input_.islands->island_count();
+  if (input_.joints.empty()) {  // no joints: no counting, no exact-solve decisions
+    island_joint_begin_.assign(island_count + 1, 0);
+    joints_.clear();
+    joint_direct_.clear();
+    return;
+  }
   island_joint_begin_.assign(island_count + 2, 0);
   for (const std::uint32_t body : input_.joint_island_body)
     ++island_joint_begin_[input_.islands->island_of(body) + 2];
