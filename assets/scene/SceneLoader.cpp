@@ -416,9 +416,11 @@ Result<SceneConstraint> ParseConstraint(const Reader& reader, const Json& json,
   auto keys = [&](std::initializer_list<const char*> own) {
     std::vector<const char*> all(common);
     all.insert(all.end(), own.begin(), own.end());
-    for (const auto& [key, value] : json.items())
+    for (const auto& item : json.items()) {
+      const std::string& key = item.key();
       if (std::find_if(all.begin(), all.end(), [&](const char* k) { return key == k; }) == all.end())
         return Status(reader.Fail(key, "unknown key for a " + type + " joint"));
+    }
     return Status::Ok();
   };
   STRATA_TRY(reader.Number(json, "max_force", base.max_force));
