@@ -6,7 +6,7 @@
 // unlimited passes would. Two sets, one row per point and three friction rows per contact, cost much less
 // than one set of three rows per point (the factorisation goes with the cube of the rows). Because the solve
 // is exact, each contact's spring can be as stiff as the load it carries needs (see Create). One island per
-// solver; IslandSolver runs a solver on one thread at a time.
+// solver; ContactConstraintUser runs a solver on one thread at a time.
 #pragma once
 
 #include <cstdint>

@@ -115,7 +115,7 @@ PhysicsSystem::PhysicsSystem(const PhysicsSystemConfig& config, const PhysicsSet
       solver_index_(config.max_bodies, 0),
       pair_cache_(config.max_bodies, step_blocks_),
       collisions_(step_blocks_),
-      island_solver_(step_blocks_) {
+      constraint_solver_(step_blocks_, {&contact_user_, &joint_user_}) {
   job_count_ = static_cast<std::uint32_t>(std::max(1, jobs_->ThreadCount()));
   finish_counters_.resize(job_count_);
   cast_scratch_.resize(job_count_);
@@ -300,7 +300,7 @@ void PhysicsSystem::PrepareStep() {
   // Enough blocks for any split of last step's work over the jobs: its bytes (the cache holds two steps'),
   // a margin for what blocks leave unused at their ends, and one partly filled block per arena.
   const std::size_t step_bytes =
-      2 * pair_cache_.arena_bytes() + collisions_.arena_bytes() + island_solver_.arena_bytes();
+      2 * pair_cache_.arena_bytes() + collisions_.arena_bytes() + constraint_solver_.arena_bytes();
   step_blocks_.EnsureBlocks(step_bytes * 5 / 4 / step_blocks_.block_bytes() + 4 * job_count_ + 1);
   pair_cache_.BeginStep(job_count_);
   CollisionFinder::Input input;
@@ -470,20 +470,19 @@ void PhysicsSystem::FinalizeIslands() {
     pose.rotation.coeffs() += (delta * pose.rotation).coeffs();
     pose.rotation.normalize();
   }
-  IslandSolver::Input input;
+  contact_user_.SetContacts(contacts_);
+  joint_user_.SetJoints(step_joints_, joint_island_body_);
+  ConstraintSolver::Input input;
   input.islands = &islands_;
-  input.constraints = contacts_;
   input.bodies = solver_bodies_.data();
   input.poses = solver_poses_.data();
   input.velocity_steps = velocity_steps_.data();
-  input.joints = step_joints_;
-  input.joint_island_body = joint_island_body_;
   input.solver_body_count = static_cast<std::uint32_t>(solver_bodies_.size());
   input.dt = step_dt_;
   input.settings = &settings_;
-  island_solver_.BeginStep(input, job_count_);
+  constraint_solver_.BeginStep(input, job_count_);
   const std::uint32_t island_count = islands_.island_count();
-  middle_graph_.SetWidth(prepare_islands_stage_, std::min(job_count_, island_solver_.group_count()));
+  middle_graph_.SetWidth(prepare_islands_stage_, std::min(job_count_, constraint_solver_.group_count()));
   const auto casts = static_cast<std::uint32_t>(linear_cast_bodies_.size());
   middle_graph_.SetWidth(linear_casts_stage_, std::min(job_count_, (casts + kCastChunk - 1) / kCastChunk));
   next_cast_.store(0, std::memory_order_relaxed);
@@ -492,12 +491,12 @@ void PhysicsSystem::FinalizeIslands() {
 }
 
 void PhysicsSystem::PrepareIslands(std::uint32_t job) {
-  ForEachChunk(next_chunk_, island_solver_.group_count(), 1,
-               [&](std::uint32_t group) { island_solver_.PrepareGroup(group, job); });
+  ForEachChunk(next_chunk_, constraint_solver_.group_count(), 1,
+               [&](std::uint32_t group) { constraint_solver_.PrepareGroup(group, job); });
 }
 
 void PhysicsSystem::SolveIslands(std::uint32_t job) {
-  island_solver_.SolveJob(job);
+  constraint_solver_.SolveJob(job);
 }
 
 void PhysicsSystem::LinearCasts(std::uint32_t job) {
@@ -610,10 +609,10 @@ void PhysicsSystem::FinishStep() {
   stats_.island_links = collision.links;
   stats_.island_link_hops = collision.link_hops;
   stats_.islands = islands_.island_count();
-  stats_.solve_groups = island_solver_.group_count();
-  stats_.max_splits = island_solver_.max_split_count();
-  stats_.direct_islands = island_solver_.direct_island_count();
-  stats_.max_penetration = -island_solver_.deepest_penetration();
+  stats_.solve_groups = constraint_solver_.group_count();
+  stats_.max_splits = contact_user_.max_split_count();
+  stats_.direct_islands = constraint_solver_.exact_island_count();
+  stats_.max_penetration = -contact_user_.deepest_penetration();
   stats_.constraints = step_joints_.size();
   for (Constraint* joint : step_joints_) {
     joint->EndStep();

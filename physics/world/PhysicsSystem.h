@@ -17,11 +17,13 @@
 #include "physics/body/BroadPhaseMoveOrder.h"
 #include "physics/broadphase/BroadPhase.h"
 #include "physics/constraints/ConstraintManager.h"
+#include "physics/constraints/JointConstraintUser.h"
 #include "physics/core/JobGraph.h"
 #include "physics/core/JobSystem.h"
 #include "physics/narrowphase/BodyPairCache.h"
+#include "physics/solver/ConstraintSolver.h"
+#include "physics/solver/ContactConstraintUser.h"
 #include "physics/solver/IslandBuilder.h"
-#include "physics/solver/IslandSolver.h"
 #include "physics/world/CollisionFinder.h"
 #include "physics/world/PhysicsSettings.h"
 
@@ -206,7 +208,10 @@ class PhysicsSystem {
   BodyPairCache pair_cache_;
   CollisionFinder collisions_;
   IslandBuilder islands_;
-  IslandSolver island_solver_;
+  // The kinds of constraint the solver drives, in the order their splits run (declared before the solver).
+  ContactConstraintUser contact_user_;
+  JointConstraintUser joint_user_;
+  ConstraintSolver constraint_solver_;
   StepStats stats_;
   StepProfile profile_;
 };

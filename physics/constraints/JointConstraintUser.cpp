@@ -1,0 +1,141 @@
+#include "physics/constraints/JointConstraintUser.h"
+
+#include <algorithm>
+
+namespace strata {
+
+void JointConstraintUser::BeginStep(const SolverStep& step, std::uint32_t job_count) {
+  step_ = step;
+  const PhysicsSettings& settings = *step.settings;
+  rigid_spring_ = MakeSoftSpring(std::min(settings.joint_hertz, 0.25f / step.substep_dt),
+                                 settings.joint_damping_ratio, step.substep_dt);
+  SortJointsByIsland();
+  if (jobs_.size() < job_count) jobs_.resize(job_count);
+  if (!input_joints_.empty())
+    for (JobScratch& job : jobs_)
+      job.first_row_of_body.resize(step.solver_body_count, DirectJointSolver::kNoRow);
+}
+
+void JointConstraintUser::SortJointsByIsland() {
+  // A counting sort by island; within an island the joints keep the step's order (slot order).
+  const IslandBuilder& islands = *step_.islands;
+  const std::uint32_t island_count = islands.island_count();
+  if (input_joints_.empty()) {  // no joints: no counting, no exact-solve decisions
+    island_begin_.assign(island_count + 1, 0);
+    joints_.clear();
+    exact_.clear();
+    return;
+  }
+  island_begin_.assign(island_count + 2, 0);
+  for (const std::uint32_t body : input_island_body_) ++island_begin_[islands.island_of(body) + 2];
+  for (std::uint32_t island = 2; island < island_count + 2; ++island)
+    island_begin_[island] += island_begin_[island - 1];
+  joints_.resize(input_joints_.size());
+  for (std::size_t k = 0; k < input_joints_.size(); ++k)
+    joints_[island_begin_[islands.island_of(input_island_body_[k]) + 1]++] = input_joints_[k];
+  island_begin_.pop_back();
+  // An island's joints go to a DirectJointSolver when one of them needs it (decided per island, so what
+  // other islands share its group changes nothing).
+  exact_.assign(joints_.size(), 0);
+  for (std::uint32_t island = 0; island < island_count; ++island) {
+    const std::uint32_t begin = island_begin_[island], end = island_begin_[island + 1];
+    const bool exact = std::any_of(joints_.begin() + begin, joints_.begin() + end,
+                                   [&](const Constraint* joint) { return NeedsExactSolve(*joint); });
+    std::fill(exact_.begin() + begin, exact_.begin() + end, exact ? 1 : 0);
+  }
+}
+
+bool JointConstraintUser::NeedsExactSolve(const Constraint& joint) const {
+  const PhysicsSettings& settings = *step_.settings;
+  if (!settings.direct_joints) return false;
+  // Passes move a load between a light and a heavy body a mass ratio's share at a time.
+  const std::uint32_t a = joint.side_a().solver_index, b = joint.side_b().solver_index;
+  if (a == 0 || b == 0) return false;
+  const float inverse_a = step_.bodies[a].inverse_mass, inverse_b = step_.bodies[b].inverse_mass;
+  return std::max(inverse_a, inverse_b) >= settings.direct_joint_mass_ratio * std::min(inverse_a, inverse_b);
+}
+
+std::uint32_t JointConstraintUser::IslandWork(std::uint32_t island) const {
+  return island_begin_[island + 1] - island_begin_[island];
+}
+
+void JointConstraintUser::BeginGroups(std::span<const SolverGroup> groups) {
+  groups_.resize(groups.size());
+  for (const SolverGroup& g : groups) {
+    Group& group = groups_[g.index];
+    const std::uint32_t first = island_begin_[g.first_island];
+    group.joints = joints_.data() + first;
+    group.joint_count = island_begin_[g.end_island] - first;
+    group.exact = exact_.data() + first;
+    group.exact_solver = nullptr;
+  }
+}
+
+GroupLayout JointConstraintUser::PrepareGroup(const SolverGroup& solver_group, BlockArena& arena,
+                                              std::uint32_t job) {
+  Group& group = groups_[solver_group.index];
+  GroupLayout layout;
+  if (group.joint_count == 0) return layout;
+  layout.splits = 1;
+  // The islands' joints that are solved exactly, in order.
+  const auto exact = static_cast<std::uint32_t>(std::count(group.exact, group.exact + group.joint_count, 1));
+  if (exact > 0) {
+    Constraint** rows_of = arena.AllocateArray<Constraint*>(exact);
+    std::uint32_t n = 0;
+    for (std::uint32_t j = 0; j < group.joint_count; ++j)
+      if (group.exact[j] != 0) rows_of[n++] = group.joints[j];
+    group.exact_solver = DirectJointSolver::Create(arena, std::span<Constraint* const>(rows_of, exact),
+                                                   jobs_[job].first_row_of_body.data());
+  }
+  layout.positions = group.exact_solver != nullptr;
+  return layout;
+}
+
+std::uint32_t JointConstraintUser::Items(std::uint32_t group_index, const SolverPass& pass) const {
+  const Group& group = groups_[group_index];
+  switch (pass.kind) {
+    case SolverPassKind::kRestitution:
+      return 0;
+    case SolverPassKind::kPositions:
+      return group.exact_solver != nullptr ? 1 : 0;
+    default:
+      return 1;  // one split, in order: its joints share bodies
+  }
+}
+
+void JointConstraintUser::Run(std::uint32_t group_index, const SolverPass& pass, std::uint32_t, std::uint32_t,
+                              std::uint32_t) {
+  const Group& group = groups_[group_index];
+  DirectJointSolver* const exact_solver = group.exact_solver;
+  if (pass.kind == SolverPassKind::kPositions) {
+    exact_solver->SolvePositions(step_.bodies, step_.poses, pass.elapsed);
+    return;
+  }
+  ConstraintPassContext context;
+  context.h = step_.substep_dt;
+  context.inverse_h = 1.0f / step_.substep_dt;
+  context.rigid_spring = rigid_spring_;
+  context.use_bias = pass.kind == SolverPassKind::kVelocity;
+  // Alternating the order from pass to pass carries a load along a chain both ways.
+  for (std::uint32_t k = 0; k < group.joint_count; ++k) {
+    const std::uint32_t index = pass.reverse ? group.joint_count - 1 - k : k;
+    Constraint& joint = *group.joints[index];
+    SolverBody stand_in_a, stand_in_b;
+    ConstraintBodies bodies =
+        joint.BodiesForPass(step_.bodies, step_.poses, pass.elapsed, stand_in_a, stand_in_b);
+    if (pass.kind == SolverPassKind::kWarmStart)
+      joint.WarmStart(bodies, context);
+    else
+      joint.SolveVelocity(bodies, context, group.exact[index] == 0);
+  }
+  if (exact_solver == nullptr) return;
+  // The rows that always hold last, exactly: limits and drives before them cannot pull a chain apart.
+  // Built from the poses the pass sees: at the substep's start for warm start and velocity passes, after
+  // its integration for relax passes (a whipping chain's links turn enough in a substep that stale rows
+  // let it drift apart).
+  if (pass.kind == SolverPassKind::kWarmStart || (pass.kind == SolverPassKind::kRelax && pass.iteration == 0))
+    exact_solver->Build(step_.bodies, step_.poses, pass.elapsed);
+  if (pass.kind != SolverPassKind::kWarmStart) exact_solver->Solve(step_.bodies, context);
+}
+
+}  // namespace strata

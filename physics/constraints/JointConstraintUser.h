@@ -1,0 +1,64 @@
+// JointConstraintUser: the step's joints (Constraint) as one kind of constraint of the ConstraintSolver. A
+// group's joints are one sequential split, solved one joint at a time after the contacts in every warm-start,
+// velocity and relax round, in alternating order; the rows that always hold of islands that need it (a
+// heavy body on a light one) are solved exactly by a DirectJointSolver after each pass, and after the last
+// substep a position round removes part of the joints' drift. Threading as ConstraintUser.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "physics/constraints/Constraint.h"
+#include "physics/constraints/DirectJointSolver.h"
+#include "physics/solver/ConstraintUser.h"
+
+namespace strata {
+
+class JointConstraintUser final : public ConstraintUser {
+ public:
+  /// The step's joints, bound to their solver bodies, and per joint the island body index of a side that
+  /// moves; call before the solver's BeginStep.
+  void SetJoints(std::span<Constraint* const> joints, std::span<const std::uint32_t> island_body) {
+    input_joints_ = joints;
+    input_island_body_ = island_body;
+  }
+
+  void BeginStep(const SolverStep& step, std::uint32_t job_count) override;
+  std::uint32_t IslandWork(std::uint32_t island) const override;
+  bool WantsExactIsland(std::uint32_t) const override { return false; }
+  void BeginGroups(std::span<const SolverGroup> groups) override;
+  GroupLayout PrepareGroup(const SolverGroup& group, BlockArena& arena, std::uint32_t job) override;
+  std::uint32_t SetupItems(std::uint32_t) const override { return 0; }  // set up by Constraint::BeginStep
+  void Setup(std::uint32_t, std::uint32_t, std::uint32_t, BlockArena&) override {}
+  std::uint32_t Items(std::uint32_t group, const SolverPass& pass) const override;
+  void Run(std::uint32_t group, const SolverPass& pass, std::uint32_t begin, std::uint32_t end,
+           std::uint32_t job) override;
+
+ private:
+  struct Group {
+    Constraint* const* joints = nullptr;  // in island order
+    std::uint32_t joint_count = 0;
+    const std::uint8_t* exact = nullptr;  // per joint: its rigid rows are solved by the DirectJointSolver
+    DirectJointSolver* exact_solver = nullptr;
+  };
+  struct alignas(64) JobScratch {
+    std::vector<std::uint32_t> first_row_of_body;  // DirectJointSolver scratch, by solver index
+  };
+
+  void SortJointsByIsland();
+  // Whether a joint asks for its island's rigid rows to be solved exactly (see PhysicsSettings).
+  bool NeedsExactSolve(const Constraint& joint) const;
+
+  std::span<Constraint* const> input_joints_;
+  std::span<const std::uint32_t> input_island_body_;
+  SolverStep step_;
+  SoftSpring rigid_spring_;                  // the rigid rows while they push drift out
+  std::vector<std::uint32_t> island_begin_;  // by island, into joints_: its joints
+  std::vector<Constraint*> joints_;          // every island's joints, island after island
+  std::vector<std::uint8_t> exact_;          // by joints_ entry
+  std::vector<Group> groups_;
+  std::vector<JobScratch> jobs_;
+};
+
+}  // namespace strata
