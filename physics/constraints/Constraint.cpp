@@ -1,5 +1,7 @@
 #include "physics/constraints/Constraint.h"
 
+#include <Eigen/Cholesky>
+
 #include <cmath>
 
 namespace strata {
@@ -141,6 +143,58 @@ ConstraintBodies Constraint::BodiesForPass(SolverBody* bodies, const SolverPose*
     view.b = &scratch_b;
   }
   return view;
+}
+
+void Constraint::LinkIslands(IslandBuilder& islands) const {
+  if (side_a_.solver_index != 0 && side_b_.solver_index != 0)
+    islands.Link(side_a_.solver_index - 1, side_b_.solver_index - 1);
+}
+
+void Constraint::SolvePosition(SolverBody* bodies, SolverPose* poses, float elapsed) {
+  const int count = RigidRowCount();
+  if (count == 0) return;
+  SolverBody stand_in_a, stand_in_b;
+  const ConstraintBodies view = BodiesForPass(bodies, poses, elapsed, stand_in_a, stand_in_b);
+  JointRow rows[kMaxRigidRows];
+  RigidRows(view, rows);
+  // K = J M^-1 J^T of the joint's rows (they couple through its two bodies), in double: a point row and a
+  // rotation row of a light link differ by orders of magnitude.
+  using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxRigidRows, kMaxRigidRows>;
+  using RowVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxRigidRows, 1>;
+  RowMatrix coupling(count, count);
+  RowVector target(count);
+  Vec3 push_a_angular[kMaxRigidRows], push_b_angular[kMaxRigidRows];
+  const float inverse_mass = view.a->inverse_mass + view.b->inverse_mass;
+  for (int i = 0; i < count; ++i) {
+    push_a_angular[i] = InverseInertiaTimes(*view.a, rows[i].angular_a);
+    push_b_angular[i] = InverseInertiaTimes(*view.b, rows[i].angular_b);
+    target(i) = -static_cast<double>(kPositionFraction * rows[i].error);
+  }
+  for (int i = 0; i < count; ++i)
+    for (int j = 0; j <= i; ++j) {
+      const float k = inverse_mass * rows[i].linear.dot(rows[j].linear) +
+                      rows[i].angular_a.dot(push_a_angular[j]) + rows[i].angular_b.dot(push_b_angular[j]);
+      coupling(i, j) = coupling(j, i) = k;
+    }
+  // A zero pivot (two rows made parallel by a degenerate pose) leaves its row alone rather than pushing it
+  // with a huge impulse: Eigen's LDLT solves only the pivots it can.
+  const Eigen::LDLT<RowMatrix> factored(coupling);
+  if (factored.info() != Eigen::Success) return;
+  const RowVector lambda = factored.solve(target);
+  if (!lambda.allFinite()) return;
+  Vec3 linear = Vec3::Zero(), turn_a = Vec3::Zero(), turn_b = Vec3::Zero();
+  for (int i = 0; i < count; ++i) {
+    const auto change = static_cast<float>(lambda(i));
+    linear += change * rows[i].linear;
+    turn_a += change * push_a_angular[i];
+    turn_b += change * push_b_angular[i];
+  }
+  if (side_a_.solver_index != 0)
+    MoveSolverBody(bodies[side_a_.solver_index], poses[side_a_.solver_index], -view.a->inverse_mass * linear,
+                   -turn_a);
+  if (side_b_.solver_index != 0)
+    MoveSolverBody(bodies[side_b_.solver_index], poses[side_b_.solver_index], view.b->inverse_mass * linear,
+                   turn_b);
 }
 
 void Constraint::EndStep() {

@@ -1,6 +1,7 @@
 // Constraint: a joint between two bodies (or a body and the world) that the step solves with the
 // contacts of their island: set up once a step, warm-started and solved in every substep's velocity
-// (biased) and relax passes, its impulses kept from step to step. Islands link through constraints, so a
+// (biased) and relax passes, its position drift corrected after the last substep, its impulses kept from
+// step to step. Islands link through constraints, so a
 // constrained group is solved, sleeps and wakes as one. Each kind of joint is one subclass built from the
 // parts in this folder; see physics/README.md, "Adding a joint". Threading: a constraint is owned by its
 // world's ConstraintManager; the step's jobs solve it (one job at a time per constraint); read or change it
@@ -16,6 +17,7 @@
 #include "physics/constraints/ConstraintBodies.h"
 #include "physics/core/Result.h"
 #include "physics/math/Math.h"
+#include "physics/solver/IslandBuilder.h"
 
 namespace strata {
 
@@ -120,6 +122,16 @@ class Constraint {
   virtual int RigidRowCount() const = 0;
   /// Sets those rows up from the pass's poses and writes them (RigidRowCount() of them).
   virtual void RigidRows(const ConstraintBodies& bodies, JointRow* rows) = 0;
+  /// Joins the islands of its two sides when both move this step (after BeginStep), so they are solved,
+  /// sleep and wake together.
+  void LinkIslands(IslandBuilder& islands) const;
+  /// The share of the rigid rows' position error one position step removes (Jolt's Baumgarte factor).
+  static constexpr float kPositionFraction = 0.2f;
+  /// After the step's last substep: moves the sides (poses and their motion since the step began, not
+  /// their velocities) to take kPositionFraction of its rigid rows' position errors out, the rows solved
+  /// together: integrating a link that turns fast moves its anchor off the circle it turns on, which
+  /// velocity rows cannot see. Joints whose rows DirectJointSolver solves are corrected by it instead.
+  void SolvePosition(SolverBody* bodies, SolverPose* poses, float elapsed);
   /// After the step (one thread): forces from the last substep's impulses; breaks past the limits.
   void EndStep();
 

@@ -52,6 +52,17 @@ inline void ApplyAngularImpulse(SolverBody& body, const Vec3& impulse) {
   body.angular_velocity += body.InverseInertiaTimes(ToVec4(impulse));
 }
 
+/// Moves a solver body by `move` and turns it by rotation vector `turn` (a position step): its pose and its
+/// motion since the step began, which the write-back applies; its velocity is left as the passes made it.
+inline void MoveSolverBody(SolverBody& body, SolverPose& pose, const Vec3& move, const Vec3& turn) {
+  pose.center_of_mass += ToVec4(move);
+  body.delta_position += ToVec4(move);
+  const Quat delta(0.0f, 0.5f * turn.x(), 0.5f * turn.y(), 0.5f * turn.z());
+  pose.rotation.coeffs() += (delta * pose.rotation).coeffs();
+  pose.rotation.normalize();
+  body.delta_rotation += ToVec4(turn);
+}
+
 /// One row that always holds (a point, an axis, a rotation), as DirectJointSolver takes it: its rate is
 /// linear . (v_B - v_A) + angular_b . w_B - angular_a . w_A, and an impulse moves B along it, A against.
 struct JointRow {

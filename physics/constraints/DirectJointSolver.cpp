@@ -10,10 +10,10 @@ namespace {
 // diagonal is dropped.
 constexpr double kRegularization = 1e-9;
 constexpr double kTinyPivot = 1e-12;
-// The share of the position error one position step removes (Jolt's Baumgarte factor). The whole error at
-// once (a Newton step) tore a 100-link chain with a 100 kg end apart when it was dropped level and whipped
-// (84 cm; half the error: 4 cm); a fifth keeps every joint within 0.5 mm there, 0.1 mm in a 60-degree swing.
-constexpr double kPositionFraction = 0.2;
+// Constraint::kPositionFraction of the error per position step: the whole error at once (a Newton step)
+// tore a 100-link chain with a 100 kg end apart when it was dropped level and whipped (84 cm; half the error:
+// 4 cm); a fifth keeps every joint within 0.5 mm there, 0.1 mm in a 60-degree swing.
+constexpr double kPositionFraction = Constraint::kPositionFraction;
 }  // namespace
 
 DirectJointSolver* DirectJointSolver::Create(BlockArena& arena, std::span<Constraint* const> joints,
@@ -149,17 +149,6 @@ void DirectJointSolver::SolveFactored(double* x) const {
   }
 }
 
-namespace {
-void MoveBody(SolverBody& body, SolverPose& pose, const Vec3& move, const Vec3& turn) {
-  pose.center_of_mass += ToVec4(move);
-  body.delta_position += ToVec4(move);
-  const Quat delta(0.0f, 0.5f * turn.x(), 0.5f * turn.y(), 0.5f * turn.z());
-  pose.rotation.coeffs() += (delta * pose.rotation).coeffs();
-  pose.rotation.normalize();
-  body.delta_rotation += ToVec4(turn);
-}
-}  // namespace
-
 void DirectJointSolver::SolvePositions(SolverBody* bodies, SolverPose* poses, float elapsed) {
   if (row_count_ == 0) return;
   Build(bodies, poses, elapsed);
@@ -170,11 +159,11 @@ void DirectJointSolver::SolvePositions(SolverBody* bodies, SolverPose* poses, fl
     const Row& row = rows_[i];
     const auto change = static_cast<float>(scratch_[i]);
     if (row.body_a != 0)
-      MoveBody(bodies[row.body_a], poses[row.body_a], -change * row.push_a_linear,
-               -change * row.push_a_angular);
+      MoveSolverBody(bodies[row.body_a], poses[row.body_a], -change * row.push_a_linear,
+                     -change * row.push_a_angular);
     if (row.body_b != 0)
-      MoveBody(bodies[row.body_b], poses[row.body_b], change * row.push_b_linear,
-               change * row.push_b_angular);
+      MoveSolverBody(bodies[row.body_b], poses[row.body_b], change * row.push_b_linear,
+                     change * row.push_b_angular);
   }
 }
 

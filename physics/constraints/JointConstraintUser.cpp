@@ -87,20 +87,13 @@ GroupLayout JointConstraintUser::PrepareGroup(const SolverGroup& solver_group, B
     group.exact_solver = DirectJointSolver::Create(arena, std::span<Constraint* const>(rows_of, exact),
                                                    jobs_[job].first_row_of_body.data());
   }
-  layout.positions = group.exact_solver != nullptr;
+  layout.positions = true;
   return layout;
 }
 
-std::uint32_t JointConstraintUser::Items(std::uint32_t group_index, const SolverPass& pass) const {
-  const Group& group = groups_[group_index];
-  switch (pass.kind) {
-    case SolverPassKind::kRestitution:
-      return 0;
-    case SolverPassKind::kPositions:
-      return group.exact_solver != nullptr ? 1 : 0;
-    default:
-      return 1;  // one split, in order: its joints share bodies
-  }
+std::uint32_t JointConstraintUser::Items(std::uint32_t, const SolverPass& pass) const {
+  // Joints do not bounce; every other pass is one item, in order: a group's joints share bodies.
+  return pass.kind == SolverPassKind::kRestitution ? 0 : 1;
 }
 
 void JointConstraintUser::Run(std::uint32_t group_index, const SolverPass& pass, std::uint32_t, std::uint32_t,
@@ -108,7 +101,10 @@ void JointConstraintUser::Run(std::uint32_t group_index, const SolverPass& pass,
   const Group& group = groups_[group_index];
   DirectJointSolver* const exact_solver = group.exact_solver;
   if (pass.kind == SolverPassKind::kPositions) {
-    exact_solver->SolvePositions(step_.bodies, step_.poses, pass.elapsed);
+    // One joint at a time for those the passes solve, then the exact rows all at once.
+    for (std::uint32_t k = 0; k < group.joint_count; ++k)
+      if (group.exact[k] == 0) group.joints[k]->SolvePosition(step_.bodies, step_.poses, pass.elapsed);
+    if (exact_solver != nullptr) exact_solver->SolvePositions(step_.bodies, step_.poses, pass.elapsed);
     return;
   }
   ConstraintPassContext context;

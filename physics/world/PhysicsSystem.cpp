@@ -372,7 +372,7 @@ void PhysicsSystem::BindConstraints() {
     }
     if (!moves[0] && !moves[1]) return;  // asleep, or between bodies that cannot move
     joint.BeginStep(sides[0], sides[1], h);
-    if (moves[0] && moves[1]) islands_.Link(sides[0].solver_index - 1, sides[1].solver_index - 1);
+    joint.LinkIslands(islands_);
     step_joints_.push_back(&joint);
     if (!joint.collide_connected() && !ids[0].IsInvalid()) {
       const std::uint32_t low = std::min(ids[0].index, ids[1].index),

@@ -1,10 +1,13 @@
 // Joints in the step: pendulum periods, limits under load, a long chain with a heavy end, motors,
-// breaking, sleeping and waking through joints, joints that keep their bodies from colliding, and bad
+// breaking, sleeping and waking through joints, joints that keep their bodies from colliding, the position
+// step, and bad
 // input refused with the world unchanged. Settings are swept (dt, substeps, passes), not tuned to one.
 #include <cmath>
 
 #include "TestWorld.h"
 #include "physics/constraints/ConstraintManager.h"
+#include "physics/constraints/FixedJoint.h"
+#include "physics/constraints/PointJoint.h"
 #include "physics/core/ThreadPoolJobSystem.h"
 #include "tools/bench/BenchRunner.h"
 
@@ -508,6 +511,86 @@ TEST(Constraint, ARagdollPileSettlesWithoutNaNTheSameOnAnyThreadCount) {
     finals.push_back(positions);
   }
   EXPECT_EQ(finals[0], finals[1]);
+}
+
+// A position step on its own: two boxes held by a joint are pulled apart (or turned) by hand, as integration
+// drifts them, and one step must take Constraint::kPositionFraction of the error out, moving each side that
+// moves against its inverse mass and leaving the world side where it is.
+struct DriftedPair {
+  SolverBody bodies[3];  // 0: the fixed body; A at 1, B at 2
+  SolverPose poses[3];
+};
+DriftedPair MakeDriftedPair(const Vec3& drift, const Quat& turn) {
+  DriftedPair pair;
+  const float inverse_masses[3] = {0.0f, 1.0f, 0.25f};
+  for (int i = 1; i < 3; ++i) {
+    pair.bodies[i].inverse_mass = inverse_masses[i];
+    for (int axis = 0; axis < 3; ++axis)
+      pair.bodies[i].inverse_inertia[axis] = ToVec4(3.0f * inverse_masses[i] * Vec3::Unit(axis));
+  }
+  pair.poses[1].center_of_mass = ToVec4(Vec3(0.0f, 0.0f, 0.0f));
+  pair.poses[2].center_of_mass = ToVec4(Vec3(1.0f, 0.0f, 0.0f) + drift);
+  pair.poses[2].rotation = turn;
+  return pair;
+}
+// Separation of the anchors (made at x = 0.5 between boxes at 0 and 1) and B's turn relative to A.
+std::pair<Vec3, float> PairError(const DriftedPair& pair) {
+  const Vec3 on_a = ToVec3(pair.poses[1].center_of_mass) + pair.poses[1].rotation * Vec3(0.5f, 0.0f, 0.0f);
+  const Vec3 on_b = ToVec3(pair.poses[2].center_of_mass) + pair.poses[2].rotation * Vec3(-0.5f, 0.0f, 0.0f);
+  return {on_b - on_a, pair.poses[2].rotation.angularDistance(pair.poses[1].rotation)};
+}
+
+TEST(Constraint, APositionStepTakesItsShareOfTheDriftOut) {
+  const BodyFrame at_a{Vec3::Zero(), Quat::Identity()}, at_b{Vec3(1.0f, 0.0f, 0.0f), Quat::Identity()};
+  const float share = 1.0f - Constraint::kPositionFraction;
+  const Vec3 drift(0.0f, 0.04f, -0.03f);
+  // About the arm, so the turn alone does not move B's anchor.
+  const Quat turn(Eigen::AngleAxisf(0.1f, Vec3::UnitX()));
+  for (const bool world_side : {false, true}) {
+    PointJointSettings point;
+    point.body_a = world_side ? BodyID{} : BodyID{0, 0};
+    point.body_b = BodyID{1, 0};
+    point.anchor = Vec3(0.5f, 0.0f, 0.0f);
+    FixedJointSettings weld;
+    static_cast<JointSettingsBase&>(weld) = point;
+    weld.anchor = point.anchor;
+    std::vector<std::unique_ptr<Constraint>> joints;
+    joints.push_back(std::move(*PointJoint::Create(point, at_a, at_b)));
+    joints.push_back(std::move(*FixedJoint::Create(weld, at_a, at_b)));
+    for (const auto& joint : joints) {
+      const bool welded = joint->type() == ConstraintType::kFixed;
+      DriftedPair pair = MakeDriftedPair(drift, welded ? turn : Quat::Identity());
+      const auto [gap_before, turn_before] = PairError(pair);
+      ConstraintSide a, b;
+      a.solver_index = world_side ? 0 : 1;
+      a.start = at_a;
+      b.solver_index = 2;
+      joint->BeginStep(a, b, 1.0f / 240.0f);
+      const SolverPose poses_before[3] = {pair.poses[0], pair.poses[1], pair.poses[2]};
+      joint->SolvePosition(pair.bodies, pair.poses, 0.0f);
+      const auto [gap_after, turn_after] = PairError(pair);
+      const std::string what = std::string(ToString(joint->type())) + (world_side ? " to the world" : "");
+      // Linear in the error up to the turn's second order.
+      EXPECT_NEAR(gap_after.norm(), share * gap_before.norm(), 0.02f * gap_before.norm()) << what;
+      if (welded) {
+        EXPECT_NEAR(turn_after, share * turn_before, 0.02f * turn_before) << what;
+      }
+      for (int i = 1; i < 3; ++i) {
+        const Vec3 moved = ToVec3(pair.poses[i].center_of_mass - poses_before[i].center_of_mass);
+        // The write-back applies the deltas: they must carry the move.
+        EXPECT_LT((ToVec3(pair.bodies[i].delta_position) - moved).norm(), 1e-6f) << what;
+        EXPECT_TRUE(pair.bodies[i].linear_velocity.isZero(0.0f)) << what << ": velocities stay";
+      }
+      const Vec3 moved_a = ToVec3(pair.poses[1].center_of_mass - poses_before[1].center_of_mass);
+      const Vec3 moved_b = ToVec3(pair.poses[2].center_of_mass - poses_before[2].center_of_mass);
+      if (world_side) {
+        EXPECT_TRUE(moved_a.isZero(0.0f)) << what << ": the world side never moves";
+      } else {
+        // Equal and opposite pushes: each side moves by its inverse mass.
+        EXPECT_LT((moved_a / 1.0f + moved_b / 0.25f).norm(), 1e-5f) << what;
+      }
+    }
+  }
 }
 
 }  // namespace
