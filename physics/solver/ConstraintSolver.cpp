@@ -35,14 +35,23 @@ ConstraintSolver::ConstraintSolver(BlockPool& pool, std::initializer_list<Constr
   for (ConstraintUser* user : users) users_[user_count_++] = user;
 }
 
+void ConstraintSolver::ResetBodies(std::uint32_t active_count) {
+  bodies_.resize(active_count + 1);
+  poses_.resize(active_count + 1);
+  velocity_steps_.resize(active_count + 1);
+  bodies_[0] = SolverBody();
+  poses_[0] = SolverPose();
+  velocity_steps_[0] = SolverVelocityStep();
+}
+
 void ConstraintSolver::BeginStep(const Input& input, std::uint32_t job_count) {
   input_ = input;
   substep_dt_ = input.dt / static_cast<float>(input.settings->substeps);
   SolverStep step;
   step.islands = input.islands;
-  step.bodies = input.bodies;
-  step.poses = input.poses;
-  step.solver_body_count = input.solver_body_count;
+  step.bodies = bodies_.data();
+  step.poses = poses_.data();
+  step.solver_body_count = static_cast<std::uint32_t>(bodies_.size());
   step.dt = input.dt;
   step.substep_dt = substep_dt_;
   step.settings = input.settings;
@@ -161,7 +170,7 @@ void ConstraintSolver::PrepareGroup(std::uint32_t group_index, std::uint32_t job
   group.status.store(0, std::memory_order_release);
 }
 
-void ConstraintSolver::RunFreeGroup(const Group& group) const {
+void ConstraintSolver::RunFreeGroup(const Group& group) {
   const std::span<const std::uint32_t> bodies =
       input_.islands->bodies(group.islands.first_island, group.islands.end_island);
   for (int substep = 0; substep < input_.settings->substeps; ++substep) {
@@ -276,12 +285,12 @@ std::uint32_t ConstraintSolver::RoundItems(const Group& group, const Round& roun
   }
 }
 
-void ConstraintSolver::Integrate(std::uint32_t island_body) const {
+void ConstraintSolver::Integrate(std::uint32_t island_body) {
   const std::uint32_t index = island_body + 1;
-  SolverBody& body = input_.bodies[index];
+  SolverBody& body = bodies_[index];
   // Kinematic bodies were moved before the solve began; contacts follow them by their velocity.
   if (body.inverse_mass <= 0.0f) return;
-  SolverPose& pose = input_.poses[index];
+  SolverPose& pose = poses_[index];
   const float h = substep_dt_;
   const Vec4 moved = body.linear_velocity * h;
   const Vec4 turn = body.angular_velocity * h;
@@ -293,14 +302,14 @@ void ConstraintSolver::Integrate(std::uint32_t island_body) const {
   body.delta_rotation += turn;
 }
 
-void ConstraintSolver::AddForces(std::uint32_t island_body) const {
+void ConstraintSolver::AddForces(std::uint32_t island_body) {
   const std::uint32_t index = island_body + 1;
-  SolverBody& body = input_.bodies[index];
-  const SolverVelocityStep& step = input_.velocity_steps[index];
+  SolverBody& body = bodies_[index];
+  const SolverVelocityStep& step = velocity_steps_[index];
   body.linear_velocity += step.linear;
   if (step.gyroscopic)
-    body.angular_velocity = ToVec4(SpinWithoutTorque(step.inertia, input_.poses[index].rotation,
-                                                     ToVec3(body.angular_velocity), substep_dt_));
+    body.angular_velocity = ToVec4(
+        SpinWithoutTorque(step.inertia, poses_[index].rotation, ToVec3(body.angular_velocity), substep_dt_));
   body.angular_velocity += step.angular;
 }
 

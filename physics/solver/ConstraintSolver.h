@@ -32,13 +32,9 @@ class ConstraintSolver {
   static constexpr std::uint32_t kGroupWork = LargeIslandSplitter::kMinConstraintsToSplit;
   static constexpr std::size_t kMaxUsers = 4;
 
-  /// What a step's solve needs; the arrays stay owned by the caller.
+  /// What a step's solve needs besides the solver bodies.
   struct Input {
     const IslandBuilder* islands;
-    SolverBody* bodies;  ///< solver index = island body index + 1
-    SolverPose* poses;
-    const SolverVelocityStep* velocity_steps;  ///< what gravity and forces add per substep, by solver body
-    std::uint32_t solver_body_count;
     float dt;
     const PhysicsSettings* settings;
   };
@@ -47,7 +43,16 @@ class ConstraintSolver {
   /// blocks from `pool`.
   ConstraintSolver(BlockPool& pool, std::initializer_list<ConstraintUser*> users);
 
-  /// Starts a step's solve with `job_count` jobs per stage and forms the groups.
+  /// The step's solver bodies, poses and per-substep velocity gains: [0] the fixed body (no velocity, no
+  /// inverse mass, identity pose), then one per active body (solver index = island body index + 1). Reset
+  /// as the step begins; the step's apply-forces stage fills them from the bodies, the collision stage reads
+  /// them, the solve moves them, the write-back copies them to the bodies.
+  void ResetBodies(std::uint32_t active_count);
+  std::span<SolverBody> bodies() { return bodies_; }
+  std::span<SolverPose> poses() { return poses_; }
+  std::span<SolverVelocityStep> velocity_steps() { return velocity_steps_; }
+
+  /// Starts a step's solve with `job_count` jobs per stage and forms the groups (the solver bodies filled).
   void BeginStep(const Input& input, std::uint32_t job_count);
 
   std::uint32_t group_count() const { return group_count_; }
@@ -113,9 +118,9 @@ class ConstraintSolver {
   void RunBatch(Group& group, const Round& round, std::uint32_t begin, std::uint32_t end, JobState& job,
                 std::uint32_t job_index);
   void RunSetup(Group& group, std::uint32_t begin, std::uint32_t end, JobState& job);
-  void RunFreeGroup(const Group& group) const;
-  void Integrate(std::uint32_t island_body) const;  // positions and deltas of a dynamic body
-  void AddForces(std::uint32_t island_body) const;  // a substep's share of gravity and forces
+  void RunFreeGroup(const Group& group);
+  void Integrate(std::uint32_t island_body);  // positions and deltas of a dynamic body
+  void AddForces(std::uint32_t island_body);  // a substep's share of gravity and forces
   // Whether a velocity or relax pass is the step's last (it measures penetration).
   bool IsLastSolvePass(const Round& round) const;
 
@@ -123,6 +128,9 @@ class ConstraintSolver {
   std::array<ConstraintUser*, kMaxUsers> users_{};
   std::uint32_t user_count_ = 0;
   Input input_{};
+  std::vector<SolverBody> bodies_;
+  std::vector<SolverPose> poses_;
+  std::vector<SolverVelocityStep> velocity_steps_;
   float substep_dt_ = 0.0f;
   std::vector<std::uint8_t> island_exact_;  // by island
   std::vector<std::uint32_t> island_work_;  // by island: every user's constraints in it

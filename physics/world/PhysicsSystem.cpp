@@ -289,12 +289,7 @@ void PhysicsSystem::PrepareStep() {
   wake_keys_.clear();
   const auto active_count = static_cast<std::uint32_t>(active_.size());
   stats_.active_bodies = active_count;
-  solver_bodies_.resize(active_count + 1);
-  solver_poses_.resize(active_count + 1);
-  velocity_steps_.resize(active_count + 1);
-  solver_bodies_[0] = SolverBody();
-  velocity_steps_[0] = SolverVelocityStep();
-  solver_poses_[0] = SolverPose();
+  constraint_solver_.ResetBodies(active_count);
   islands_.Reset(active_count);
   BindConstraints();
   // Enough blocks for any split of last step's work over the jobs: its bytes (the cache holds two steps'),
@@ -312,9 +307,9 @@ void PhysicsSystem::PrepareStep() {
   input.active = active_;
   input.active_flags = active_flags_;
   input.solver_index = solver_index_;
-  input.solver_bodies = solver_bodies_.data();
-  input.velocity_steps = velocity_steps_.data();
-  input.solver_poses = solver_poses_.data();
+  input.solver_bodies = constraint_solver_.bodies().data();
+  input.velocity_steps = constraint_solver_.velocity_steps().data();
+  input.solver_poses = constraint_solver_.poses().data();
   input.cache = &pair_cache_;
   input.islands = &islands_;
   input.jointed_pairs = jointed_pairs_;
@@ -390,9 +385,9 @@ void PhysicsSystem::ApplyForces(std::uint32_t job) {
   FinishCounters& counters = finish_counters_[job];
   ForEachChunk(next_chunk_, static_cast<std::uint32_t>(active_.size()), kBodyChunk, [&](std::uint32_t i) {
     Body& body = body_manager_.BodyAt(active_[i].index);
-    SolverBody& solver = solver_bodies_[i + 1];
-    SolverPose& pose = solver_poses_[i + 1];
-    SolverVelocityStep& step = velocity_steps_[i + 1];
+    SolverBody& solver = constraint_solver_.bodies()[i + 1];
+    SolverPose& pose = constraint_solver_.poses()[i + 1];
+    SolverVelocityStep& step = constraint_solver_.velocity_steps()[i + 1];
     pose.center_of_mass = ToVec4(body.CenterOfMass());
     pose.rotation = body.rotation();
     solver.delta_position.setZero();
@@ -461,8 +456,8 @@ void PhysicsSystem::FinalizeIslands() {
   // contacts that touch them follow them by their velocity).
   for (std::uint32_t i = 0; i < active_.size(); ++i) {
     if (body_manager_.BodyAt(active_[i].index).IsDynamic()) continue;
-    SolverPose& pose = solver_poses_[i + 1];
-    SolverBody& body = solver_bodies_[i + 1];
+    SolverPose& pose = constraint_solver_.poses()[i + 1];
+    SolverBody& body = constraint_solver_.bodies()[i + 1];
     body.delta_position = body.linear_velocity * step_dt_;  // what the write-back adds to the position
     pose.center_of_mass += body.delta_position;
     const Vec4 turn = body.angular_velocity * step_dt_;
@@ -474,10 +469,6 @@ void PhysicsSystem::FinalizeIslands() {
   joint_user_.SetJoints(step_joints_, joint_island_body_);
   ConstraintSolver::Input input;
   input.islands = &islands_;
-  input.bodies = solver_bodies_.data();
-  input.poses = solver_poses_.data();
-  input.velocity_steps = velocity_steps_.data();
-  input.solver_body_count = static_cast<std::uint32_t>(solver_bodies_.size());
   input.dt = step_dt_;
   input.settings = &settings_;
   constraint_solver_.BeginStep(input, job_count_);
@@ -509,8 +500,8 @@ void PhysicsSystem::LinearCasts(std::uint32_t job) {
 
 bool PhysicsSystem::LinearCast(std::uint32_t active_index, CastScratch& scratch) {
   const Body& body = body_manager_.BodyAt(active_[active_index].index);
-  SolverPose& pose = solver_poses_[active_index + 1];
-  SolverBody& solved = solver_bodies_[active_index + 1];
+  SolverPose& pose = constraint_solver_.poses()[active_index + 1];
+  SolverBody& solved = constraint_solver_.bodies()[active_index + 1];
   // The body has not been written back yet: its pose is still the one the step started from.
   const Vec3 displacement = ToVec3(pose.center_of_mass) - body.CenterOfMass();
   const ConvexShape& shape = static_cast<const ConvexShape&>(*body.shape());
@@ -557,8 +548,8 @@ void PhysicsSystem::FinishIslands(std::uint32_t job) {
     bool awake = false;
     for (const std::uint32_t i : members) {
       Body& body = body_manager_.BodyAt(active_[i].index);
-      const SolverBody& solved = solver_bodies_[i + 1];
-      const SolverPose& pose = solver_poses_[i + 1];
+      const SolverBody& solved = constraint_solver_.bodies()[i + 1];
+      const SolverPose& pose = constraint_solver_.poses()[i + 1];
       body.linear_velocity_ = ToVec3(solved.linear_velocity);
       body.angular_velocity_ = ToVec3(solved.angular_velocity);
       ClampVelocities(body, finish_counters_[job]);  // the substeps after the first added gravity again

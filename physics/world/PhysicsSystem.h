@@ -176,9 +176,6 @@ class PhysicsSystem {
   std::vector<BodyID> active_;
   std::vector<std::uint8_t> active_flags_;   // by body index
   std::vector<std::uint32_t> solver_index_;  // by body index: active index + 1, 0 = not active
-  std::vector<SolverBody> solver_bodies_;    // [0] the fixed body, then the active bodies
-  std::vector<SolverPose> solver_poses_;
-  std::vector<SolverVelocityStep> velocity_steps_;  // what each substep adds to a dynamic body's velocity
   std::vector<ContactConstraint*> contacts_;
   std::vector<Constraint*> step_joints_;          // the joints this step solves, in slot order
   std::vector<std::uint32_t> joint_island_body_;  // per step joint: a moving body's active index
