@@ -123,29 +123,71 @@ std::vector<TileCoord> TilesOnPath(const NavMesh& navmesh, const PathResult& pat
   });
 }
 
+namespace {
+// Each ground polygon's island (polygons joined by Detour links, across tiles too), numbered from 0 in the
+// order ForEachGroundPoly meets them.
+std::unordered_map<dtPolyRef, int> LabelIslands(const dtNavMesh& mesh, int& islands) {
+  std::unordered_map<dtPolyRef, dtPolyRef> parent;
+  const auto find = [&](dtPolyRef ref) {
+    while (parent[ref] != ref) ref = parent[ref] = parent[parent[ref]];
+    return ref;
+  };
+  const auto ref_of = [&](const dtMeshTile& tile, int p) {
+    return mesh.getPolyRefBase(&tile) | static_cast<dtPolyRef>(p);
+  };
+  ForEachGroundPoly(mesh, [&](const dtMeshTile& tile, int p) { parent[ref_of(tile, p)] = ref_of(tile, p); });
+  ForEachGroundPoly(mesh, [&](const dtMeshTile& tile, int p) {
+    const dtPolyRef self = ref_of(tile, p);
+    for (unsigned int link = tile.polys[p].firstLink; link != DT_NULL_LINK; link = tile.links[link].next) {
+      const dtPolyRef other = tile.links[link].ref;
+      if (other == 0 || !parent.contains(other)) continue;
+      parent[find(self)] = find(other);
+    }
+  });
+  std::unordered_map<dtPolyRef, int> root_label, label;
+  islands = 0;
+  ForEachGroundPoly(mesh, [&](const dtMeshTile& tile, int p) {
+    const auto [root, fresh] = root_label.try_emplace(find(ref_of(tile, p)), islands);
+    if (fresh) ++islands;
+    label[ref_of(tile, p)] = root->second;
+  });
+  return label;
+}
+}  // namespace
+
 int CountIslands(const NavMesh& navmesh) {
   return navmesh.Read([](const dtNavMesh& mesh) {
-    std::unordered_map<dtPolyRef, dtPolyRef> parent;
-    const auto find = [&](dtPolyRef ref) {
-      while (parent[ref] != ref) ref = parent[ref] = parent[parent[ref]];
-      return ref;
-    };
-    ForEachGroundPoly(mesh, [&](const dtMeshTile& tile, int p) {
-      parent[mesh.getPolyRefBase(&tile) | static_cast<dtPolyRef>(p)] =
-          mesh.getPolyRefBase(&tile) | static_cast<dtPolyRef>(p);
-    });
-    ForEachGroundPoly(mesh, [&](const dtMeshTile& tile, int p) {
-      const dtPolyRef self = mesh.getPolyRefBase(&tile) | static_cast<dtPolyRef>(p);
-      for (unsigned int link = tile.polys[p].firstLink; link != DT_NULL_LINK; link = tile.links[link].next) {
-        const dtPolyRef other = tile.links[link].ref;
-        if (other == 0 || !parent.contains(other)) continue;
-        parent[find(self)] = find(other);
-      }
-    });
     int islands = 0;
-    for (const auto& [ref, up] : parent) islands += ref == up;
+    LabelIslands(mesh, islands);
     return islands;
   });
+}
+
+NavMeshTriangles TrianglesByIsland(const NavMesh& navmesh) {
+  NavMeshTriangles out;
+  navmesh.Read([&](const dtNavMesh& mesh) {
+    const std::unordered_map<dtPolyRef, int> islands = LabelIslands(mesh, out.islands);
+    ForEachGroundPoly(mesh, [&](const dtMeshTile& tile, int p) {
+      const dtPoly& poly = tile.polys[p];
+      const dtPolyDetail& detail = tile.detailMeshes[p];
+      const int island = islands.at(mesh.getPolyRefBase(&tile) | static_cast<dtPolyRef>(p));
+      const TileCoord coord{tile.header->x + navmesh.origin_tile().x,
+                            tile.header->y + navmesh.origin_tile().z};
+      for (int t = 0; t < detail.triCount; ++t) {
+        const unsigned char* corners = &tile.detailTris[(detail.triBase + t) * 4];
+        for (int k = 0; k < 3; ++k) {
+          // A corner below vertCount is a polygon vertex, above it a detail vertex.
+          const float* v = corners[k] < poly.vertCount
+                               ? &tile.verts[poly.verts[corners[k]] * 3]
+                               : &tile.detailVerts[(detail.vertBase + corners[k] - poly.vertCount) * 3];
+          out.vertices.push_back(navmesh.ToWorld(Vec3(v[0], v[1], v[2])));
+        }
+        out.island.push_back(island);
+        out.tile.push_back(coord);
+      }
+    });
+  });
+  return out;
 }
 
 }  // namespace strata::navmesh

@@ -1,5 +1,6 @@
 // Validation: checks of a built navmesh that tests and tools share: clearance around obstacles, whether a
-// path crosses a box, which tiles a path visits, and connectivity (islands of linked polygons).
+// path crosses a box, which tiles a path visits, connectivity (islands of linked polygons), and the surface
+// as triangles by island.
 // Each function takes the NavMesh's read lock for its duration; safe from any thread.
 #pragma once
 
@@ -24,5 +25,16 @@ std::vector<TileCoord> TilesOnPath(const NavMesh& navmesh, const PathResult& pat
 
 /// Number of islands of polygons connected through Detour links (across tile borders too).
 int CountIslands(const NavMesh& navmesh);
+
+/// The walkable surface as triangles (Detour's detail triangles of every ground polygon), for export and
+/// viewers: world vertices, three per triangle, and per triangle the island of its polygon (numbered
+/// 0 .. islands - 1 in the order islands are first met) and its tile.
+struct NavMeshTriangles {
+  std::vector<Vec3> vertices;
+  std::vector<int> island;
+  std::vector<TileCoord> tile;
+  int islands = 0;
+};
+NavMeshTriangles TrianglesByIsland(const NavMesh& navmesh);
 
 }  // namespace strata::navmesh

@@ -1,16 +1,20 @@
 // The `strata` CLI as a user runs it: simulate writes JSON lines; a bad scene exits 2 and writes nothing.
+#include <assimp/scene.h>
 #include <gtest/gtest.h>
 
 #include <sys/stat.h>
 #include <sys/wait.h>
 
+#include <assimp/Importer.hpp>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <set>
 #include <string>
+#include <tuple>
 
 namespace strata::test {
 namespace {
@@ -355,6 +359,27 @@ TEST(Cli, DemoBuildsTilesWhileSteppingAndWritesPictures) {
   png.read(signature, 8);
   EXPECT_EQ(std::string(signature + 1, 3), "PNG");
   EXPECT_GT(std::filesystem::file_size(out / "navmesh.obj"), 1000u);
+  // The same scene as glTF: the level, the navmesh by island (a colour per island) and the paths as lines.
+  Assimp::Importer importer;
+  const aiScene* scene = importer.ReadFile((out / "scene.glb").string(), 0);
+  ASSERT_NE(scene, nullptr) << importer.GetErrorString();
+  std::map<std::string, const aiMesh*> meshes;
+  for (unsigned i = 0; i < scene->mNumMeshes; ++i)
+    meshes[scene->mMeshes[i]->mName.C_Str()] = scene->mMeshes[i];
+  ASSERT_TRUE(meshes.contains("level") && meshes.contains("navmesh") && meshes.contains("paths"));
+  EXPECT_GT(meshes["level"]->mNumFaces, 100u);
+  const aiMesh& navmesh = *meshes["navmesh"];
+  EXPECT_GT(navmesh.mNumFaces, 50u);
+  ASSERT_NE(navmesh.mColors[0], nullptr);
+  std::set<std::tuple<float, float, float>> colours;
+  for (unsigned v = 0; v < navmesh.mNumVertices; ++v)
+    colours.insert({navmesh.mColors[0][v].r, navmesh.mColors[0][v].g, navmesh.mColors[0][v].b});
+  const auto islands_at = output.find("m^2 walkable, ");  // "... m^2 walkable, N islands"
+  ASSERT_NE(islands_at, std::string::npos);
+  const int islands = std::stoi(output.substr(islands_at + std::string("m^2 walkable, ").size()));
+  EXPECT_EQ(static_cast<int>(colours.size()), islands) << "a colour per island";
+  EXPECT_EQ(meshes["paths"]->mPrimitiveTypes, static_cast<unsigned>(aiPrimitiveType_LINE));
+  EXPECT_GT(meshes["paths"]->mNumFaces, 0u);
 }
 
 TEST(Cli, DemoOnTheSmallArenaGivesEveryAgentANavmesh) {

@@ -1,15 +1,18 @@
 // `strata demo [LEVEL]`: the main job. Imports a level (the bundled courtyard by default), fills it with
 // falling crates and rolling boulders, spawns agents that request navmesh tiles around themselves, and
 // steps the world while the tiles build in the background. Prints per-tile build figures, the agents'
-// paths and the longest foreground stall, and writes the navmesh as OBJ plus a top-down PNG.
+// paths and the longest foreground stall, and writes the navmesh as OBJ, a top-down PNG, and the level,
+// navmesh (coloured by island) and paths as one glTF binary.
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <map>
 #include <random>
 
+#include "assets/import/GltfExporter.h"
 #include "navmesh/LevelBake.h"
 #include "navmesh/NavMeshQuery.h"
 #include "navmesh/NavMeshService.h"
@@ -176,6 +179,16 @@ void PrintTileTable(const navmesh::NavMeshService& service) {
   }
 }
 
+/// The level's triangles (every level body's, world space).
+std::vector<Triangle> LevelTriangles(PhysicsSystem& world, const LoadedLevel& level) {
+  std::vector<Triangle> triangles;
+  for (const BodyID id : level.bodies) {
+    const auto shape = world.bodies().GetShape(id);
+    if (shape.ok()) (*shape)->GetTrianglesInBox(level.bounds.Expanded(1.0f), Pose{}, triangles);
+  }
+  return triangles;
+}
+
 Status DrawPicture(PhysicsSystem& world, const LoadedLevel& level, const navmesh::NavMeshService& service,
                    const std::vector<Agent>& agents, const std::vector<navmesh::PathResult>& paths,
                    const std::filesystem::path& path) {
@@ -186,14 +199,8 @@ Status DrawPicture(PhysicsSystem& world, const LoadedLevel& level, const navmesh
     float top;
   };
   std::vector<Face> faces;
-  for (const BodyID id : level.bodies) {
-    const auto shape = world.bodies().GetShape(id);
-    if (!shape.ok()) continue;
-    std::vector<Triangle> triangles;
-    (*shape)->GetTrianglesInBox(level.bounds.Expanded(1.0f), Pose{}, triangles);
-    for (const Triangle& t : triangles)
-      faces.push_back({t, std::max({t.vertices[0].y(), t.vertices[1].y(), t.vertices[2].y()})});
-  }
+  for (const Triangle& t : LevelTriangles(world, level))
+    faces.push_back({t, std::max({t.vertices[0].y(), t.vertices[1].y(), t.vertices[2].y()})});
   std::sort(faces.begin(), faces.end(), [](const Face& a, const Face& b) { return a.top < b.top; });
   const float low = level.bounds.min.y(), range = std::max(0.1f, level.bounds.Size().y());
   for (const Face& face : faces) {
@@ -241,6 +248,48 @@ Status DrawPicture(PhysicsSystem& world, const LoadedLevel& level, const navmesh
     image.DrawDot(agents[i].target, 3, {200, 30, 200});
   }
   return image.SavePng(path);
+}
+
+/// A colour per island that neighbours in number tell apart: hues a golden-ratio turn apart.
+Vec4 IslandColor(int island) {
+  const float hue = std::fmod(0.61803f * static_cast<float>(island), 1.0f) * 6.0f;
+  const float x = 1.0f - std::abs(std::fmod(hue, 2.0f) - 1.0f);
+  const int sector = static_cast<int>(hue);
+  const Vec3 rgb = sector == 0   ? Vec3(1, x, 0)
+                   : sector == 1 ? Vec3(x, 1, 0)
+                   : sector == 2 ? Vec3(0, 1, x)
+                   : sector == 3 ? Vec3(0, x, 1)
+                   : sector == 4 ? Vec3(x, 0, 1)
+                                 : Vec3(1, 0, x);
+  return {0.2f + 0.7f * rgb.x(), 0.2f + 0.7f * rgb.y(), 0.2f + 0.7f * rgb.z(), 1.0f};
+}
+
+/// Level (grey), navmesh (by island, lifted 2 cm off the level) and the agents' paths (red lines).
+Status WriteGltf(PhysicsSystem& world, const LoadedLevel& level, const navmesh::NavMesh& navmesh,
+                 const std::vector<navmesh::PathResult>& paths, const std::filesystem::path& path) {
+  GltfLayer level_layer{"level", {}, {}, {}, false};
+  for (const Triangle& t : LevelTriangles(world, level))
+    for (const Vec3& v : t.vertices) {
+      level_layer.indices.push_back(static_cast<std::uint32_t>(level_layer.vertices.size()));
+      level_layer.vertices.push_back(v);
+      level_layer.colors.emplace_back(0.55f, 0.55f, 0.55f, 1.0f);
+    }
+  GltfLayer navmesh_layer{"navmesh", {}, {}, {}, false};
+  const navmesh::NavMeshTriangles surface = navmesh::TrianglesByIsland(navmesh);
+  for (std::size_t i = 0; i < surface.vertices.size(); ++i) {
+    navmesh_layer.indices.push_back(static_cast<std::uint32_t>(i));
+    navmesh_layer.vertices.push_back(surface.vertices[i] + Vec3(0.0f, 0.02f, 0.0f));
+    navmesh_layer.colors.push_back(IslandColor(surface.island[i / 3]));
+  }
+  GltfLayer path_layer{"paths", {}, {}, {}, true};
+  for (const navmesh::PathResult& agent_path : paths)
+    for (std::size_t k = 1; k < agent_path.points.size(); ++k)
+      for (const Vec3& point : {agent_path.points[k - 1], agent_path.points[k]}) {
+        path_layer.indices.push_back(static_cast<std::uint32_t>(path_layer.vertices.size()));
+        path_layer.vertices.push_back(point + Vec3(0.0f, 0.1f, 0.0f));
+        path_layer.colors.emplace_back(0.9f, 0.1f, 0.1f, 1.0f);
+      }
+  return ExportGltf({level_layer, navmesh_layer, path_layer}, path);
 }
 
 int RunDemo(const DemoOptions& options) {
@@ -363,13 +412,15 @@ int RunDemo(const DemoOptions& options) {
 
   const std::filesystem::path obj = std::filesystem::path(options.out_dir) / "navmesh.obj";
   const std::filesystem::path png = std::filesystem::path(options.out_dir) / "navmesh.png";
+  const std::filesystem::path glb = std::filesystem::path(options.out_dir) / "scene.glb";
   for (const Status& written :
-       {navmesh.WriteObj(obj), DrawPicture(world, *level, **service, agents, paths, png)})
+       {navmesh.WriteObj(obj), DrawPicture(world, *level, **service, agents, paths, png),
+        WriteGltf(world, *level, navmesh, paths, glb)})
     if (!written) {
       std::cerr << "strata demo: " << written.message() << "\n";
       return 2;
     }
-  std::printf("wrote %s and %s\n", obj.string().c_str(), png.string().c_str());
+  std::printf("wrote %s, %s and %s\n", obj.string().c_str(), png.string().c_str(), glb.string().c_str());
   // A demo whose agents got no navmesh did not do its job, whatever the reason: say so in the exit code.
   if (stats.failures > 0 || navmesh.polygon_count() == 0) {
     std::cerr << "strata demo: the navmesh could not be built"
@@ -409,7 +460,7 @@ std::function<int()> AddDemoCommand(CLI::App& app) {
   demo->add_option("--navmesh-threads", options->navmesh_threads, "background navmesh threads")
       ->check(CLI::Range(1, 1024))
       ->capture_default_str();
-  demo->add_option("--out-dir", options->out_dir, "where navmesh.obj and navmesh.png go")
+  demo->add_option("--out-dir", options->out_dir, "where navmesh.obj, navmesh.png and scene.glb go")
       ->capture_default_str();
   demo->add_option("--seed", options->seed, "spawn seed")->capture_default_str();
   AddNavMeshSettingsOptions(*demo, options->settings);
