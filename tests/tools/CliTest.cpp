@@ -191,7 +191,7 @@ TEST(Cli, BadSceneExitsWithTwoAndWritesNothing) {
 TEST(Cli, NavmeshBakeWritesSetObjAndReportThenPathQueriesIt) {
   const auto nav = TempFile("arena.bin"), obj = TempFile("arena.obj"), report = TempFile("arena.json");
   ASSERT_EQ(RunCli("navmesh bake " + (kLevels / "arena.glb").string() + " --out " + nav.string() + " --obj " +
-                   obj.string() + " --report " + report.string()),
+                   obj.string() + " --json " + report.string()),
             0);
   std::ifstream report_file(report);
   const auto json = nlohmann::json::parse(report_file);
@@ -478,6 +478,37 @@ TEST(Cli, BenchSweepsThreadCountsAndWritesJson) {
   EXPECT_EQ(RunCli("bench --steps 2 --threads 1,x"), 2);
   EXPECT_EQ(RunCli("bench --steps 2 --job-system fibers"), 2);
   EXPECT_EQ(RunCli("bench --steps 2 --json " + (TempFile("no-such-dir") / "bench.json").string()), 2);
+}
+
+TEST(Cli, BroadPhaseAndNavmeshBenchesWriteTheirFiguresAsJson) {
+  const std::filesystem::path broad = TempFile("broadphase.json"), nav = TempFile("navmesh-bench.json");
+  ASSERT_EQ(RunCli("bench-broadphase --bodies 2000 --tiles 4 --queries 200 --frames 3 --max-threads 2 "
+                   "--no-bullet --json " +
+                   broad.string()),
+            0);
+  std::ifstream broad_file(broad);
+  const nlohmann::json broad_json = nlohmann::json::parse(broad_file);
+  EXPECT_EQ(broad_json["bodies"].get<int>(), 2000);
+  EXPECT_GT(broad_json["strata"]["aabb_query_us"].get<double>(), 0.0);
+  EXPECT_GT(broad_json["strata"]["hits_per_block"].get<double>(), 0.0);
+  // Threads 1 and 2, 1 and 32 mutexes, without and with per-object logic.
+  ASSERT_EQ(broad_json["game_object_update"].size(), 8u);
+  for (const auto& row : broad_json["game_object_update"]) {
+    EXPECT_GT(row["frame_ms"].get<double>(), 0.0);
+    EXPECT_GE(row["lock_wait_us_p99"].get<double>(), row["lock_wait_us_median"].get<double>());
+    EXPECT_GE(row["lock_wait_us_worst"].get<double>(), row["lock_wait_us_p99"].get<double>());
+  }
+  ASSERT_EQ(RunCli("bench-navmesh --crates 50 --repeats 1 --blocks 2 --steps 10 --json " + nav.string()), 0);
+  std::ifstream nav_file(nav);
+  const nlohmann::json nav_json = nlohmann::json::parse(nav_file);
+  EXPECT_GT(nav_json["tiles"]["count"].get<int>(), 0);
+  EXPECT_GT(nav_json["request_to_ready"]["tiles"].get<int>(), 0);
+  EXPECT_EQ(nav_json["step"]["steps_each"].get<int>(), 10);
+  EXPECT_GT(nav_json["step"]["with_jobs"]["mean_ms"].get<double>(), 0.0);
+  EXPECT_EQ(nav_json["step"]["blocked_by_navmesh_jobs_us"].get<double>(), 0.0) << "navmesh jobs take no lock";
+  for (const char* command : {"bench-broadphase --frames 1", "bench-navmesh"})
+    EXPECT_EQ(RunCli(std::string(command) + " --json " + (TempFile("no-such-dir") / "x.json").string()), 2)
+        << command;
 }
 
 TEST(Cli, BenchReportsAFailedJsonWriteAndLeavesDevicesAlone) {

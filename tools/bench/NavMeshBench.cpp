@@ -14,6 +14,7 @@
 #include "physics/body/BodyManager.h"
 #include "physics/shapes/BoxShape.h"
 #include "physics/world/PhysicsSystem.h"
+#include "tools/bench/JsonReport.h"
 
 namespace strata::bench {
 
@@ -23,6 +24,10 @@ using Clock = std::chrono::steady_clock;
 
 double Milliseconds(Clock::duration duration) {
   return std::chrono::duration<double, std::milli>(duration).count();
+}
+
+double Max(const std::vector<double>& values) {
+  return values.empty() ? 0.0 : *std::max_element(values.begin(), values.end());
 }
 
 double Median(std::vector<double> values) {
@@ -62,7 +67,7 @@ Result<BenchWorld> MakeWorld(const NavMeshBenchOptions& options) {
 }
 
 /// Gather + Recast per tile, against Recast alone on triangles gathered beforehand.
-void BenchTiles(const BenchWorld& bench, const NavMeshBenchOptions& options) {
+void BenchTiles(const BenchWorld& bench, const NavMeshBenchOptions& options, nlohmann::json& report) {
   const navmesh::TileGrid grid(options.settings.tile_size());
   std::vector<double> gather_ms, recast_ms, precollected_ms;
   double gather_total = 0.0, precollected_total = 0.0, full_total = 0.0;
@@ -95,16 +100,21 @@ void BenchTiles(const BenchWorld& bench, const NavMeshBenchOptions& options) {
   }
   std::printf("per tile (%zu tiles, %zu triangles gathered, median of %d builds each):\n", gather_ms.size(),
               triangles, options.repeats);
-  std::printf("  gather        %7.3f ms median, %7.3f ms max\n", Median(gather_ms),
-              *std::max_element(gather_ms.begin(), gather_ms.end()));
-  std::printf("  recast        %7.3f ms median, %7.3f ms max\n", Median(recast_ms),
-              *std::max_element(recast_ms.begin(), recast_ms.end()));
+  std::printf("  gather        %7.3f ms median, %7.3f ms max\n", Median(gather_ms), Max(gather_ms));
+  std::printf("  recast        %7.3f ms median, %7.3f ms max\n", Median(recast_ms), Max(recast_ms));
   std::printf("  pre-collected %7.3f ms median (Recast on triangles gathered beforehand)\n",
               Median(precollected_ms));
   std::printf(
       "  gather overhead: %.1f%% (all tiles: gather + build %.1f ms vs build from pre-collected %.1f ms; "
       "target <= 10%%)\n",
       100.0 * (full_total - precollected_total) / precollected_total, full_total, precollected_total);
+  report["tiles"] = {
+      {"count", gather_ms.size()},
+      {"triangles", triangles},
+      {"gather_ms", {{"median", Median(gather_ms)}, {"max", Max(gather_ms)}}},
+      {"recast_ms", {{"median", Median(recast_ms)}, {"max", Max(recast_ms)}}},
+      {"precollected_ms", {{"median", Median(precollected_ms)}}},
+      {"gather_overhead_percent", 100.0 * (full_total - precollected_total) / precollected_total}};
   (void)gather_total;
 }
 
@@ -125,7 +135,8 @@ std::unique_ptr<navmesh::NavMeshService> MakeLevelService(const BenchWorld& benc
 }
 
 /// One agent asks for the tiles around it; how long until each is published.
-void BenchRequestToReady(const BenchWorld& bench, const NavMeshBenchOptions& options) {
+void BenchRequestToReady(const BenchWorld& bench, const NavMeshBenchOptions& options,
+                         nlohmann::json& report) {
   navmesh::NavMeshServiceConfig config;
   config.settings = options.settings;
   config.worker_threads = options.navmesh_threads;
@@ -149,6 +160,12 @@ void BenchRequestToReady(const BenchWorld& bench, const NavMeshBenchOptions& opt
       ready_ms.empty() ? 0.0 : *std::min_element(ready_ms.begin(), ready_ms.end()), Median(ready_ms), all_ms);
   std::printf("  publishing a tile held the navmesh from path queries for at most %.3f ms\n",
               longest_publish_ms);
+  report["request_to_ready"] = {
+      {"tiles", ready_ms.size()},
+      {"first_ms", ready_ms.empty() ? 0.0 : *std::min_element(ready_ms.begin(), ready_ms.end())},
+      {"median_ms", Median(ready_ms)},
+      {"all_ms", all_ms},
+      {"longest_publish_ms", longest_publish_ms}};
 }
 
 struct StepFigures {
@@ -158,7 +175,7 @@ struct StepFigures {
 };
 
 /// Steps with and without navmesh jobs in alternating blocks (so drift hits both alike).
-void BenchStepWithJobs(BenchWorld& bench, const NavMeshBenchOptions& options) {
+void BenchStepWithJobs(BenchWorld& bench, const NavMeshBenchOptions& options, nlohmann::json& report) {
   navmesh::NavMeshServiceConfig config;
   config.settings = options.settings;
   config.worker_threads = options.navmesh_threads;
@@ -200,8 +217,7 @@ void BenchStepWithJobs(BenchWorld& bench, const NavMeshBenchOptions& options) {
         "  %-18s mean %7.3f ms, median %7.3f ms, max %7.3f ms; step blocked on body locks %.3f ms in all, "
         "at most %.3f ms in one step\n",
         name, sum / static_cast<double>(figures.step_ms.size()), Median(figures.step_ms),
-        *std::max_element(figures.step_ms.begin(), figures.step_ms.end()), figures.lock_wait_ms,
-        figures.max_step_lock_wait_ms);
+        Max(figures.step_ms), figures.lock_wait_ms, figures.max_step_lock_wait_ms);
     return sum / static_cast<double>(figures.step_ms.size());
   };
   std::printf(
@@ -216,6 +232,22 @@ void BenchStepWithJobs(BenchWorld& bench, const NavMeshBenchOptions& options) {
   std::printf(
       "  %zu tiles built while stepping; step %+.1f%% with jobs (target <= 3%% when a core is free)\n",
       builds_during, 100.0 * (busy - idle) / idle);
+  const auto figures_json = [](const StepFigures& figures, double mean) {
+    return nlohmann::json{{"mean_ms", mean},
+                          {"median_ms", Median(figures.step_ms)},
+                          {"max_ms", Max(figures.step_ms)},
+                          {"lock_wait_ms", figures.lock_wait_ms},
+                          {"max_step_lock_wait_ms", figures.max_step_lock_wait_ms}};
+  };
+  report["step"] = {{"bodies", bench.world->body_count_in_world()},
+                    {"physics_threads", options.physics_threads},
+                    {"navmesh_threads", options.navmesh_threads},
+                    {"steps_each", with_jobs.step_ms.size()},
+                    {"with_jobs", figures_json(with_jobs, busy)},
+                    {"without_jobs", figures_json(without_jobs, idle)},
+                    {"blocked_by_navmesh_jobs_us", with_jobs.lock_wait_ms * 1e3},
+                    {"tiles_built_while_stepping", builds_during},
+                    {"step_change_with_jobs_percent", 100.0 * (busy - idle) / idle}};
 }
 
 }  // namespace
@@ -225,6 +257,10 @@ int RunNavMeshBench(const NavMeshBenchOptions& options) {
     std::cerr << "strata bench-navmesh: " << status.message() << "\n";
     return 2;
   }
+  if (!options.json.empty() && !JsonDestinationExists(options.json)) {
+    std::cerr << "strata bench-navmesh: --json " << options.json << ": no such directory\n";
+    return 2;
+  }
   Result<BenchWorld> bench = MakeWorld(options);
   if (!bench) {
     std::cerr << "strata bench-navmesh: " << bench.error().message << "\n";
@@ -232,9 +268,19 @@ int RunNavMeshBench(const NavMeshBenchOptions& options) {
   }
   std::printf("level %s: %zu triangles, %d crates\n", options.level.c_str(), bench->level.triangles,
               options.crates);
-  BenchTiles(*bench, options);
-  BenchRequestToReady(*bench, options);
-  BenchStepWithJobs(*bench, options);
+  nlohmann::json report = {{"level", options.level},
+                           {"level_triangles", bench->level.triangles},
+                           {"crates", options.crates},
+                           {"hardware_threads", std::thread::hardware_concurrency()}};
+  BenchTiles(*bench, options, report);
+  BenchRequestToReady(*bench, options, report);
+  BenchStepWithJobs(*bench, options, report);
+  if (!options.json.empty()) {
+    if (const Status written = WriteJsonReport(options.json, report); !written) {
+      std::cerr << "strata bench-navmesh: " << written.message() << "\n";
+      return 2;
+    }
+  }
   return 0;
 }
 

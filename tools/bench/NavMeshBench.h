@@ -18,9 +18,10 @@ struct NavMeshBenchOptions {
   int physics_threads = 1;
   int navmesh_threads = 1;
   navmesh::NavMeshSettings settings;
+  std::string json;  ///< also write the figures here (empty: no file)
 };
 
-/// Runs every part and prints it; returns a process exit code.
+/// Runs every part and prints it (and writes the figures as JSON when asked); returns a process exit code.
 int RunNavMeshBench(const NavMeshBenchOptions& options);
 
 }  // namespace strata::bench

@@ -14,6 +14,7 @@
 
 #include "physics/core/OutputFile.h"
 #include "tools/bench/BenchRunner.h"
+#include "tools/bench/JsonReport.h"
 #include "tools/cli/Commands.h"
 
 namespace strata::cli {
@@ -109,17 +110,6 @@ nlohmann::json ToJson(const bench::EngineResult& r, double speedup) {
   return run;
 }
 
-bool WriteJson(const std::string& path, const nlohmann::json& document) {
-  return WriteOutputFile(path, document.dump(2) + "\n").ok();
-}
-
-/// Whether the JSON file can go where it was asked to, checked before minutes of benchmarking.
-bool JsonDestinationExists(const std::string& path) {
-  const std::filesystem::path parent = std::filesystem::path(path).parent_path();
-  std::error_code error;
-  return parent.empty() || std::filesystem::is_directory(parent, error);
-}
-
 int RunBench(BenchOptions options) {
   std::vector<std::string> names;
   if (options.scene == "all")
@@ -130,7 +120,7 @@ int RunBench(BenchOptions options) {
     std::cerr << "strata bench: --job-system must be 'default' or 'pool'\n";
     return 2;
   }
-  if (!options.json.empty() && !JsonDestinationExists(options.json)) {
+  if (!options.json.empty() && !bench::JsonDestinationExists(options.json)) {
     std::cerr << "strata bench: --json " << options.json << ": no such directory\n";
     return 2;
   }
@@ -197,7 +187,7 @@ int RunBench(BenchOptions options) {
     for (const bench::EngineResult& run : runs)
       if (!run.ok) return 1;
   }
-  if (!options.json.empty() && !WriteJson(options.json, document)) {
+  if (!options.json.empty() && !bench::WriteJsonReport(options.json, document).ok()) {
     std::cerr << "strata bench: cannot write " << options.json << "\n";
     return 1;
   }

@@ -4,7 +4,11 @@
 #include <cstdio>
 #include <thread>
 
+#include <iostream>
+#include <nlohmann/json.hpp>
+
 #include "tools/bench/BroadPhaseBench.h"
+#include "tools/bench/JsonReport.h"
 #include "tools/cli/Commands.h"
 
 namespace strata::cli {
@@ -19,6 +23,7 @@ struct BroadPhaseBenchOptions {
   int max_threads = 0;  // 0 = hardware threads
   double object_work_us = 1.0;
   bool bullet = true;
+  std::string json;  // also write the figures here
 };
 
 void Row(const char* what, double strata, double bullet, const char* unit) {
@@ -30,7 +35,29 @@ void Row(const char* what, double strata, double bullet, const char* unit) {
               unit, strata / bullet);
 }
 
+nlohmann::json ToJson(const bench::BroadPhaseFigures& f) {
+  return {{"prepare_per_body_us", f.prepare_per_body_us},
+          {"finalize_us", f.finalize_us},
+          {"finalize_batch_sizes", bench::kBatchSizes},
+          {"remove_us", f.remove_us},
+          {"move_us", f.move_us},
+          {"full_rebuild_ms", f.full_rebuild_ms},
+          {"incremental_rebuild_ms", f.incremental_rebuild_ms},
+          {"aabb_query_us", f.aabb_query_us},
+          {"ray_10m_us", f.ray_10m_us},
+          {"ray_100m_us", f.ray_100m_us},
+          {"aabb_query_busy_us", f.aabb_query_busy_us},
+          {"ray_10m_busy_us", f.ray_10m_busy_us},
+          {"ray_100m_busy_us", f.ray_100m_busy_us},
+          {"hits_per_block", f.hits_per_block},
+          {"hits_per_100m_ray", f.hits_per_100m_ray}};
+}
+
 int Run(const BroadPhaseBenchOptions& options) {
+  if (!options.json.empty() && !bench::JsonDestinationExists(options.json)) {
+    std::cerr << "strata bench-broadphase: --json " << options.json << ": no such directory\n";
+    return 2;
+  }
   const bench::OpenWorld world = bench::MakeOpenWorld(options.bodies, options.tiles, 42);
   const bench::QuerySet queries = bench::MakeQuerySet(world, options.queries, 7);
   std::printf("broad phase: %d bodies in %d tiles of 256 m (%.0f x %.0f m), %d queries of each kind\n",
@@ -72,6 +99,12 @@ int Run(const BroadPhaseBenchOptions& options) {
               strata.hits_per_100m_ray,
               with_bullet ? (" bullet " + std::to_string(bullet.hits_per_100m_ray)).c_str() : "");
 
+  nlohmann::json report = {{"bodies", options.bodies},
+                           {"tiles", options.tiles},
+                           {"queries", options.queries},
+                           {"strata", ToJson(strata)},
+                           {"game_object_update", nlohmann::json::array()}};
+  if (with_bullet) report["bullet"] = ToJson(bullet);
   const int hardware = static_cast<int>(std::thread::hardware_concurrency());
   const int max_threads = options.max_threads > 0 ? options.max_threads : hardware;
   std::printf(
@@ -93,9 +126,27 @@ int Run(const BroadPhaseBenchOptions& options) {
             work_us, threads, mutexes, figures.frame_ms, figures.lock_wait_us_per_thread_frame,
             figures.median_lock_wait_us, figures.p99_lock_wait_us, figures.max_lock_wait_us,
             figures.contended_per_thread_frame, figures.acquisitions_per_thread_frame);
+        report["game_object_update"].push_back({{"logic_us", work_us},
+                                                {"threads", threads},
+                                                {"mutexes", mutexes},
+                                                {"frame_ms", figures.frame_ms},
+                                                {"lock_wait_us_mean", figures.lock_wait_us_per_thread_frame},
+                                                {"lock_wait_us_median", figures.median_lock_wait_us},
+                                                {"lock_wait_us_p99", figures.p99_lock_wait_us},
+                                                {"lock_wait_us_worst", figures.max_lock_wait_us},
+                                                {"contended", figures.contended_per_thread_frame},
+                                                {"acquisitions", figures.acquisitions_per_thread_frame}});
       }
     }
     if (options.object_work_us <= 0.0) break;
+  }
+  report["hardware_threads"] = hardware;
+  report["frames"] = options.frames;
+  if (!options.json.empty()) {
+    if (const Status written = bench::WriteJsonReport(options.json, report); !written) {
+      std::cerr << "strata bench-broadphase: " << written.message() << "\n";
+      return 2;
+    }
   }
   return 0;
 }
@@ -119,6 +170,7 @@ std::function<int()> AddBroadPhaseBenchCommand(CLI::App& app) {
   command->add_option("--object-work-us", options->object_work_us, "Game logic per object in the second run")
       ->check(CLI::Range(0.0, 1000.0));
   command->add_flag("!--no-bullet", options->bullet, "Skip the Bullet peer");
+  command->add_option("--json", options->json, "Also write the figures to this JSON file");
   return [options] { return Run(*options); };
 }
 

@@ -22,6 +22,7 @@ std::function<int()> AddNavMeshBenchCommand(CLI::App& app) {
   command->add_option("--threads", options->physics_threads, "physics threads")->capture_default_str();
   command->add_option("--navmesh-threads", options->navmesh_threads, "navmesh threads")
       ->capture_default_str();
+  command->add_option("--json", options->json, "Also write the figures to this JSON file");
   AddNavMeshSettingsOptions(*command, options->settings);
 
   auto open_world = std::make_shared<bench::OpenWorldOptions>();

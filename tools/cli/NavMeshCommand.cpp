@@ -179,7 +179,7 @@ std::function<int()> AddNavMeshCommand(CLI::App& app) {
   bake_command->add_option("--out", bake->out, "navmesh set file to write (RecastDemo's MSET format)")
       ->required();
   bake_command->add_option("--obj", bake->obj, "also write the navmesh as OBJ");
-  bake_command->add_option("--report", bake->report, "write build figures as JSON");
+  bake_command->add_option("--report,--json", bake->report, "write build figures as JSON");
   bake_command->add_option("--threads", bake->threads, "background build threads")->capture_default_str();
   AddNavMeshSettingsOptions(*bake_command, bake->settings);
   AddLevelOptions(*bake_command, bake->level_options);
