@@ -1,12 +1,15 @@
 // LevelBake: builds every navmesh tile over a level with the background service and waits for the result.
 // The one place that decides how many tiles a level needs, so the CLI's bake and demo, the benches and the
-// tests size the tile table the same way. BakeLevel blocks its caller; the world may step on other threads.
+// tests size the tile table the same way; a bake may be split into shards (one per machine of a farm) and
+// merged. BakeLevel blocks its caller; the world may step on other threads. MergeShards: any thread.
 #pragma once
 
 #include <chrono>
 #include <cstddef>
+#include <filesystem>
 #include <functional>
 #include <memory>
+#include <vector>
 
 #include "navmesh/NavMeshService.h"
 
@@ -25,6 +28,11 @@ struct LevelBakeOptions {
   std::function<void(std::size_t built, std::size_t total)> progress;
   std::chrono::milliseconds progress_interval{100};
   std::chrono::milliseconds timeout{std::chrono::minutes(30)};
+  /// Scale-out: build only share `shard` of `shard_count` (0 <= shard < shard_count): the level's tiles in
+  /// coordinate order, every shard_count-th from the shard-th. Each tile's bytes are those a whole bake
+  /// gives it, so MergeShards of every share saves the same file as one bake.
+  int shard = 0;
+  int shard_count = 1;
 };
 
 /// A finished bake. The service keeps running: it owns the navmesh and the build log, and rebuilds tiles
@@ -35,9 +43,16 @@ struct LevelBake {
   double wall_ms = 0.0;   ///< from the request to the last tile published
 };
 
-/// Builds every tile over `level_bounds` from `world`. Fails for an empty or too large level, bad settings,
-/// a tile that could not be built (with Recast's or Detour's reason) or a bake that outlasts the timeout.
+/// Builds every tile over `level_bounds` from `world` (or the options' shard of them). Fails for an empty or
+/// too large level, bad settings, a tile that could not be built (with Recast's or Detour's reason) or a bake
+/// that outlasts the timeout.
 Result<LevelBake> BakeLevel(const PhysicsSystem& world, const AABB& level_bounds,
                             const LevelBakeOptions& options = {});
+
+/// The navmesh of every shard file (each saved from a sharded bake of one level): their tiles in one navmesh
+/// whose Save gives the bytes one whole bake saves. Fails, naming the file, for a file that does not load,
+/// navmesh parameters (tile size, origin, table size) that differ from the first file's, or a tile in two
+/// files.
+Result<std::unique_ptr<NavMesh>> MergeShards(const std::vector<std::filesystem::path>& shard_files);
 
 }  // namespace strata::navmesh

@@ -1,7 +1,8 @@
 // BakeLevel, the one bake the CLI, demo and benches share: levels of any extent bake every tile (extents that
 // are not a multiple of the tile, levels off the origin), a request wider than a small level still builds it,
 // too large or empty levels are clear errors, and the saved file is the same bytes however many threads
-// built it and in whatever order its tiles were published or rebuilt.
+// built it and in whatever order its tiles were published or rebuilt, or when it was baked in shards and
+// merged.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -249,6 +250,60 @@ TEST(LevelBake, AHeightFieldBakesTheNavMeshOfItsTriangles) {
     baked[k] = SavedBytes(bake->service->navmesh(), k == 0 ? "field" : "mesh");
   }
   EXPECT_EQ(baked[0], baked[1]);
+}
+
+TEST(LevelBake, ShardsMergeIntoTheBytesOfOneBake) {
+  // An 80 x 90 m floor off the origin with a few boxes on it: 56 tiles, split 3 and 8 ways (the farm's job
+  // array), each shard baked on its own world and saved, then merged.
+  auto world = MakeWorld();
+  AddSlab(*world, -41.3f, 38.9f, 7.7f, 97.9f, 0.0f);
+  for (int i = 0; i < 6; ++i) AddSlab(*world, -30.0f + 11.0f * i, -28.0f + 11.0f * i, 20.0f, 24.0f, 1.5f);
+  const AABB bounds = SlabBounds(-41.3f, 38.9f, 7.7f, 97.9f);
+  Result<navmesh::LevelBake> whole = navmesh::BakeLevel(*world, bounds, Options(2));
+  ASSERT_TRUE(whole.ok()) << whole.error().message;
+  const std::string expected = SavedBytes(whole->service->navmesh(), "whole");
+  for (const int count : {3, 8}) {
+    std::vector<std::filesystem::path> files;
+    std::size_t tiles = 0;
+    int stored = 0;  // tiles with walkable polygons (an eroded edge tile holds none and is not kept)
+    for (int shard = 0; shard < count; ++shard) {
+      navmesh::LevelBakeOptions options = Options(1);
+      options.shard = shard;
+      options.shard_count = count;
+      Result<navmesh::LevelBake> part = navmesh::BakeLevel(*world, bounds, options);
+      ASSERT_TRUE(part.ok()) << part.error().message;
+      tiles += part->tiles;
+      stored += part->service->navmesh().tile_count();
+      files.push_back(std::filesystem::path(::testing::TempDir()) /
+                      ("shard" + std::to_string(shard) + "of" + std::to_string(count) + ".bin"));
+      ASSERT_TRUE(part->service->navmesh().Save(files.back()).ok());
+    }
+    EXPECT_EQ(tiles, whole->tiles) << "the shards share the tiles out";
+    EXPECT_EQ(stored, whole->service->navmesh().tile_count());
+    std::reverse(files.begin(), files.end());  // the order of the files does not matter
+    Result<std::unique_ptr<navmesh::NavMesh>> merged = navmesh::MergeShards(files);
+    ASSERT_TRUE(merged.ok()) << merged.error().message;
+    EXPECT_EQ(SavedBytes(**merged, "merged" + std::to_string(count)), expected) << count << " shards";
+    // The same shard twice, or a shard of another level, is refused.
+    EXPECT_FALSE(navmesh::MergeShards({files[0], files[0]}).ok());
+  }
+  auto other = MakeWorld();
+  AddSlab(*other, 0.0f, 20.0f, 0.0f, 20.0f, 0.0f);
+  Result<navmesh::LevelBake> small = navmesh::BakeLevel(*other, SlabBounds(0, 20, 0, 20), Options(1));
+  ASSERT_TRUE(small.ok());
+  const std::string small_file = (std::filesystem::path(::testing::TempDir()) / "small.bin").string();
+  ASSERT_TRUE(small->service->navmesh().Save(small_file).ok());
+  const Result<std::unique_ptr<navmesh::NavMesh>> mixed =
+      navmesh::MergeShards({std::filesystem::path(::testing::TempDir()) / "shard0of3.bin", small_file});
+  ASSERT_FALSE(mixed.ok());
+  EXPECT_NE(mixed.error().message.find("small.bin"), std::string::npos) << mixed.error().message;
+  EXPECT_FALSE(navmesh::MergeShards({}).ok());
+  for (const auto& [shard, count] : {std::pair{0, 0}, {2, 2}, {-1, 3}}) {
+    navmesh::LevelBakeOptions options = Options(1);
+    options.shard = shard;
+    options.shard_count = count;
+    EXPECT_FALSE(navmesh::BakeLevel(*other, SlabBounds(0, 20, 0, 20), options).ok()) << shard << "/" << count;
+  }
 }
 
 }  // namespace

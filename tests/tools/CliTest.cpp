@@ -480,6 +480,30 @@ TEST(Cli, BenchSweepsThreadCountsAndWritesJson) {
   EXPECT_EQ(RunCli("bench --steps 2 --json " + (TempFile("no-such-dir") / "bench.json").string()), 2);
 }
 
+TEST(Cli, ShardedBakeMergesIntoTheFileOfOneBake) {
+  const std::string level = (kLevels / "courtyard.obj").string();
+  const auto whole = TempFile("whole.bin"), merged = TempFile("merged.bin");
+  ASSERT_EQ(RunCli("navmesh bake " + level + " --out " + whole.string()), 0);
+  std::string shards;
+  for (int k = 0; k < 3; ++k) {
+    const auto shard = TempFile("courtyard-" + std::to_string(k) + ".bin");
+    ASSERT_EQ(RunCli("navmesh bake " + level + " --threads 1 --shard " + std::to_string(k) + "/3 --out " +
+                     shard.string()),
+              0);
+    shards += " " + shard.string();
+  }
+  ASSERT_EQ(RunCli("navmesh merge" + shards + " --out " + merged.string()), 0);
+  std::ifstream a(whole, std::ios::binary), b(merged, std::ios::binary);
+  const std::string whole_bytes{std::istreambuf_iterator<char>(a), {}},
+      merged_bytes{std::istreambuf_iterator<char>(b), {}};
+  EXPECT_EQ(whole_bytes, merged_bytes);
+  for (const char* bad : {"3/3", "x/2", "1/0", "-1/2", "1/2/3"})
+    EXPECT_EQ(RunCli("navmesh bake " + level + " --shard " + bad + " --out " + TempFile("bad.bin").string()),
+              2)
+        << bad;
+  EXPECT_EQ(RunCli("navmesh merge" + shards + shards + " --out " + merged.string()), 2) << "a tile twice";
+}
+
 TEST(Cli, BroadPhaseAndNavmeshBenchesWriteTheirFiguresAsJson) {
   const std::filesystem::path broad = TempFile("broadphase.json"), nav = TempFile("navmesh-bench.json");
   ASSERT_EQ(RunCli("bench-broadphase --bodies 2000 --tiles 4 --queries 200 --frames 3 --max-threads 2 "

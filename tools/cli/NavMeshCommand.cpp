@@ -1,13 +1,17 @@
 // `strata navmesh bake LEVEL --out NAV.bin [--obj NAV.obj] [--report report.json]`: builds every navmesh
 // tile of a level with the background service and saves them in RecastDemo's tiled set format.
+// `--shard K/N` builds share K of N of the tiles; `strata navmesh merge SHARD... --out NAV.bin` joins the
+// shards' files into the file one bake writes, byte for byte.
 // `strata navmesh path NAV.bin --from x,y,z --to x,y,z [--json]`: a path query on a saved navmesh.
 // Bad input (missing or corrupt files, bad settings, bad points) exits with code 2.
 #include <unistd.h>
 
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <thread>
 
 #include "navmesh/LevelBake.h"
@@ -32,6 +36,12 @@ struct BakeOptions {
   std::string obj;
   std::string report;
   int threads = 2;
+  std::string shard;  // "K/N": build share K of N (a farm's job array); empty: every tile
+};
+
+struct MergeOptions {
+  std::vector<std::string> shards;
+  std::string out;
 };
 
 struct PathOptions {
@@ -87,8 +97,24 @@ nlohmann::json Report(const BakeOptions& options, const LoadedLevel& level,
             {"agent_max_slope", options.settings.agent_max_slope}}}};
 }
 
+/// "K/N" with 0 <= K < N.
+std::optional<std::pair<int, int>> ParseShard(const std::string& text) {
+  int shard = 0, count = 0;
+  char slash = 0, extra = 0;
+  if (std::sscanf(text.c_str(), "%d %c %d %c", &shard, &slash, &count, &extra) != 3 || slash != '/')
+    return std::nullopt;
+  if (count < 1 || count > 100000 || shard < 0 || shard >= count) return std::nullopt;
+  return std::pair{shard, count};
+}
+
 int RunBake(const BakeOptions& options) {
   navmesh::LevelBakeOptions bake_options;
+  if (!options.shard.empty()) {
+    const std::optional<std::pair<int, int>> shard = ParseShard(options.shard);
+    if (!shard) return Fail("bake", "--shard must be K/N with 0 <= K < N, got '" + options.shard + "'");
+    bake_options.shard = shard->first;
+    bake_options.shard_count = shard->second;
+  }
   bake_options.service.settings = options.settings;
   bake_options.service.worker_threads = options.threads;
   if (Status status = bake_options.service.Validate(); !status.ok()) return Fail("bake", status.message());
@@ -127,6 +153,19 @@ int RunBake(const BakeOptions& options) {
               report["build_ms"]["recast"]["median"].get<double>(),
               report["build_ms"]["recast"]["max"].get<double>(), wall_ms);
   std::printf("wrote %s\n", options.out.c_str());
+  return 0;
+}
+
+int RunMerge(const MergeOptions& options) {
+  const std::vector<std::filesystem::path> files(options.shards.begin(), options.shards.end());
+  Result<std::unique_ptr<navmesh::NavMesh>> merged = navmesh::MergeShards(files);
+  if (!merged) {
+    std::cerr << "strata " << merged.error().message << "\n";  // it names the command and the file
+    return 2;
+  }
+  if (Status saved = (*merged)->Save(options.out); !saved) return Fail("merge", saved.message());
+  std::printf("merged %zu shards: %d tiles, %d polygons; wrote %s\n", files.size(), (*merged)->tile_count(),
+              (*merged)->polygon_count(), options.out.c_str());
   return 0;
 }
 
@@ -181,8 +220,17 @@ std::function<int()> AddNavMeshCommand(CLI::App& app) {
   bake_command->add_option("--obj", bake->obj, "also write the navmesh as OBJ");
   bake_command->add_option("--report,--json", bake->report, "write build figures as JSON");
   bake_command->add_option("--threads", bake->threads, "background build threads")->capture_default_str();
+  bake_command->add_option("--shard", bake->shard,
+                           "K/N: build only share K of N of the tiles (coordinate order, every N-th); "
+                           "`navmesh merge` joins the shards' files into what one bake writes");
   AddNavMeshSettingsOptions(*bake_command, bake->settings);
   AddLevelOptions(*bake_command, bake->level_options);
+
+  auto merge = std::make_shared<MergeOptions>();
+  CLI::App* merge_command =
+      command->add_subcommand("merge", "join the files of a sharded bake into one navmesh set file");
+  merge_command->add_option("shards", merge->shards, "the shards' navmesh set files")->required();
+  merge_command->add_option("--out", merge->out, "navmesh set file to write")->required();
 
   auto path = std::make_shared<PathOptions>();
   CLI::App* path_command = command->add_subcommand("path", "find a path on a saved navmesh");
@@ -191,8 +239,9 @@ std::function<int()> AddNavMeshCommand(CLI::App& app) {
   path_command->add_option("--to", path->to, "target x,y,z")->required();
   path_command->add_flag("--json", path->json, "print JSON");
 
-  return [bake, path, bake_command, path_command] {
+  return [bake, path, merge, bake_command, path_command, merge_command] {
     if (bake_command->parsed()) return RunBake(*bake);
+    if (merge_command->parsed()) return RunMerge(*merge);
     if (path_command->parsed()) return RunPath(*path);
     return 2;
   };
