@@ -339,7 +339,10 @@ class NavMeshFuzzFindings : public ::testing::Test {
   std::string LoadWith(std::size_t offset, const std::vector<unsigned char>& bytes) {
     std::vector<char> edited = seed_;
     std::copy(bytes.begin(), bytes.end(), edited.begin() + static_cast<std::ptrdiff_t>(offset));
-    const auto path = std::filesystem::temp_directory_path() / "strata_fuzz_finding.bin";
+    // A name of this test's own: ctest runs the fixture's tests in parallel processes.
+    const auto path = std::filesystem::path(::testing::TempDir()) /
+                      (std::string("strata_fuzz_finding_") +
+                       ::testing::UnitTest::GetInstance()->current_test_info()->name() + ".bin");
     std::ofstream(path, std::ios::binary).write(edited.data(), static_cast<std::streamsize>(edited.size()));
     const auto loaded = navmesh::NavMesh::Load(path);
     std::filesystem::remove(path);
