@@ -536,7 +536,23 @@ TEST(Cli, BroadPhaseAndNavmeshBenchesWriteTheirFiguresAsJson) {
     for (const char* key : {"mean_ms", "median_ms", "max_ms", "lock_wait_ms"})
       EXPECT_TRUE(is_figure(nav_json["step"][part][key])) << part << " " << key;
   EXPECT_TRUE(is_figure(nav_json["step"]["blocked_by_navmesh_jobs_us"]));
-  for (const char* command : {"bench-broadphase --frames 1", "bench-navmesh"})
+  const std::filesystem::path open_world = TempFile("open-world.json");
+  ASSERT_EQ(RunCli("bench-navmesh --open-world --world-size 300 --bodies 1000 --agents 8 --walk 30 "
+                   "--tile-budget 16 --json " +
+                   open_world.string()),
+            0);
+  std::ifstream open_world_file(open_world);
+  const nlohmann::json open_world_json = nlohmann::json::parse(open_world_file);
+  EXPECT_EQ(open_world_json["tile_budget"].get<int>(), 16);
+  EXPECT_EQ(open_world_json["failures"].get<int>(), 0);
+  EXPECT_GT(open_world_json["tiles_built"].get<int>(), 0);
+  EXPECT_LE(open_world_json["most_tiles_held"].get<int>(), 16);
+  for (const char* key : {"step_mean_ms", "step_max_ms", "step_body_lock_wait_ms", "walk_wall_ms"})
+    EXPECT_TRUE(is_figure(open_world_json[key])) << key;
+  // Resident memory at the start and at each quarter of the walk.
+  ASSERT_EQ(open_world_json["memory"].size(), 5u);
+  for (const auto& snapshot : open_world_json["memory"]) EXPECT_TRUE(is_figure(snapshot["resident_mb"]));
+  for (const char* command : {"bench-broadphase --frames 1", "bench-navmesh", "bench-navmesh --open-world"})
     EXPECT_EQ(RunCli(std::string(command) + " --json " + (TempFile("no-such-dir") / "x.json").string()), 2)
         << command;
 }

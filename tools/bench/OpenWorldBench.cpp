@@ -16,6 +16,7 @@
 #include "physics/body/BodyManager.h"
 #include "physics/shapes/BoxShape.h"
 #include "physics/world/PhysicsSystem.h"
+#include "tools/bench/JsonReport.h"
 
 namespace strata::bench {
 
@@ -136,6 +137,10 @@ int RunOpenWorldBench(const OpenWorldOptions& options) {
     std::fprintf(stderr, "strata bench-navmesh: %s\n", valid.message().c_str());
     return 2;
   }
+  if (!options.json.empty() && !JsonDestinationExists(options.json)) {
+    std::fprintf(stderr, "strata bench-navmesh: --json %s: no such directory\n", options.json.c_str());
+    return 2;
+  }
   PhysicsSystemConfig config;
   config.max_bodies = static_cast<std::uint32_t>(options.bodies) + 16;
   config.thread_count = options.physics_threads;
@@ -228,6 +233,41 @@ int RunOpenWorldBench(const OpenWorldOptions& options) {
     std::printf("  step %d: %.1f / %zu / %zu", snapshot.step, snapshot.resident_mb, snapshot.stats.builds,
                 snapshot.stats.tiles_holding_data);
   std::printf("\n");
+  if (!options.json.empty()) {
+    nlohmann::json memory = nlohmann::json::array();
+    for (const Snapshot& snapshot : snapshots)
+      memory.push_back({{"step", snapshot.step},
+                        {"resident_mb", snapshot.resident_mb},
+                        {"tiles_built", snapshot.stats.builds},
+                        {"tiles_held", snapshot.stats.tiles_holding_data}});
+    const nlohmann::json report = {
+        {"world_size_m", options.world_size},
+        {"bodies", world.body_count_in_world()},
+        {"agents", options.agents},
+        {"walk_m", options.walk_distance},
+        {"steps", steps},
+        {"tile_budget", options.tile_budget},
+        {"physics_threads", options.physics_threads},
+        {"navmesh_threads", options.navmesh_threads},
+        {"hardware_threads", std::thread::hardware_concurrency()},
+        {"walk_wall_ms", walk_ms},
+        {"late_frames", late_frames},
+        {"step_mean_ms", step_ms_total / std::max(1, steps)},
+        {"step_max_ms", longest_step_ms},
+        {"step_body_lock_wait_ms", lock_wait_ms},
+        {"longest_request_ms", longest_request_ms},
+        {"tiles_built", stats.builds},
+        {"evictions", stats.evictions},
+        {"failures", stats.failures},
+        {"most_tiles_held", most_held},
+        {"on_ready_tile_share",
+         checks == 0 ? 0.0 : static_cast<double>(on_ready) / static_cast<double>(checks)},
+        {"memory", memory}};
+    if (const Status written = WriteJsonReport(options.json, report); !written) {
+      std::fprintf(stderr, "strata bench-navmesh: %s\n", written.message().c_str());
+      return 2;
+    }
+  }
   if (stats.failures > 0) {
     std::fprintf(stderr, "strata bench-navmesh: %zu tile builds failed: %s\n", stats.failures,
                  (*service)->last_error().c_str());

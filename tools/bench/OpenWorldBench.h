@@ -1,9 +1,12 @@
 // OpenWorldBench: agents walking across a generated open world far larger than the navmesh tile budget.
 // Squads of agents walk (bouncing off the world's edges) and ask for the tiles around them while the world
 // steps; the service builds them in the background and evicts the ones left behind. Prints steps, builds,
-// evictions, failures, tiles held, how often an agent stood on a ready tile, and memory over the walk.
+// evictions, failures, tiles held, how often an agent stood on a ready tile, and memory over the walk
+// (and, with `json`, writes them to a file).
 // Call from the main thread.
 #pragma once
+
+#include <string>
 
 #include "navmesh/NavMeshSettings.h"
 
@@ -21,6 +24,7 @@ struct OpenWorldOptions {
   int navmesh_threads = 1;
   unsigned seed = 7;
   navmesh::NavMeshSettings settings;
+  std::string json;  ///< also write the figures here (empty: don't)
 };
 
 /// Runs the walk and prints its figures; returns a process exit code (1 when a tile failed to build).

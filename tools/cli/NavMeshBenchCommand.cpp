@@ -57,6 +57,7 @@ std::function<int()> AddNavMeshBenchCommand(CLI::App& app) {
     open_world->physics_threads = options->physics_threads;
     open_world->navmesh_threads = options->navmesh_threads;
     open_world->settings = options->settings;
+    open_world->json = options->json;
     return bench::RunOpenWorldBench(*open_world);
   };
 }
