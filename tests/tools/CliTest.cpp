@@ -5,6 +5,7 @@
 #include <sys/stat.h>
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <assimp/Importer.hpp>
 #include <cmath>
 #include <cstdlib>
@@ -502,6 +503,34 @@ TEST(Cli, ShardedBakeMergesIntoTheFileOfOneBake) {
               2)
         << bad;
   EXPECT_EQ(RunCli("navmesh merge" + shards + shards + " --out " + merged.string()), 2) << "a tile twice";
+}
+
+TEST(Cli, LongCommandsShowABarOnATerminalAndOneSummaryLineOtherwise) {
+  const std::string level = (kLevels / "courtyard.obj").string();
+  const std::string bake = "navmesh bake " + level + " --out " + TempFile("progress.bin").string();
+  std::string errors;
+  ASSERT_EQ(RunCliErrors(bake, errors), 0) << errors;
+  EXPECT_EQ(errors.rfind("strata navmesh bake: ", 0), 0u) << errors;
+  EXPECT_EQ(std::count(errors.begin(), errors.end(), '\n'), 1) << errors;
+  EXPECT_EQ(errors.find('\r'), std::string::npos) << errors;
+  ASSERT_EQ(RunCliErrors("simulate " + (kScenes / "bounce.json").string() + " --steps 30 --out " +
+                             TempFile("progress.jsonl").string(),
+                         errors),
+            0);
+  EXPECT_EQ(errors.rfind("strata simulate: 30 steps", 0), 0u) << errors;
+
+  // On a terminal (util-linux `script` gives the command one) the bar is drawn, then the summary.
+  if (std::system("command -v script > /dev/null 2>&1") != 0) GTEST_SKIP() << "no `script` here";
+  const std::filesystem::path typescript = TempFile("progress-terminal.txt");
+  const std::string command = "script -qec '" + std::string(STRATA_CLI) + " " + bake + "' /dev/null > " +
+                              typescript.string() + " 2>&1";
+  ASSERT_EQ(std::system(command.c_str()), 0);
+  std::ifstream file(typescript);
+  const std::string screen((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+  const std::size_t bar = screen.find("strata navmesh bake [");
+  ASSERT_NE(bar, std::string::npos) << screen;
+  EXPECT_NE(screen.find(" tiles, ", bar), std::string::npos) << screen;
+  EXPECT_GT(screen.find("strata navmesh bake: "), bar) << screen;
 }
 
 TEST(Cli, BroadPhaseAndNavmeshBenchesWriteTheirFiguresAsJson) {

@@ -93,9 +93,12 @@ std::string Format(double value) {
 
 Result<std::vector<AccuracyRecord>> RunAccuracySuite(const std::vector<AccuracyCase>& cases,
                                                      const std::vector<AccuracySetting>& settings,
-                                                     const std::vector<std::string>& engines,
-                                                     int timing_runs) {
+                                                     const std::vector<std::string>& engines, int timing_runs,
+                                                     const bench::ProgressCallback& progress) {
   std::vector<AccuracyRecord> records;
+  const std::size_t passes = static_cast<std::size_t>(std::max(timing_runs, 1));
+  const std::size_t total = passes * cases.size() * engines.size() * settings.size();
+  std::size_t visited = 0;
   const AccuracySetting defaults = DefaultAccuracySetting();
   // Whole passes over the suite, each run's time the least of its passes: a burst of noise on a shared
   // machine then lands on one pass of a few runs, not on one engine's whole front.
@@ -104,6 +107,8 @@ Result<std::vector<AccuracyRecord>> RunAccuracySuite(const std::vector<AccuracyC
     for (const AccuracyCase& c : cases)
       for (const std::string& engine_name : engines)
         for (const AccuracySetting& setting : settings) {
+          if (progress) progress(visited, total);
+          ++visited;
           std::unique_ptr<AccuracyEngine> engine = MakeEngine(engine_name);
           if (!engine)
             return MakeError(ErrorCode::kInvalidArgument, "no engine '" + engine_name + "' in this build");

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "tools/accuracy/AccuracyCases.h"
+#include "tools/bench/Progress.h"
 
 namespace strata::accuracy {
 
@@ -30,7 +31,8 @@ struct AccuracyRecord {
 Result<std::vector<AccuracyRecord>> RunAccuracySuite(const std::vector<AccuracyCase>& cases,
                                                      const std::vector<AccuracySetting>& settings,
                                                      const std::vector<std::string>& engines,
-                                                     int timing_runs = 1);
+                                                     int timing_runs = 1,
+                                                     const bench::ProgressCallback& progress = {});
 
 /// Per case and engine: the runs no other run of the same engine beats on both error and time.
 std::vector<AccuracyRecord> ParetoFront(const std::vector<AccuracyRecord>& records,

@@ -15,6 +15,7 @@
 #include "physics/shapes/BoxShape.h"
 #include "physics/world/PhysicsSystem.h"
 #include "tools/bench/JsonReport.h"
+#include "tools/bench/Progress.h"
 
 namespace strata::bench {
 
@@ -175,7 +176,8 @@ struct StepFigures {
 };
 
 /// Steps with and without navmesh jobs in alternating blocks (so drift hits both alike).
-void BenchStepWithJobs(BenchWorld& bench, const NavMeshBenchOptions& options, nlohmann::json& report) {
+void BenchStepWithJobs(BenchWorld& bench, const NavMeshBenchOptions& options, nlohmann::json& report,
+                       Progress& progress) {
   navmesh::NavMeshServiceConfig config;
   config.settings = options.settings;
   config.worker_threads = options.navmesh_threads;
@@ -193,6 +195,8 @@ void BenchStepWithJobs(BenchWorld& bench, const NavMeshBenchOptions& options, nl
     StepFigures& figures = jobs ? with_jobs : without_jobs;
     const std::size_t builds_before = service->stats().builds;
     for (int i = 0; i < options.steps_per_block; ++i) {
+      progress.Update(static_cast<std::size_t>(block * options.steps_per_block + i),
+                      static_cast<std::size_t>(options.step_blocks * options.steps_per_block));
       // Keep the workers busy: whenever they run dry, every tile goes stale again.
       if (jobs && service->stats().queued == 0) (void)service->Invalidate(bench.level.bounds);
       const std::uint64_t wait_before = ThreadBodyLockWaitNanoseconds();
@@ -210,6 +214,7 @@ void BenchStepWithJobs(BenchWorld& bench, const NavMeshBenchOptions& options, nl
     }
     if (jobs) service->WaitUntilIdle(std::chrono::seconds(120));
   }
+  progress.Hide();
   const auto print = [](const char* name, const StepFigures& figures) {
     double sum = 0.0;
     for (const double ms : figures.step_ms) sum += ms;
@@ -268,19 +273,23 @@ int RunNavMeshBench(const NavMeshBenchOptions& options) {
   }
   std::printf("level %s: %zu triangles, %d crates\n", options.level.c_str(), bench->level.triangles,
               options.crates);
+  Progress progress("strata bench-navmesh", "steps");
   nlohmann::json report = {{"level", options.level},
                            {"level_triangles", bench->level.triangles},
                            {"crates", options.crates},
                            {"hardware_threads", std::thread::hardware_concurrency()}};
   BenchTiles(*bench, options, report);
   BenchRequestToReady(*bench, options, report);
-  BenchStepWithJobs(*bench, options, report);
+  BenchStepWithJobs(*bench, options, report, progress);
   if (!options.json.empty()) {
     if (const Status written = WriteJsonReport(options.json, report); !written) {
       std::cerr << "strata bench-navmesh: " << written.message() << "\n";
       return 2;
     }
   }
+  std::fflush(stdout);
+  progress.Finish(std::to_string(options.step_blocks * options.steps_per_block) +
+                  " steps with and without navmesh jobs");
   return 0;
 }
 

@@ -17,6 +17,7 @@
 #include "physics/shapes/BoxShape.h"
 #include "physics/world/PhysicsSystem.h"
 #include "tools/bench/JsonReport.h"
+#include "tools/bench/Progress.h"
 
 namespace strata::bench {
 
@@ -183,7 +184,9 @@ int RunOpenWorldBench(const OpenWorldOptions& options) {
   double longest_request_ms = 0.0, step_ms_total = 0.0, longest_step_ms = 0.0;
   const std::uint64_t lock_wait_start = ThreadBodyLockWaitNanoseconds();
   const Clock::time_point walk_start = Clock::now();
+  Progress progress("strata bench-navmesh --open-world", "steps");
   for (int step = 0; step < steps; ++step) {
+    progress.Update(static_cast<std::size_t>(step), static_cast<std::size_t>(steps));
     if (step % kRequestEverySteps == 0) {
       for (const Agent& agent : agents) {
         ++checks;
@@ -213,6 +216,7 @@ int RunOpenWorldBench(const OpenWorldOptions& options) {
       snapshots.push_back({step + 1, ResidentMegabytes(), (*service)->stats()});
   }
   const double walk_ms = Milliseconds(Clock::now() - walk_start);
+  progress.Hide();
   const double lock_wait_ms = static_cast<double>(ThreadBodyLockWaitNanoseconds() - lock_wait_start) * 1e-6;
   (void)(*service)->WaitUntilIdle(std::chrono::seconds(60));
   const navmesh::NavMeshServiceStats stats = (*service)->stats();
@@ -268,6 +272,10 @@ int RunOpenWorldBench(const OpenWorldOptions& options) {
       return 2;
     }
   }
+  std::fflush(stdout);
+  progress.Finish(std::to_string(steps) + " steps, " + std::to_string(stats.builds) + " tiles built, " +
+                  std::to_string(stats.evictions) + " evicted, " + std::to_string(stats.failures) +
+                  " failures");
   if (stats.failures > 0) {
     std::fprintf(stderr, "strata bench-navmesh: %zu tile builds failed: %s\n", stats.failures,
                  (*service)->last_error().c_str());

@@ -5,6 +5,7 @@
 #include <set>
 
 #include "tools/accuracy/AccuracyReport.h"
+#include "tools/bench/Progress.h"
 #include "tools/cli/Commands.h"
 
 namespace strata::cli {
@@ -54,8 +55,10 @@ int RunAccuracy(const AccuracyOptions& options) {
     std::cerr << "strata accuracy: cannot use output directory " << options.out_dir << "\n";
     return 2;
   }
+  bench::Progress progress("strata accuracy", "runs");
   Result<std::vector<AccuracyRecord>> records =
-      RunAccuracySuite(cases, settings, engines, options.timing_runs);
+      RunAccuracySuite(cases, settings, engines, options.timing_runs, progress.Callback());
+  progress.Hide();
   if (!records) {
     std::cerr << "strata accuracy: " << records.error().message << "\n";
     return 1;
@@ -93,6 +96,9 @@ int RunAccuracy(const AccuracyOptions& options) {
   std::printf("wrote %s, %s, %s (%zu runs); %d case(s) fail at Strata's default setting\n",
               (out / "accuracy.json").c_str(), (out / "accuracy.md").c_str(), (out / "accuracy.png").c_str(),
               records->size(), failed_defaults);
+  std::fflush(stdout);
+  progress.Finish(std::to_string(records->size()) + " runs, " + std::to_string(failed_defaults) +
+                  " failing at the default setting");
   return 0;
 }
 

@@ -15,6 +15,7 @@
 #include "physics/core/OutputFile.h"
 #include "tools/bench/BenchRunner.h"
 #include "tools/bench/JsonReport.h"
+#include "tools/bench/Progress.h"
 #include "tools/cli/Commands.h"
 
 namespace strata::cli {
@@ -130,6 +131,21 @@ int RunBench(BenchOptions options) {
   nlohmann::json document = {{"hardware_threads", std::thread::hardware_concurrency()},
                              {"job_system", options.job_system},
                              {"scenes", nlohmann::json::array()}};
+  bench::Progress progress("strata bench", "runs");
+  bool with_bullet = false;
+#ifdef STRATA_HAVE_BULLET
+  with_bullet = options.bullet;
+#endif
+  const std::size_t total_runs = names.size() * (options.threads.size() + (with_bullet ? 1 : 0));
+  std::size_t runs_done = 0;
+  // The rows print as runs end; the bar says which run a long wait is in.
+  const auto run_with_progress = [&](auto&& run) {
+    progress.Update(runs_done, total_runs);
+    bench::EngineResult result = run();
+    progress.Hide();
+    ++runs_done;
+    return result;
+  };
   for (const std::string& name : names) {
     bench::BenchScene scene = bench::MakeBenchScene(name);
     if (scene.bodies.empty()) {
@@ -158,7 +174,8 @@ int RunBench(BenchOptions options) {
                                  {"pair_cache_degrees", scene.pair_cache_max_angle}};
     nlohmann::json strata_json = nlohmann::json::array();
     for (const int threads : options.threads) {
-      runs.push_back(bench::RunIsolated([&] { return bench::RunStrata(scene, threads, job_system); }));
+      runs.push_back(run_with_progress(
+          [&] { return bench::RunIsolated([&] { return bench::RunStrata(scene, threads, job_system); }); }));
       const double base = runs.front().StepsPerSecond();
       const double speedup = base > 0.0 ? runs.back().StepsPerSecond() / base : 0.0;
       PrintRow("strata", scene, runs.back(), speedup);
@@ -168,7 +185,8 @@ int RunBench(BenchOptions options) {
     scene_json["strata"] = strata_json;
 #ifdef STRATA_HAVE_BULLET
     if (options.bullet) {
-      const bench::EngineResult bullet = bench::RunIsolated([&] { return bench::RunBullet(scene); });
+      const bench::EngineResult bullet =
+          run_with_progress([&] { return bench::RunIsolated([&] { return bench::RunBullet(scene); }); });
       PrintRow("bullet", scene, bullet, 1.0);
       scene_json["bullet"] = ToJson(bullet, 1.0);
       if (bullet.ok)
@@ -191,6 +209,7 @@ int RunBench(BenchOptions options) {
     std::cerr << "strata bench: cannot write " << options.json << "\n";
     return 1;
   }
+  progress.Finish(std::to_string(runs_done) + " runs of " + std::to_string(names.size()) + " scene(s)");
   return 0;
 }
 

@@ -9,6 +9,7 @@
 
 #include "tools/bench/BroadPhaseBench.h"
 #include "tools/bench/JsonReport.h"
+#include "tools/bench/Progress.h"
 #include "tools/cli/Commands.h"
 
 namespace strata::cli {
@@ -63,11 +64,25 @@ int Run(const BroadPhaseBenchOptions& options) {
   std::printf("broad phase: %d bodies in %d tiles of 256 m (%.0f x %.0f m), %d queries of each kind\n",
               options.bodies, options.tiles, world.extent.Size().x(), world.extent.Size().z(),
               options.queries);
+  bench::Progress progress("strata bench-broadphase", "parts");
+  const int hardware = static_cast<int>(std::thread::hardware_concurrency());
+  const int max_threads = options.max_threads > 0 ? options.max_threads : hardware;
+  int thread_counts = 0;
+  for (int threads = 1; threads <= max_threads; threads *= 2) ++thread_counts;
+  // Strata's and Bullet's figures, then each (logic, threads, mutexes) run of the game-object update.
+  const std::size_t parts =
+      2 + static_cast<std::size_t>(thread_counts) * 2 * (options.object_work_us > 0.0 ? 2 : 1);
+  std::size_t parts_done = 0;
+  progress.Update(parts_done, parts);
   const bench::BroadPhaseFigures strata = bench::MeasureStrata(world, queries);
+  progress.Update(++parts_done, parts);
   bench::BroadPhaseFigures bullet;
 #ifdef STRATA_HAVE_BULLET
   if (options.bullet) bullet = bench::MeasureBullet(world, queries);
-#else
+#endif
+  progress.Hide();
+  ++parts_done;
+#ifndef STRATA_HAVE_BULLET
   if (options.bullet) std::printf("  (Bullet not built: install libbullet-dev and reconfigure)\n");
 #endif
   const bool with_bullet = bullet.aabb_query_us >= 0.0;
@@ -105,8 +120,6 @@ int Run(const BroadPhaseBenchOptions& options) {
                            {"strata", ToJson(strata)},
                            {"game_object_update", nlohmann::json::array()}};
   if (with_bullet) report["bullet"] = ToJson(bullet);
-  const int hardware = static_cast<int>(std::thread::hardware_concurrency());
-  const int max_threads = options.max_threads > 0 ? options.max_threads : hardware;
   std::printf(
       "game-object update: each thread takes a range of the %zu kinematic bodies, reads and sets each\n"
       "one's position and ray casts for every 4th, %d frames; lock wait = time blocked on body mutexes\n"
@@ -117,8 +130,11 @@ int Run(const BroadPhaseBenchOptions& options) {
   for (const double work_us : {0.0, options.object_work_us}) {
     for (int threads = 1; threads <= max_threads; threads *= 2) {
       for (const std::uint32_t mutexes : {1u, 32u}) {
+        progress.Update(parts_done, parts);
         const bench::GameObjectFigures figures =
             bench::MeasureGameObjectUpdate(world, threads, mutexes, options.frames, work_us);
+        progress.Hide();
+        ++parts_done;
         std::printf(
             "  logic %3.1f us, %2d threads, %2u mutexes: frame %7.3f ms, lock wait per thread per frame: "
             "mean "
@@ -148,6 +164,8 @@ int Run(const BroadPhaseBenchOptions& options) {
       return 2;
     }
   }
+  std::fflush(stdout);
+  progress.Finish(std::to_string(options.bodies) + " bodies, " + std::to_string(parts_done) + " parts");
   return 0;
 }
 

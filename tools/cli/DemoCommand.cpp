@@ -21,6 +21,7 @@
 #include "physics/shapes/SphereShape.h"
 #include "physics/world/PhysicsSystem.h"
 #include "physics/world/WorldQuery.h"
+#include "tools/bench/Progress.h"
 #include "tools/cli/Commands.h"
 #include "tools/cli/NavMeshOptions.h"
 #include "tools/cli/Validators.h"
@@ -351,7 +352,9 @@ int RunDemo(const DemoOptions& options) {
   // The game loop: agents (re)request tiles around them every second; the world steps at 60 Hz.
   double longest_frame_ms = 0.0, longest_request_ms = 0.0, longest_step_ms = 0.0, step_ms_total = 0.0;
   int steps_with_jobs = 0;
+  bench::Progress progress("strata demo", "steps");
   for (int step = 0; step < options.steps; ++step) {
+    progress.Update(static_cast<std::size_t>(step), static_cast<std::size_t>(options.steps));
     const Clock::time_point frame_start = Clock::now();
     if (step % 60 == 0) {
       // Around where each agent stands and where it wants to go (nearer tiles first).
@@ -377,6 +380,8 @@ int RunDemo(const DemoOptions& options) {
   }
   const bool idle = (*service)->WaitUntilIdle(std::chrono::seconds(60));
   const navmesh::NavMeshServiceStats stats = (*service)->stats();
+  progress.Finish(std::to_string(options.steps) + " steps, " + std::to_string(stats.builds) +
+                  " tile builds, " + std::to_string(stats.failures) + " failures");
 
   PrintTileTable(**service);
   std::printf("\n%zu builds (%zu rebuilds of stale tiles), %zu failures; %zu tiles ready%s\n", stats.builds,

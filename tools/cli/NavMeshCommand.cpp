@@ -4,7 +4,6 @@
 // shards' files into the file one bake writes, byte for byte.
 // `strata navmesh path NAV.bin --from x,y,z --to x,y,z [--json]`: a path query on a saved navmesh.
 // Bad input (missing or corrupt files, bad settings, bad points) exits with code 2.
-#include <unistd.h>
 
 #include <cstdio>
 #include <filesystem>
@@ -21,6 +20,7 @@
 #include "physics/core/JobSystem.h"
 #include "physics/core/OutputFile.h"
 #include "physics/world/PhysicsSystem.h"
+#include "tools/bench/Progress.h"
 #include "tools/cli/Commands.h"
 #include "tools/cli/NavMeshOptions.h"
 
@@ -54,14 +54,6 @@ struct PathOptions {
 int Fail(const std::string& command, const std::string& message) {
   std::cerr << "strata navmesh " << command << ": " << message << "\n";
   return 2;
-}
-
-void DrawProgress(std::size_t done, std::size_t total) {
-  constexpr int kWidth = 40;
-  const int filled = total == 0 ? kWidth : static_cast<int>(kWidth * done / total);
-  std::printf("\r[%s%s] %zu/%zu tiles", std::string(static_cast<std::size_t>(filled), '#').c_str(),
-              std::string(static_cast<std::size_t>(kWidth - filled), '.').c_str(), done, total);
-  std::fflush(stdout);
 }
 
 nlohmann::json Report(const BakeOptions& options, const LoadedLevel& level,
@@ -128,11 +120,12 @@ int RunBake(const BakeOptions& options) {
   for (const std::string& warning : level->warnings)
     std::fprintf(stderr, "strata navmesh bake: warning: %s\n", warning.c_str());
 
-  const bool terminal = isatty(fileno(stdout));
-  if (terminal) bake_options.progress = DrawProgress;
+  bench::Progress progress("strata navmesh bake", "tiles");
+  if (progress.terminal()) bake_options.progress = progress.Callback();
   Result<navmesh::LevelBake> bake = navmesh::BakeLevel(**world, level->bounds, bake_options);
-  if (terminal) std::printf("\n");
   if (!bake) return Fail("bake", options.level + ": " + bake.error().message);
+  progress.Finish(std::to_string(bake->service->build_log().size()) + " tiles built, " +
+                  std::to_string(bake->service->navmesh().tile_count()) + " with polygons");
   const navmesh::NavMeshService& service = *bake->service;
   const double wall_ms = bake->wall_ms;
 

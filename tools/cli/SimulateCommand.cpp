@@ -1,6 +1,8 @@
 // `strata simulate SCENE.json --steps N [--out states.jsonl] [--every K]`: runs a scene and writes one JSON
 // line per recorded step (with --constraint-forces, each joint's force and torque too). A bad scene exits
 // with code 2 before anything is written.
+#include <unistd.h>
+
 #include <chrono>
 #include <cstdio>
 #include <fstream>
@@ -11,6 +13,7 @@
 #include "assets/scene/SceneLoader.h"
 #include "physics/body/BodyInterface.h"
 #include "physics/core/OutputFile.h"
+#include "tools/bench/Progress.h"
 #include "tools/cli/Commands.h"
 
 namespace strata::cli {
@@ -107,7 +110,10 @@ int RunSimulate(const SimulateOptions& options) {
   double slowest_ms = 0.0, total_ms = 0.0;
   int lines = 0;
   std::size_t linear_clamps = 0, angular_clamps = 0;
+  // State lines going to the terminal are progress enough; a bar would break them up.
+  bench::Progress progress("strata simulate", "steps", stderr, file && isatty(STDERR_FILENO));
   for (int step = 1; step <= options.steps; ++step) {
+    progress.Update(static_cast<std::size_t>(step - 1), static_cast<std::size_t>(options.steps));
     const auto start = std::chrono::steady_clock::now();
     if (Status stepped = world->system->Step(scene->dt); !stepped) {
       std::cerr << "strata simulate: step " << step << ": " << stepped.message() << "\n";
@@ -135,6 +141,7 @@ int RunSimulate(const SimulateOptions& options) {
     std::cerr << "strata simulate: " << written.message() << "\n";
     return 2;
   }
+  progress.Finish(std::to_string(options.steps) + " steps, " + std::to_string(lines) + " state lines");
   if (!options.out.empty()) PrintSummary(*scene, *world, options, lines, total_ms, slowest_ms);
   // Limits are never silent: a body that hit its max_linear_velocity or max_angular_velocity is reported.
   if (linear_clamps + angular_clamps > 0)
