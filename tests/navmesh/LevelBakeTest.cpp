@@ -11,7 +11,10 @@
 #include <iterator>
 
 #include "NavMeshTestWorld.h"
+#include "assets/import/MeshExporter.h"
+#include "assets/level/LevelLoader.h"
 #include "navmesh/LevelBake.h"
+#include "tools/levelgen/LevelGenerator.h"
 
 namespace strata::test {
 namespace {
@@ -69,6 +72,43 @@ TEST(LevelBake, FloorsOfOddSizesAndPlacesBakeEveryTile) {
     ASSERT_TRUE(path.ok()) << path.error().message;
     EXPECT_TRUE(path->reached_end);
   }
+}
+
+TEST(LevelBake, AGeneratedFieldIsTheSameForItsSeedAndWalkableCornerToCorner) {
+  // 100 m is not a whole number of 25.6 m cells: the ground still ends exactly at the size.
+  const levelgen::GeneratedLevel field = levelgen::Field(100.0f, 5);
+  const levelgen::GeneratedLevel again = levelgen::Field(100.0f, 5);
+  const levelgen::GeneratedLevel other = levelgen::Field(100.0f, 6);
+  ASSERT_EQ(field.mesh.vertices.size(), again.mesh.vertices.size());
+  EXPECT_TRUE(
+      std::equal(field.mesh.vertices.begin(), field.mesh.vertices.end(), again.mesh.vertices.begin()));
+  EXPECT_FALSE(
+      other.mesh.vertices.size() == field.mesh.vertices.size() &&
+      std::equal(field.mesh.vertices.begin(), field.mesh.vertices.end(), other.mesh.vertices.begin()))
+      << "another seed, other features";
+  AABB bounds;
+  for (const Vec3& vertex : field.mesh.vertices) bounds.Encapsulate(vertex);
+  EXPECT_EQ(bounds.min.x(), 0.0f);
+  EXPECT_EQ(bounds.min.z(), 0.0f);
+  EXPECT_EQ(bounds.max.x(), 100.0f);
+  EXPECT_EQ(bounds.max.z(), 100.0f);
+  EXPECT_EQ(bounds.min.y(), 0.0f);
+  EXPECT_LE(bounds.max.y(), 8.0f);
+
+  const std::filesystem::path path = std::filesystem::path(::testing::TempDir()) / "field.obj";
+  ASSERT_TRUE(ExportMesh(field.mesh, path, "objnomtl").ok());
+  auto world = MakeWorld();
+  const Result<LoadedLevel> level = LoadLevel(*world, path);
+  ASSERT_TRUE(level.ok()) << level.error().message;
+  const Result<navmesh::LevelBake> bake = navmesh::BakeLevel(*world, level->bounds, Options(2));
+  ASSERT_TRUE(bake.ok()) << bake.error().message;
+  const navmesh::NavMesh& navmesh = bake->service->navmesh();
+  // Features cover at most a sixth of a cell, and roofs add walkable area back.
+  EXPECT_GT(navmesh.WalkableArea(), 0.8f * 100.0f * 100.0f);
+  // Features keep 2 m from their cell's edges, so the lanes along the edges link every corner.
+  const auto path_across = MakeQuery(navmesh)->FindPath({1.0f, 0.0f, 1.0f}, {99.0f, 0.0f, 99.0f});
+  ASSERT_TRUE(path_across.ok()) << path_across.error().message;
+  EXPECT_TRUE(path_across->reached_end);
 }
 
 TEST(LevelBake, EmptyAndOversizedLevelsAreClearErrors) {

@@ -1,5 +1,6 @@
 #include "tools/levelgen/LevelGenerator.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace strata::levelgen {
@@ -107,6 +108,71 @@ GeneratedLevel Courtyard() {
   const float steep_run = 3.0f / std::tan(50.0f * kPi / 180.0f);
   builder.AddRamp({56.0f, 0.0f, 54.0f - steep_run}, {60.0f, 3.0f, 54.0f}, false, true);
   return {"courtyard", builder.Take()};
+}
+
+namespace {
+
+// SplitMix64: a fixed, well-mixed sequence from the seed, the same on every platform.
+class FieldRandom {
+ public:
+  explicit FieldRandom(std::uint64_t seed) : state_(seed) {}
+  std::uint64_t Next() {
+    std::uint64_t z = (state_ += 0x9E3779B97F4A7C15ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return z ^ (z >> 31);
+  }
+  /// In [low, high), on a 1/1024 grid of the span so the file's numbers are short and exact.
+  float Uniform(float low, float high) {
+    return low + (high - low) * static_cast<float>(Next() % 1024) / 1024.0f;
+  }
+
+ private:
+  std::uint64_t state_;
+};
+
+constexpr float kFieldCell = 25.6f;
+
+// One feature inside the cell whose low corner is (x, z): it keeps 2 m from the cell's edges, so features
+// never touch and the ground between them stays walkable.
+void AddFieldFeature(MeshBuilder& builder, FieldRandom& random, float x, float z) {
+  const float margin = 2.0f, span = kFieldCell - 2.0f * margin;
+  const std::uint64_t kind = random.Next() % 10;
+  const float width = random.Uniform(4.0f, 10.0f), depth = random.Uniform(4.0f, 10.0f);
+  const float x0 = x + margin + random.Uniform(0.0f, span - width);
+  const float z0 = z + margin + random.Uniform(0.0f, span - depth);
+  if (kind < 3) {  // open ground
+    return;
+  } else if (kind < 6) {  // a building
+    builder.AddBox({x0, 0.0f, z0}, {x0 + width, random.Uniform(2.5f, 8.0f), z0 + depth});
+  } else if (kind < 8) {  // a ramp up onto a roof: a second walkable level, linked to the ground
+    const float height = random.Uniform(1.5f, 3.0f), ramp = 2.0f * height;  // about 27 degrees
+    const float start = x + margin + random.Uniform(0.0f, span - ramp - width);
+    builder.AddRamp({start, 0.0f, z0}, {start + ramp, height, z0 + depth}, /*along_x=*/true,
+                    /*rising_positive=*/true);
+    builder.AddBox({start + ramp, 0.0f, z0}, {start + ramp + width, height, z0 + depth});
+  } else if (kind < 9) {  // a low wall, one agent's climb too high
+    builder.AddBox({x0, 0.0f, z0}, {x0 + width, 1.2f, z0 + 0.4f});
+  } else {  // a pillar
+    builder.AddBox({x0, 0.0f, z0}, {x0 + 1.0f, 6.0f, z0 + 1.0f});
+  }
+}
+
+}  // namespace
+
+GeneratedLevel Field(float size, std::uint32_t seed) {
+  MeshBuilder builder;
+  FieldRandom random(seed);
+  const int cells = std::max(1, static_cast<int>(std::ceil(size / kFieldCell - 1e-4f)));
+  for (int i = 0; i < cells; ++i) {
+    for (int j = 0; j < cells; ++j) {
+      const float x = static_cast<float>(i) * kFieldCell, z = static_cast<float>(j) * kFieldCell;
+      builder.AddFloor(x, std::min(x + kFieldCell, size), z, std::min(z + kFieldCell, size), 0.0f);
+      // Features only in whole cells, so a size that is not a multiple of the cell still ends in ground.
+      if (x + kFieldCell <= size && z + kFieldCell <= size) AddFieldFeature(builder, random, x, z);
+    }
+  }
+  return {"field", builder.Take()};
 }
 
 GeneratedLevel Arena() {

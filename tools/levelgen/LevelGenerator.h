@@ -3,6 +3,7 @@
 // Pure functions; safe from any thread.
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -46,5 +47,10 @@ struct GeneratedLevel {
 GeneratedLevel Courtyard();
 /// "arena": a 25.6 m square floor (2 x 2 tiles) with pillars and low steps; small and quick to bake.
 GeneratedLevel Arena();
+/// "field": an open world's worth of ground, `size` m square from the origin, with a feature in most 25.6 m
+/// cells (a building, a ramp up onto a roof, a low wall, a pillar), placed by `seed` alone: the same size
+/// and seed give the same triangles on any machine (no std:: distributions, whose output is the library's
+/// choice). For farm bakes and open-world tests at any scale; `size` from 25.6 m to 16 km.
+GeneratedLevel Field(float size, std::uint32_t seed);
 
 }  // namespace strata::levelgen

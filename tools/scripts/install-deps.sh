@@ -2,7 +2,8 @@
 # Installs the Debian packages Strata builds with, only those that are missing. Idempotent.
 set -euo pipefail
 packages=(cmake g++ make pkg-config ccache libeigen3-dev libtbb-dev nlohmann-json3-dev libcli11-dev
-          libgtest-dev libbenchmark-dev libassimp-dev librecast-dev libstb-dev libbullet-dev clang)
+          libgtest-dev libbenchmark-dev libassimp-dev librecast-dev libstb-dev libbullet-dev clang
+          slurmctld slurmd slurm-client munge)
 missing=()
 for package in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$package" 2>/dev/null | grep -q "install ok installed" || missing+=("$package")

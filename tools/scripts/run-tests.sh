@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # README command 2 (and CI): install what is missing, build everything with warnings as errors, run every
-# unit test and a short benchmark run, install the build and a physics-only build and use each from
+# unit test and a short benchmark run, bake a level on a single-node Slurm, install the build and a physics-only build and use each from
 # tests/package through find_package(Strata), then the suite again under ASan+UBSan, the concurrency tests
 # under ThreadSanitizer and a short fixed run of each libFuzzer target. Long stress runs, full benchmarks and
 # long fuzzing are behind the `stress`, `bench` and `fuzz` labels.
@@ -21,8 +21,9 @@ build_and_test() {  # build dir, build targets ("all" for everything), ctest lab
 }
 
 test_targets="strata_tests strata_allocation_tests"
-echo "== release build: unit tests, benchmark smoke runs, the installed package used by a consumer project"
-build_and_test "$root/build" all '^(unit|bench-smoke|package)$' -DCMAKE_BUILD_TYPE=Release
+echo "== release build: unit tests, benchmark smoke runs, the installed package used by a consumer project," \
+  "a farm bake on a single-node Slurm"
+build_and_test "$root/build" all '^(unit|bench-smoke|package|slurm)$' -DCMAKE_BUILD_TYPE=Release
 echo "== physics-only build (no navmesh, assets, tools or Bullet): installed and used by the consumer project"
 cmake -S "$root" -B "$root/build-physics-only" -DSTRATA_WERROR=ON -DCMAKE_BUILD_TYPE=Release \
   -DSTRATA_BUILD_NAVMESH=OFF -DSTRATA_BUILD_ASSETS=OFF -DSTRATA_WITH_BULLET=OFF > /dev/null
