@@ -20,7 +20,9 @@ std::function<int()> AddDemoCommand(CLI::App& app);
 std::function<int()> AddNavMeshCommand(CLI::App& app);
 /// Adds `accuracy` (analytic cases against run time, beside Bullet) to `app`.
 std::function<int()> AddAccuracyCommand(CLI::App& app);
-/// Adds `level generate` to `app`.
+/// Adds `level generate` and `level field` to `app`.
 std::function<int()> AddLevelCommand(CLI::App& app);
+/// Adds `view` (a recorded run as a browser page, optionally served on localhost) to `app`.
+std::function<int()> AddViewCommand(CLI::App& app);
 
 }  // namespace strata::cli

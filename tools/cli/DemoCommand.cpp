@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <iostream>
 #include <map>
+#include <optional>
 #include <random>
 
 #include "assets/import/GltfExporter.h"
@@ -26,6 +27,8 @@
 #include "tools/cli/NavMeshOptions.h"
 #include "tools/cli/Validators.h"
 #include "tools/demo/TopDownImage.h"
+#include "tools/view/Recording.h"
+#include "tools/view/ViewerFolder.h"
 
 namespace strata::cli {
 
@@ -46,6 +49,8 @@ struct DemoOptions {
   int navmesh_threads = 1;
   std::string out_dir = "build/demo";
   unsigned seed = 1;
+  std::string record;    ///< a recording for `strata view` (empty: none)
+  int record_every = 6;  ///< steps between recorded frames
 };
 
 // Option ranges: beyond them a run would take hours or the world's body table would be enormous.
@@ -251,20 +256,6 @@ Status DrawPicture(PhysicsSystem& world, const LoadedLevel& level, const navmesh
   return image.SavePng(path);
 }
 
-/// A colour per island that neighbours in number tell apart: hues a golden-ratio turn apart.
-Vec4 IslandColor(int island) {
-  const float hue = std::fmod(0.61803f * static_cast<float>(island), 1.0f) * 6.0f;
-  const float x = 1.0f - std::abs(std::fmod(hue, 2.0f) - 1.0f);
-  const int sector = static_cast<int>(hue);
-  const Vec3 rgb = sector == 0   ? Vec3(1, x, 0)
-                   : sector == 1 ? Vec3(x, 1, 0)
-                   : sector == 2 ? Vec3(0, 1, x)
-                   : sector == 3 ? Vec3(0, x, 1)
-                   : sector == 4 ? Vec3(x, 0, 1)
-                                 : Vec3(1, 0, x);
-  return {0.2f + 0.7f * rgb.x(), 0.2f + 0.7f * rgb.y(), 0.2f + 0.7f * rgb.z(), 1.0f};
-}
-
 /// Level (grey), navmesh (by island, lifted 2 cm off the level) and the agents' paths (red lines).
 Status WriteGltf(PhysicsSystem& world, const LoadedLevel& level, const navmesh::NavMesh& navmesh,
                  const std::vector<navmesh::PathResult>& paths, const std::filesystem::path& path) {
@@ -280,7 +271,7 @@ Status WriteGltf(PhysicsSystem& world, const LoadedLevel& level, const navmesh::
   for (std::size_t i = 0; i < surface.vertices.size(); ++i) {
     navmesh_layer.indices.push_back(static_cast<std::uint32_t>(i));
     navmesh_layer.vertices.push_back(surface.vertices[i] + Vec3(0.0f, 0.02f, 0.0f));
-    navmesh_layer.colors.push_back(IslandColor(surface.island[i / 3]));
+    navmesh_layer.colors.push_back(view::IslandColor(surface.island[i / 3]));
   }
   GltfLayer path_layer{"paths", {}, {}, {}, true};
   for (const navmesh::PathResult& agent_path : paths)
@@ -308,6 +299,13 @@ int RunDemo(const DemoOptions& options) {
     std::cerr << "strata demo: --out-dir " << options.out_dir << ": cannot create the directory"
               << (error ? " (" + error.message() + ")" : std::string()) << "\n";
     return 2;
+  }
+  if (!options.record.empty()) {
+    const std::filesystem::path record_folder = std::filesystem::path(options.record).parent_path();
+    if (!record_folder.empty() && !std::filesystem::is_directory(record_folder, error)) {
+      std::cerr << "strata demo: --record " << options.record << ": no such directory\n";
+      return 2;
+    }
   }
   PhysicsSystemConfig world_config;
   // Room for every crate and boulder asked for besides the level's chunks: none is dropped silently.
@@ -346,6 +344,13 @@ int RunDemo(const DemoOptions& options) {
     std::cerr << "strata demo: " << service.error().message << "\n";
     return 2;
   }
+  std::optional<view::Recorder> recorder;
+  if (!options.record.empty()) {
+    recorder.emplace(world, "demo",
+                     "strata demo: " + std::filesystem::path(options.level).filename().string());
+    recorder->TrackTiles(**service, level->bounds);
+    recorder->Capture(0, 0.0f);
+  }
   std::printf("%zu bodies, %zu agents; %d physics thread(s), %d navmesh thread(s)\n",
               world.body_count_in_world(), agents.size(), options.physics_threads, options.navmesh_threads);
 
@@ -377,6 +382,8 @@ int RunDemo(const DemoOptions& options) {
     longest_step_ms = std::max(longest_step_ms, step_ms);
     steps_with_jobs += before.building > 0 || before.queued > 0;
     longest_frame_ms = std::max(longest_frame_ms, Milliseconds(Clock::now() - frame_start));
+    if (recorder && ((step + 1) % options.record_every == 0 || step + 1 == options.steps))
+      recorder->Capture(step + 1, static_cast<float>(step + 1) / 60.0f);
   }
   const bool idle = (*service)->WaitUntilIdle(std::chrono::seconds(60));
   const navmesh::NavMeshServiceStats stats = (*service)->stats();
@@ -426,6 +433,18 @@ int RunDemo(const DemoOptions& options) {
       return 2;
     }
   std::printf("wrote %s, %s and %s\n", obj.string().c_str(), png.string().c_str(), glb.string().c_str());
+  if (recorder) {
+    std::vector<view::RecordedAgent> recorded;
+    for (std::size_t i = 0; i < agents.size(); ++i)
+      recorded.push_back({agents[i].position, agents[i].target, paths[i].points});
+    recorder->Finish(&navmesh, recorded);
+    if (Status written = recorder->Write(options.record); !written) {
+      std::cerr << "strata demo: " << written.message() << "\n";
+      return 2;
+    }
+    std::printf("recorded %zu frames to %s (strata view %s --out DIR)\n", recorder->frame_count(),
+                options.record.c_str(), options.record.c_str());
+  }
   // A demo whose agents got no navmesh did not do its job, whatever the reason: say so in the exit code.
   if (stats.failures > 0 || navmesh.polygon_count() == 0) {
     std::cerr << "strata demo: the navmesh could not be built"
@@ -468,6 +487,10 @@ std::function<int()> AddDemoCommand(CLI::App& app) {
   demo->add_option("--out-dir", options->out_dir, "where navmesh.obj, navmesh.png and scene.glb go")
       ->capture_default_str();
   demo->add_option("--seed", options->seed, "spawn seed")->capture_default_str();
+  demo->add_option("--record", options->record, "also write a recording of the run for `strata view`");
+  demo->add_option("--record-every", options->record_every, "steps between recorded frames")
+      ->check(CLI::Range(1, kMaxSteps))
+      ->capture_default_str();
   AddNavMeshSettingsOptions(*demo, options->settings);
   AddLevelOptions(*demo, options->level_options);
   return [options] { return RunDemo(*options); };

@@ -67,7 +67,8 @@ int RunField(const FieldOptions& options) {
 }  // namespace
 
 std::function<int()> AddLevelCommand(CLI::App& app) {
-  CLI::App* level = app.add_subcommand("level", "generate the bundled sample levels, or an open field of any size");
+  CLI::App* level =
+      app.add_subcommand("level", "generate the bundled sample levels, or an open field of any size");
   level->require_subcommand(1);
   CLI::App* generate = level->add_subcommand("generate", "write courtyard and arena level files");
   auto out = std::make_shared<std::string>(STRATA_LEVELS_DIR);

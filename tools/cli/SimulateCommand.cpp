@@ -15,6 +15,7 @@
 #include "physics/core/OutputFile.h"
 #include "tools/bench/Progress.h"
 #include "tools/cli/Commands.h"
+#include "tools/view/Recording.h"
 
 namespace strata::cli {
 
@@ -27,6 +28,7 @@ struct SimulateOptions {
   int every = 1;
   int threads = 0;
   bool constraint_forces = false;
+  std::string record;  ///< a recording for `strata view` (empty: none)
 };
 
 nlohmann::json StateLine(const Scene& scene, SceneWorld& world, int step, float time,
@@ -106,6 +108,14 @@ int RunSimulate(const SimulateOptions& options) {
       return 2;
     }
   }
+  std::optional<view::Recorder> recorder;
+  if (!options.record.empty()) {
+    recorder.emplace(*world->system, "simulate",
+                     "strata simulate: " + std::filesystem::path(options.scene).filename().string());
+    recorder->Capture(0, 0.0f);
+  }
+  // Frames about 30 times a simulated second, whatever the scene's dt.
+  const int record_every = std::max(1, static_cast<int>(std::lround(1.0f / (30.0f * scene->dt))));
   std::ostream& out = file ? file->stream() : std::cout;
   double slowest_ms = 0.0, total_ms = 0.0;
   int lines = 0;
@@ -123,6 +133,8 @@ int RunSimulate(const SimulateOptions& options) {
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     slowest_ms = std::max(slowest_ms, ms);
     total_ms += ms;
+    if (recorder && (step % record_every == 0 || step == options.steps))
+      recorder->Capture(step, static_cast<float>(step) * scene->dt);
     linear_clamps += world->system->last_step_stats().linear_velocity_clamps;
     angular_clamps += world->system->last_step_stats().angular_velocity_clamps;
     if (step % options.every == 0 || step == options.steps) {
@@ -141,7 +153,15 @@ int RunSimulate(const SimulateOptions& options) {
     std::cerr << "strata simulate: " << written.message() << "\n";
     return 2;
   }
-  progress.Finish(std::to_string(options.steps) + " steps, " + std::to_string(lines) + " state lines");
+  if (recorder) {
+    recorder->Finish(nullptr, {});
+    if (Status recorded = recorder->Write(options.record); !recorded) {
+      std::cerr << "strata simulate: " << recorded.message() << "\n";
+      return 2;
+    }
+  }
+  progress.Finish(std::to_string(options.steps) + " steps, " + std::to_string(lines) + " state lines" +
+                  (recorder ? ", " + std::to_string(recorder->frame_count()) + " frames recorded" : ""));
   if (!options.out.empty()) PrintSummary(*scene, *world, options, lines, total_ms, slowest_ms);
   // Limits are never silent: a body that hit its max_linear_velocity or max_angular_velocity is reported.
   if (linear_clamps + angular_clamps > 0)
@@ -166,6 +186,7 @@ std::function<int()> AddSimulateCommand(CLI::App& app) {
                     "Add each joint's force and torque (and whether it broke) to every state line");
   command->add_option("--threads", options->threads, "Worker threads (0 = all cores)")
       ->check(CLI::NonNegativeNumber);
+  command->add_option("--record", options->record, "Also write a recording of the run for `strata view`");
   return [options] { return RunSimulate(*options); };
 }
 

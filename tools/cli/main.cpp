@@ -1,4 +1,5 @@
-// strata: the main job (demo), scenes, navmesh bakes and path queries, level generation and benchmarks.
+// strata: the main job (demo), scenes, navmesh bakes and path queries, level generation, benchmarks and the
+// browser viewer.
 #include <iostream>
 
 #include "tools/cli/Commands.h"
@@ -14,6 +15,7 @@ int main(int argc, char** argv) {
   const auto navmesh = strata::cli::AddNavMeshCommand(app);
   const auto level = strata::cli::AddLevelCommand(app);
   const auto accuracy = strata::cli::AddAccuracyCommand(app);
+  const auto view = strata::cli::AddViewCommand(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& error) {
@@ -27,5 +29,6 @@ int main(int argc, char** argv) {
   if (app.got_subcommand("navmesh")) return navmesh();
   if (app.got_subcommand("level")) return level();
   if (app.got_subcommand("accuracy")) return accuracy();
+  if (app.got_subcommand("view")) return view();
   return 2;
 }

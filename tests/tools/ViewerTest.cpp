@@ -1,0 +1,288 @@
+// `strata view` as a user meets it: a recorded demo opens in a real browser (headless Chromium) with the
+// level, navmesh and paths on screen; the folder is served on localhost and nothing outside it; bad
+// recordings are refused with the field named and nothing written.
+#include <arpa/inet.h>
+#include <gtest/gtest.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <stb/stb_image.h>
+
+namespace strata::test {
+namespace {
+
+const std::filesystem::path kScenes = STRATA_SCENES_DIR;
+
+std::filesystem::path TempPath(const std::string& name) {
+  return std::filesystem::temp_directory_path() /
+         ("strata_viewer_test_" + std::to_string(::getpid()) + "_" + name);
+}
+
+int RunShell(const std::string& command) {
+  const int status = std::system(command.c_str());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+int RunCli(const std::string& arguments, const std::filesystem::path& output = "/dev/null") {
+  return RunShell(std::string(STRATA_CLI) + " " + arguments + " > " + output.string() + " 2>&1");
+}
+
+std::string ReadText(const std::filesystem::path& path) {
+  std::ifstream file(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>()};
+}
+
+/// Debian's chromium, or empty where it is not installed.
+std::string Chromium() {
+  for (const char* name : {"chromium", "chromium-browser", "google-chrome"})
+    if (RunShell(std::string("command -v ") + name + " > /dev/null 2>&1") == 0) return name;
+  return {};
+}
+
+/// Headless Chromium with WebGL in software (SwiftShader), a profile of its own, and a time limit.
+std::string ChromiumCommand(const std::string& browser, const std::string& what, const std::string& url) {
+  const std::filesystem::path profile = TempPath("chromium-profile");
+  return "timeout 120 " + browser + " --headless --no-sandbox --disable-gpu --use-angle=swiftshader " +
+         "--enable-unsafe-swiftshader --disable-dev-shm-usage --no-first-run --user-data-dir=" + profile.string() +
+         " --window-size=1280,800 --virtual-time-budget=15000 " + what + " '" + url + "'";
+}
+
+/// The page's stats element, as the browser left it.
+nlohmann::json PageStats(const std::string& browser, const std::string& url) {
+  const std::filesystem::path dom = TempPath("dom.html");
+  EXPECT_EQ(RunShell(ChromiumCommand(browser, "--dump-dom", url) + " > " + dom.string() + " 2> /dev/null"),
+            0);
+  const std::string html = ReadText(dom);
+  const std::string open = "<pre id=\"stats\">";
+  const std::size_t begin = html.find(open);
+  const std::size_t end = html.find("</pre>", begin);
+  if (begin == std::string::npos || end == std::string::npos) {
+    ADD_FAILURE() << "no stats element in the page the browser left:\n" << html.substr(0, 2000);
+    return {};
+  }
+  const std::string text = html.substr(begin + open.size(), end - begin - open.size());
+  nlohmann::json stats = nlohmann::json::parse(text, nullptr, false);
+  EXPECT_FALSE(stats.is_discarded()) << text;
+  return stats;
+}
+
+struct Rgb {
+  int r, g, b;
+};
+
+Rgb ParseHex(const std::string& hex) {
+  return {std::stoi(hex.substr(1, 2), nullptr, 16), std::stoi(hex.substr(3, 2), nullptr, 16),
+          std::stoi(hex.substr(5, 2), nullptr, 16)};
+}
+
+bool Near(const unsigned char* pixel, const Rgb& colour, int tolerance) {
+  return std::abs(pixel[0] - colour.r) <= tolerance && std::abs(pixel[1] - colour.g) <= tolerance &&
+         std::abs(pixel[2] - colour.b) <= tolerance;
+}
+
+/// A demo recorded and written as a viewer folder; `recording` and `folder` name where.
+struct RecordedDemo {
+  std::filesystem::path recording = TempPath("demo.json");
+  std::filesystem::path folder = TempPath("view");
+  nlohmann::json document;
+};
+
+const RecordedDemo& Demo() {
+  static const RecordedDemo demo = [] {
+    RecordedDemo made;
+    const std::filesystem::path out = TempPath("demo-out");
+    EXPECT_EQ(RunCli("demo --steps 120 --crates 40 --record " + made.recording.string() + " --out-dir " +
+                     out.string()),
+              0);
+    EXPECT_EQ(RunCli("view " + made.recording.string() + " --out " + made.folder.string()), 0);
+    made.document = nlohmann::json::parse(ReadText(made.recording), nullptr, false);
+    return made;
+  }();
+  return demo;
+}
+
+TEST(View, ARecordedDemoOpensInHeadlessChromiumWithItsLevelNavmeshAndPaths) {
+  const RecordedDemo& demo = Demo();
+  ASSERT_TRUE(demo.document.is_object());
+  for (const char* file : {"index.html", "viewer.js", "data.js", "scene.glb"})
+    EXPECT_TRUE(std::filesystem::is_regular_file(demo.folder / file)) << file;
+  const std::string browser = Chromium();
+  if (browser.empty()) GTEST_SKIP() << "no chromium here (tools/scripts/install-deps.sh installs it)";
+
+  const std::string url = "file://" + (demo.folder / "index.html").string();
+  const nlohmann::json stats = PageStats(browser, url);
+  ASSERT_TRUE(stats.value("ready", false)) << stats.dump();
+  // What the page loaded is what was recorded.
+  const nlohmann::json& recording = demo.document;
+  EXPECT_EQ(stats["bodies"].get<std::size_t>(), recording["bodies"].size());
+  EXPECT_EQ(stats["agents"].get<std::size_t>(), recording["agents"].size());
+  EXPECT_EQ(stats["frames"].get<std::size_t>(), recording["frames"].size());
+  EXPECT_EQ(stats["tiles"].get<std::size_t>(), recording["tiles"]["coords"].size());
+  EXPECT_EQ(stats["navmesh_triangles"].get<std::size_t>(), recording["navmesh"]["positions"].size() / 9);
+  EXPECT_EQ(stats["level_objects"].get<int>(), 1);
+  EXPECT_EQ(stats["path_objects"].get<int>(), 1);
+  // Level, navmesh, bodies, agents and their targets, tile borders, paths.
+  EXPECT_GE(stats["objects"].get<std::size_t>(),
+            3 + recording["bodies"].size() + 2 * recording["agents"].size());
+  EXPECT_GT(stats["drawn_triangles"].get<int>(), 0);
+  ASSERT_FALSE(stats["navmesh_colours"].empty());
+
+  // The screenshot: not blank, the navmesh's island colours and the white paths on screen.
+  const std::filesystem::path shot = TempPath("shot.png");
+  ASSERT_EQ(RunShell(ChromiumCommand(browser, "--screenshot=" + shot.string(), url) + " > /dev/null 2>&1"),
+            0);
+  int width = 0, height = 0, channels = 0;
+  unsigned char* pixels = stbi_load(shot.string().c_str(), &width, &height, &channels, 3);
+  ASSERT_NE(pixels, nullptr) << stbi_failure_reason();
+  std::vector<Rgb> islands;
+  for (const auto& hex : stats["navmesh_colours"]) islands.push_back(ParseHex(hex.get<std::string>()));
+  std::size_t navmesh_pixels = 0, path_pixels = 0, grey_pixels = 0;
+  std::set<int> distinct;
+  for (int i = 0; i < width * height; ++i) {
+    const unsigned char* pixel = pixels + 3 * i;
+    distinct.insert(pixel[0] << 16 | pixel[1] << 8 | pixel[2]);
+    for (const Rgb& island : islands)
+      if (Near(pixel, island, 3)) {
+        ++navmesh_pixels;
+        break;
+      }
+    path_pixels += Near(pixel, {255, 255, 255}, 3);
+    grey_pixels += pixel[0] == pixel[1] && pixel[1] == pixel[2] && pixel[0] > 60 && pixel[0] < 200;
+  }
+  stbi_image_free(pixels);
+  const double total = static_cast<double>(width) * height;
+  EXPECT_GT(distinct.size(), 200u) << "a blank or flat picture";
+  EXPECT_GT(navmesh_pixels / total, 0.05) << "the navmesh should cover much of the view";
+  EXPECT_GT(path_pixels, 200u) << "the agents' paths should show";
+  EXPECT_GT(grey_pixels / total, 0.01) << "the level should show";
+}
+
+/// GET `target` from 127.0.0.1:`port`; the status line and body.
+std::string HttpGet(int port, const std::string& target) {
+  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in address{};
+  address.sin_family = AF_INET;
+  address.sin_port = htons(static_cast<std::uint16_t>(port));
+  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  if (::connect(fd, reinterpret_cast<const sockaddr*>(&address), sizeof(address)) != 0) {
+    ::close(fd);
+    return {};
+  }
+  const std::string request = "GET " + target + " HTTP/1.1\r\nHost: localhost\r\n\r\n";
+  (void)::send(fd, request.data(), request.size(), 0);
+  std::string response;
+  char buffer[65536];
+  for (ssize_t n; (n = ::recv(fd, buffer, sizeof(buffer), 0)) > 0;) response.append(buffer, n);
+  ::close(fd);
+  return response;
+}
+
+TEST(View, ServesTheFolderOnLocalhostAndNothingOutsideIt) {
+  const RecordedDemo& demo = Demo();
+  const std::filesystem::path log = TempPath("serve.log"), pid = TempPath("serve.pid");
+  // In the background, on any free port, for a bounded time; stopped when the test ends.
+  ASSERT_EQ(RunShell(std::string(STRATA_CLI) + " view " + demo.recording.string() + " --out " +
+                     (TempPath("served")).string() + " --serve --port 0 --serve-seconds 120 > " +
+                     log.string() + " 2>&1 & echo $! > " + pid.string()),
+            0);
+  struct StopServer {
+    std::filesystem::path pid;
+    ~StopServer() { (void)std::system(("kill $(cat " + pid.string() + ") 2> /dev/null").c_str()); }
+  } stop_server{pid};
+  int port = 0;
+  for (int attempt = 0; attempt < 200 && port == 0; ++attempt) {
+    const std::string text = ReadText(log);
+    const std::size_t at = text.find("http://127.0.0.1:");
+    if (at != std::string::npos) port = std::atoi(text.c_str() + at + 17);
+    if (port == 0) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  ASSERT_GT(port, 0) << ReadText(log);
+  const std::string page = HttpGet(port, "/");
+  EXPECT_EQ(page.rfind("HTTP/1.1 200 OK", 0), 0u) << page.substr(0, 200);
+  EXPECT_NE(page.find("text/html"), std::string::npos);
+  EXPECT_NE(page.find("<script src=\"viewer.js\">"), std::string::npos);
+  const std::string glb = HttpGet(port, "/scene.glb");
+  EXPECT_EQ(glb.rfind("HTTP/1.1 200 OK", 0), 0u);
+  EXPECT_NE(glb.find("Content-Type: model/gltf-binary"), std::string::npos);
+  EXPECT_NE(glb.find("\r\n\r\nglTF"), std::string::npos) << "the file's own bytes follow the header";
+  for (const char* outside : {"/../demo.json", "/..%2Fdemo.json", "/%2e%2e/x", "/no-such-file.js", "/a/b"})
+    EXPECT_EQ(HttpGet(port, outside).rfind("HTTP/1.1 404", 0), 0u) << outside;
+
+  const std::string browser = Chromium();
+  if (browser.empty()) GTEST_SKIP() << "no chromium here (tools/scripts/install-deps.sh installs it)";
+  const nlohmann::json stats = PageStats(browser, "http://127.0.0.1:" + std::to_string(port) + "/");
+  EXPECT_TRUE(stats.value("ready", false)) << stats.dump();
+  EXPECT_EQ(stats.value("bodies", 0u), demo.document["bodies"].size());
+}
+
+TEST(View, ASimulateRunIsRecordedAndViewedWithoutANavmesh) {
+  const std::filesystem::path recording = TempPath("simulate.json"), folder = TempPath("simulate-view");
+  ASSERT_EQ(RunCli("simulate " + (kScenes / "stack.json").string() + " --steps 60 --out " +
+                   TempPath("states.jsonl").string() + " --record " + recording.string()),
+            0);
+  const nlohmann::json document = nlohmann::json::parse(ReadText(recording));
+  EXPECT_EQ(document["source"], "simulate");
+  EXPECT_GT(document["bodies"].size(), 0u);
+  EXPECT_FALSE(document.contains("navmesh"));
+  // 60 steps at the scene's dt, about 30 frames a simulated second, and the first and last steps.
+  ASSERT_GE(document["frames"].size(), 3u);
+  EXPECT_EQ(document["frames"].back()["step"].get<int>(), 60);
+  for (const auto& frame : document["frames"])
+    EXPECT_EQ(frame["poses"].size(), 7 * document["bodies"].size());
+  ASSERT_EQ(RunCli("view " + recording.string() + " --out " + folder.string()), 0);
+  EXPECT_TRUE(std::filesystem::is_regular_file(folder / "index.html"));
+}
+
+TEST(View, BadRecordingsAreRefusedWithTheFieldNamedAndNothingWritten) {
+  const RecordedDemo& demo = Demo();
+  nlohmann::json short_poses = demo.document;
+  short_poses["frames"][0]["poses"].erase(0);
+  nlohmann::json bad_shape = demo.document;
+  bad_shape["bodies"][0]["shape"] = 1000000;
+  nlohmann::json nan_time = demo.document;
+  nan_time["frames"][1]["time"] = "soon";
+  nlohmann::json bad_state = demo.document;
+  bad_state["frames"][0]["tiles"][0] = 9;
+  nlohmann::json bad_index = demo.document;
+  bad_index["static"]["indices"][0] = 999999999;
+  struct Case {
+    std::string name;
+    std::string text;
+    std::string field;
+  };
+  const std::vector<Case> cases = {
+      {"short-poses", short_poses.dump(), "frames[0].poses"},
+      {"bad-shape", bad_shape.dump(), "bodies[0].shape"},
+      {"bad-time", nan_time.dump(), "frames[1]"},
+      {"bad-state", bad_state.dump(), "frames[0].tiles"},
+      {"bad-index", bad_index.dump(), "static.indices"},
+      {"not-json", "{\"format\": \"strata-rec", "not valid JSON"},
+      {"other-json", "{\"scene\": 1}", "not a strata recording"},
+  };
+  for (const Case& c : cases) {
+    const std::filesystem::path file = TempPath(c.name + ".json"), folder = TempPath(c.name + "-view"),
+                                output = TempPath(c.name + ".txt");
+    std::ofstream(file) << c.text;
+    EXPECT_EQ(RunCli("view " + file.string() + " --out " + folder.string(), output), 2) << c.name;
+    EXPECT_NE(ReadText(output).find(c.field), std::string::npos) << c.name << ": " << ReadText(output);
+    EXPECT_FALSE(std::filesystem::exists(folder)) << c.name;
+  }
+  EXPECT_EQ(RunCli("view " + TempPath("no-such-file.json").string() + " --out " + TempPath("x").string()), 2);
+  EXPECT_EQ(RunCli("view " + demo.recording.string() + " --serve --port 70000"), 2);
+}
+
+}  // namespace
+}  // namespace strata::test

@@ -1,0 +1,290 @@
+#include "tools/view/Recording.h"
+
+#include <cmath>
+#include <map>
+#include <utility>
+
+#include "navmesh/Validation.h"
+#include "physics/body/BodyInterface.h"
+#include "physics/core/InputFile.h"
+#include "physics/core/OutputFile.h"
+
+namespace strata::view {
+
+namespace {
+
+constexpr int kFormatVersion = 1;
+// Recordings of big worlds run to hundreds of megabytes; past this a file is not one we wrote.
+constexpr std::uint64_t kMaxRecordingBytes = std::uint64_t{2} << 30;
+
+// Millimetres and ten-thousandths are all a viewer shows; fewer digits keep the file small.
+double Rounded(float value) {
+  return std::round(static_cast<double>(value) * 1e4) / 1e4;
+}
+
+void AppendPoint(nlohmann::json& out, const Vec3& point) {
+  out.push_back(Rounded(point.x()));
+  out.push_back(Rounded(point.y()));
+  out.push_back(Rounded(point.z()));
+}
+
+nlohmann::json PointJson(const Vec3& point) {
+  nlohmann::json out = nlohmann::json::array();
+  AppendPoint(out, point);
+  return out;
+}
+
+/// Triangles as positions (3 numbers a vertex, 3 vertices a triangle, unshared) and indices.
+nlohmann::json MeshJson(const std::vector<Triangle>& triangles) {
+  nlohmann::json positions = nlohmann::json::array(), indices = nlohmann::json::array();
+  std::uint32_t next = 0;
+  for (const Triangle& triangle : triangles)
+    for (const Vec3& vertex : triangle.vertices) {
+      AppendPoint(positions, vertex);
+      indices.push_back(next++);
+    }
+  return {{"positions", std::move(positions)}, {"indices", std::move(indices)}};
+}
+
+/// All of the shape's triangles at `pose`.
+std::vector<Triangle> ShapeTriangles(const Shape& shape, const Pose& pose) {
+  std::vector<Triangle> triangles;
+  shape.GetTrianglesInBox(shape.WorldBounds(pose).Expanded(1.0f), pose, triangles);
+  return triangles;
+}
+
+const char* MotionName(MotionType motion) {
+  return motion == MotionType::kKinematic ? "kinematic" : "dynamic";
+}
+
+int StateCode(navmesh::TileState state) {
+  return static_cast<int>(state);
+}
+
+}  // namespace
+
+Recorder::Recorder(PhysicsSystem& world, std::string source, std::string title) : world_(world) {
+  const BodyInterface& bodies = world.bodies();
+  std::vector<Triangle> static_triangles;
+  std::map<const Shape*, int> shape_index;
+  nlohmann::json shapes = nlohmann::json::array(), moving = nlohmann::json::array();
+  for (const BodyID id : world.BodiesInWorld()) {
+    const Result<MotionType> motion = bodies.GetMotionType(id);
+    const Result<ShapeRef> shape = bodies.GetShape(id);
+    const Result<Vec3> position = bodies.GetPosition(id);
+    const Result<Quat> rotation = bodies.GetRotation(id);
+    if (!motion || !shape || !position || !rotation) continue;  // removed meanwhile
+    if (*motion == MotionType::kStatic) {
+      const std::vector<Triangle> placed = ShapeTriangles(**shape, Pose{*position, *rotation});
+      static_triangles.insert(static_triangles.end(), placed.begin(), placed.end());
+      continue;
+    }
+    const auto [it, added] = shape_index.try_emplace(shape->get(), static_cast<int>(shapes.size()));
+    if (added) shapes.push_back(MeshJson(ShapeTriangles(**shape, Pose{})));
+    moving.push_back({{"shape", it->second}, {"motion", MotionName(*motion)}});
+    moving_.push_back(id);
+    for (const float value : {position->x(), position->y(), position->z(), rotation->w(), rotation->x(),
+                              rotation->y(), rotation->z()})
+      last_poses_.push_back(value);
+  }
+  document_ = {{"format", "strata-recording"},         {"version", kFormatVersion},
+               {"source", std::move(source)},          {"title", std::move(title)},
+               {"static", MeshJson(static_triangles)}, {"shapes", std::move(shapes)},
+               {"bodies", std::move(moving)},          {"frames", nlohmann::json::array()},
+               {"agents", nlohmann::json::array()}};
+}
+
+void Recorder::TrackTiles(const navmesh::NavMeshService& service, const AABB& box) {
+  service_ = &service;
+  const navmesh::TileGrid& grid = service.grid();
+  tiles_ = grid.TileCount(box) <= navmesh::TileGrid::kMaxListedTiles ? grid.TilesInBox(box)
+                                                                     : std::vector<navmesh::TileCoord>{};
+  nlohmann::json coords = nlohmann::json::array();
+  for (const navmesh::TileCoord tile : tiles_) coords.push_back({tile.x, tile.z});
+  document_["tiles"] = {
+      {"size", grid.tile_size()}, {"y", Rounded(box.min.y())}, {"coords", std::move(coords)}};
+}
+
+void Recorder::Capture(int step, float time) {
+  const BodyInterface& bodies = world_.bodies();
+  nlohmann::json poses = nlohmann::json::array();
+  for (std::size_t i = 0; i < moving_.size(); ++i) {
+    const Result<Vec3> position = bodies.GetPosition(moving_[i]);
+    const Result<Quat> rotation = bodies.GetRotation(moving_[i]);
+    if (position && rotation) {
+      const float values[7] = {position->x(), position->y(), position->z(), rotation->w(),
+                               rotation->x(), rotation->y(), rotation->z()};
+      std::copy(std::begin(values), std::end(values),
+                last_poses_.begin() + static_cast<std::ptrdiff_t>(7 * i));
+    }
+    for (int k = 0; k < 7; ++k) poses.push_back(Rounded(last_poses_[7 * i + static_cast<std::size_t>(k)]));
+  }
+  nlohmann::json frame = {{"step", step}, {"time", Rounded(time)}, {"poses", std::move(poses)}};
+  if (service_) {
+    nlohmann::json states = nlohmann::json::array();
+    for (const navmesh::TileCoord tile : tiles_) states.push_back(StateCode(service_->GetTileState(tile)));
+    frame["tiles"] = std::move(states);
+  }
+  frames_.push_back(std::move(frame));
+}
+
+void Recorder::Finish(const navmesh::NavMesh* navmesh, const std::vector<RecordedAgent>& agents) {
+  document_["frames"] = frames_;
+  nlohmann::json agent_list = nlohmann::json::array();
+  for (const RecordedAgent& agent : agents) {
+    nlohmann::json path = nlohmann::json::array();
+    for (const Vec3& point : agent.path) path.push_back(PointJson(point));
+    agent_list.push_back({{"position", PointJson(agent.position)},
+                          {"target", PointJson(agent.target)},
+                          {"path", std::move(path)}});
+  }
+  document_["agents"] = std::move(agent_list);
+  if (!navmesh) return;
+  const navmesh::NavMeshTriangles surface = navmesh::TrianglesByIsland(*navmesh);
+  nlohmann::json positions = nlohmann::json::array(), islands = nlohmann::json::array();
+  for (const Vec3& vertex : surface.vertices) AppendPoint(positions, vertex);
+  for (const int island : surface.island) islands.push_back(island);
+  document_["navmesh"] = {
+      {"positions", std::move(positions)}, {"island", std::move(islands)}, {"islands", surface.islands}};
+}
+
+Status Recorder::Write(const std::filesystem::path& path) const {
+  nlohmann::json document = document_;
+  document["frames"] = frames_;
+  return WriteOutputFile(path, document.dump() + "\n");
+}
+
+namespace {
+
+// Checks as the reader goes, so that an error names the field.
+class RecordingChecker {
+ public:
+  explicit RecordingChecker(std::string file) : file_(std::move(file)) {}
+
+  Status Fail(const std::string& field, const std::string& why) const {
+    return MakeError(ErrorCode::kParseError, file_ + ": " + field + ": " + why);
+  }
+  Status Numbers(const nlohmann::json& value, const std::string& field, std::size_t multiple_of) const {
+    if (!value.is_array()) return Fail(field, "must be an array of numbers");
+    if (value.size() % multiple_of != 0)
+      return Fail(field, "must hold a multiple of " + std::to_string(multiple_of) + " numbers");
+    for (const nlohmann::json& number : value)
+      if (!number.is_number() || !std::isfinite(number.get<double>()))
+        return Fail(field, "holds a non-finite value");
+    return Status::Ok();
+  }
+  Status Indices(const nlohmann::json& value, const std::string& field, std::size_t limit) const {
+    if (!value.is_array() || value.size() % 3 != 0) return Fail(field, "must be whole triangles of indices");
+    for (const nlohmann::json& index : value)
+      if (!index.is_number_unsigned() || index.get<std::uint64_t>() >= limit)
+        return Fail(field, "holds an index past the vertices");
+    return Status::Ok();
+  }
+  Status Mesh(const nlohmann::json& mesh, const std::string& field) const {
+    if (!mesh.is_object()) return Fail(field, "must be an object with positions and indices");
+    if (Status status = Numbers(mesh.value("positions", nlohmann::json()), field + ".positions", 3); !status)
+      return status;
+    return Indices(mesh.value("indices", nlohmann::json()), field + ".indices", mesh["positions"].size() / 3);
+  }
+
+ private:
+  std::string file_;
+};
+
+Status CheckRecording(const nlohmann::json& document, const RecordingChecker& check) {
+  if (!document.is_object() || document.value("format", "") != "strata-recording")
+    return check.Fail("format", "not a strata recording");
+  if (document.value("version", 0) != kFormatVersion)
+    return check.Fail("version", "version " + std::to_string(kFormatVersion) + " expected");
+  if (!document.value("title", nlohmann::json()).is_string()) return check.Fail("title", "must be a string");
+  if (Status status = check.Mesh(document.value("static", nlohmann::json()), "static"); !status)
+    return status;
+  const nlohmann::json& shapes = document.value("shapes", nlohmann::json());
+  if (!shapes.is_array()) return check.Fail("shapes", "must be an array");
+  for (std::size_t i = 0; i < shapes.size(); ++i)
+    if (Status status = check.Mesh(shapes[i], "shapes[" + std::to_string(i) + "]"); !status) return status;
+  const nlohmann::json& bodies = document.value("bodies", nlohmann::json());
+  if (!bodies.is_array()) return check.Fail("bodies", "must be an array");
+  for (std::size_t i = 0; i < bodies.size(); ++i) {
+    const nlohmann::json& shape =
+        bodies[i].is_object() ? bodies[i].value("shape", nlohmann::json()) : nlohmann::json();
+    if (!shape.is_number_unsigned() || shape.get<std::uint64_t>() >= shapes.size())
+      return check.Fail("bodies[" + std::to_string(i) + "].shape", "must be the index of a shape");
+  }
+  std::size_t tile_count = 0;
+  if (document.contains("tiles")) {
+    const nlohmann::json& tiles = document["tiles"];
+    if (!tiles.is_object() || !tiles.value("size", nlohmann::json()).is_number() ||
+        !(tiles["size"].get<double>() > 0.0) || !tiles.value("y", nlohmann::json()).is_number() ||
+        !std::isfinite(tiles["y"].get<double>()) || !tiles.value("coords", nlohmann::json()).is_array())
+      return check.Fail("tiles", "must have a positive size, a finite y and coords");
+    for (const nlohmann::json& coord : tiles["coords"])
+      if (!coord.is_array() || coord.size() != 2 || !coord[0].is_number_integer() ||
+          !coord[1].is_number_integer())
+        return check.Fail("tiles.coords", "must be [x, z] pairs of whole numbers");
+    tile_count = tiles["coords"].size();
+  }
+  const nlohmann::json& frames = document.value("frames", nlohmann::json());
+  if (!frames.is_array()) return check.Fail("frames", "must be an array");
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    const std::string field = "frames[" + std::to_string(i) + "]";
+    const nlohmann::json& frame = frames[i];
+    if (!frame.is_object() || !frame.value("step", nlohmann::json()).is_number_integer() ||
+        !frame.value("time", nlohmann::json()).is_number() || !std::isfinite(frame["time"].get<double>()))
+      return check.Fail(field, "must have a whole step and a finite time");
+    const nlohmann::json& poses = frame.value("poses", nlohmann::json());
+    if (Status status = check.Numbers(poses, field + ".poses", 7); !status) return status;
+    if (poses.size() != 7 * bodies.size()) return check.Fail(field + ".poses", "must hold 7 numbers a body");
+    if (tile_count > 0) {
+      const nlohmann::json& states = frame.value("tiles", nlohmann::json());
+      if (!states.is_array() || states.size() != tile_count)
+        return check.Fail(field + ".tiles", "must hold one state a tile");
+      for (const nlohmann::json& state : states)
+        if (!state.is_number_unsigned() || state.get<int>() > StateCode(navmesh::TileState::kStale))
+          return check.Fail(field + ".tiles", "holds an unknown tile state");
+    }
+  }
+  if (document.contains("navmesh")) {
+    const nlohmann::json& surface = document["navmesh"];
+    if (!surface.is_object()) return check.Fail("navmesh", "must be an object");
+    if (Status status = check.Numbers(surface.value("positions", nlohmann::json()), "navmesh.positions", 9);
+        !status)
+      return status;
+    const nlohmann::json& islands = surface.value("island", nlohmann::json());
+    if (!islands.is_array() || islands.size() != surface["positions"].size() / 9)
+      return check.Fail("navmesh.island", "must hold one island a triangle");
+    for (const nlohmann::json& island : islands)
+      if (!island.is_number_unsigned()) return check.Fail("navmesh.island", "must be whole numbers");
+  }
+  const nlohmann::json& agents = document.value("agents", nlohmann::json::array());
+  if (!agents.is_array()) return check.Fail("agents", "must be an array");
+  for (std::size_t i = 0; i < agents.size(); ++i) {
+    const std::string field = "agents[" + std::to_string(i) + "]";
+    if (!agents[i].is_object()) return check.Fail(field, "must be an object");
+    for (const char* point : {"position", "target"}) {
+      const nlohmann::json& value = agents[i].value(point, nlohmann::json());
+      if (Status status = check.Numbers(value, field + "." + point, 3); !status) return status;
+      if (value.size() != 3) return check.Fail(field + "." + point, "must be x, y, z");
+    }
+    const nlohmann::json& path = agents[i].value("path", nlohmann::json::array());
+    if (!path.is_array()) return check.Fail(field + ".path", "must be an array of points");
+    for (const nlohmann::json& point : path)
+      if (Status status = check.Numbers(point, field + ".path", 3); !status || point.size() != 3)
+        return check.Fail(field + ".path", "must be an array of x, y, z points");
+  }
+  return Status::Ok();
+}
+
+}  // namespace
+
+Result<nlohmann::json> ReadRecording(const std::filesystem::path& path) {
+  Result<std::string> text = ReadInputFile(path, kMaxRecordingBytes);
+  if (!text) return text.error();
+  nlohmann::json document = nlohmann::json::parse(*text, nullptr, /*allow_exceptions=*/false);
+  const RecordingChecker check(path.string());
+  if (document.is_discarded()) return check.Fail("(file)", "not valid JSON").error();
+  if (Status status = CheckRecording(document, check); !status) return status.error();
+  return document;
+}
+
+}  // namespace strata::view

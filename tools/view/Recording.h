@@ -1,0 +1,60 @@
+// Recording: what a demo or simulate run leaves for `strata view` (`--record FILE`): the static bodies'
+// triangles once, each moving body's shape once, sampled frames of the moving bodies' poses and the navmesh
+// tiles' states, and at the end the navmesh surface by island and the agents with their paths. A JSON file
+// (format "strata-recording", version 1; tools/README.md lists its fields). Call a Recorder from the thread
+// that steps the world, between steps; ReadRecording from any thread.
+#pragma once
+
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "navmesh/NavMeshService.h"
+#include "physics/core/Result.h"
+#include "physics/world/PhysicsSystem.h"
+
+namespace strata::view {
+
+/// An agent as the demo places it, with the path it was given at the end.
+struct RecordedAgent {
+  Vec3 position;
+  Vec3 target;
+  std::vector<Vec3> path;
+};
+
+class Recorder {
+ public:
+  /// Takes the bodies in `world` now: static ones as world triangles, moving ones (dynamic, kinematic) as
+  /// their shape's triangles. Bodies added later are not recorded; one removed later keeps its last pose.
+  /// Reads the world through its BodyInterface (each body's read lock); `world` must outlive the recorder.
+  Recorder(PhysicsSystem& world, std::string source, std::string title);
+
+  /// Records the navmesh tiles over `box` from now on (their states in every frame).
+  void TrackTiles(const navmesh::NavMeshService& service, const AABB& box);
+  /// One frame: the moving bodies' poses and, when tracked, the tiles' states.
+  void Capture(int step, float time);
+  /// The navmesh surface (by island) and the agents, at the end of the run.
+  void Finish(const navmesh::NavMesh* navmesh, const std::vector<RecordedAgent>& agents);
+
+  std::size_t frame_count() const { return frames_.size(); }
+  /// The recording as a document (what Write writes).
+  const nlohmann::json& document() const { return document_; }
+  /// Writes the file whole or not at all.
+  Status Write(const std::filesystem::path& path) const;
+
+ private:
+  PhysicsSystem& world_;
+  std::vector<BodyID> moving_;
+  std::vector<float> last_poses_;
+  const navmesh::NavMeshService* service_ = nullptr;
+  std::vector<navmesh::TileCoord> tiles_;
+  nlohmann::json frames_ = nlohmann::json::array();
+  nlohmann::json document_;
+};
+
+/// Reads and checks a recording: the format and version, every number finite, every index in range, every
+/// frame as long as the bodies and tiles say. Errors name the file and the field.
+Result<nlohmann::json> ReadRecording(const std::filesystem::path& path);
+
+}  // namespace strata::view

@@ -1,0 +1,148 @@
+#include "tools/view/ViewerFolder.h"
+
+#include <cmath>
+#include <cstdio>
+#include <set>
+#include <system_error>
+
+#include "assets/import/GltfExporter.h"
+#include "physics/core/InputFile.h"
+#include "physics/core/OutputFile.h"
+#include "tools/view/ViewerAssets.h"
+
+namespace strata::view {
+
+namespace {
+
+constexpr float kNavmeshLift = 0.02f;  // above the level it lies on, so it is not hidden in it
+constexpr float kPathLift = 0.1f;
+
+Vec3 PointAt(const nlohmann::json& numbers, std::size_t vertex) {
+  return {numbers[3 * vertex].get<float>(), numbers[3 * vertex + 1].get<float>(),
+          numbers[3 * vertex + 2].get<float>()};
+}
+
+std::string HexColour(const Vec4& colour) {
+  char text[8];
+  const auto byte = [](float value) {
+    return static_cast<int>(std::lround(std::clamp(value, 0.0f, 1.0f) * 255.0f));
+  };
+  std::snprintf(text, sizeof(text), "#%02x%02x%02x", byte(colour.x()), byte(colour.y()), byte(colour.z()));
+  return text;
+}
+
+std::string Base64(const std::string& bytes) {
+  static constexpr char kAlphabet[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  out.reserve((bytes.size() + 2) / 3 * 4);
+  for (std::size_t i = 0; i < bytes.size(); i += 3) {
+    const std::size_t left = bytes.size() - i;
+    std::uint32_t chunk = static_cast<std::uint8_t>(bytes[i]) << 16;
+    if (left > 1) chunk |= static_cast<std::uint32_t>(static_cast<std::uint8_t>(bytes[i + 1])) << 8;
+    if (left > 2) chunk |= static_cast<std::uint8_t>(bytes[i + 2]);
+    out.push_back(kAlphabet[(chunk >> 18) & 63]);
+    out.push_back(kAlphabet[(chunk >> 12) & 63]);
+    out.push_back(left > 1 ? kAlphabet[(chunk >> 6) & 63] : '=');
+    out.push_back(left > 2 ? kAlphabet[chunk & 63] : '=');
+  }
+  return out;
+}
+
+std::vector<GltfLayer> SceneLayers(const nlohmann::json& recording, ViewerFolderSummary& summary) {
+  GltfLayer level{"level", {}, {}, {}, false};
+  const nlohmann::json& static_mesh = recording["static"];
+  const std::size_t vertex_count = static_mesh["positions"].size() / 3;
+  for (std::size_t v = 0; v < vertex_count; ++v) {
+    level.vertices.push_back(PointAt(static_mesh["positions"], v));
+    level.colors.emplace_back(0.55f, 0.55f, 0.55f, 1.0f);
+  }
+  for (const nlohmann::json& index : static_mesh["indices"])
+    level.indices.push_back(index.get<std::uint32_t>());
+  summary.level_triangles = level.indices.size() / 3;
+
+  GltfLayer navmesh{"navmesh", {}, {}, {}, false};
+  if (recording.contains("navmesh")) {
+    const nlohmann::json& surface = recording["navmesh"];
+    std::set<int> islands;
+    for (std::size_t v = 0; v < surface["positions"].size() / 3; ++v) {
+      const int island = surface["island"][v / 3].get<int>();
+      islands.insert(island);
+      navmesh.indices.push_back(static_cast<std::uint32_t>(v));
+      navmesh.vertices.push_back(PointAt(surface["positions"], v) + Vec3(0.0f, kNavmeshLift, 0.0f));
+      navmesh.colors.push_back(IslandColor(island));
+    }
+    for (const int island : islands) summary.navmesh_colours.push_back(HexColour(IslandColor(island)));
+  }
+  summary.navmesh_triangles = navmesh.indices.size() / 3;
+
+  GltfLayer paths{"paths", {}, {}, {}, true};
+  for (const nlohmann::json& agent : recording["agents"]) {
+    const nlohmann::json& path = agent["path"];
+    for (std::size_t k = 1; k < path.size(); ++k)
+      for (const nlohmann::json* point : {&path[k - 1], &path[k]}) {
+        paths.indices.push_back(static_cast<std::uint32_t>(paths.vertices.size()));
+        paths.vertices.push_back(PointAt(*point, 0) + Vec3(0.0f, kPathLift, 0.0f));
+        paths.colors.emplace_back(1.0f, 1.0f, 1.0f, 1.0f);  // white: no island's colour is
+      }
+  }
+  return {level, navmesh, paths};
+}
+
+/// The page's data: what it animates (the file's static layers are in scene.glb).
+nlohmann::json PageData(const nlohmann::json& recording, const ViewerFolderSummary& summary) {
+  nlohmann::json data = {{"title", recording["title"]},   {"shapes", recording["shapes"]},
+                         {"bodies", recording["bodies"]}, {"frames", recording["frames"]},
+                         {"agents", recording["agents"]}, {"navmesh_colours", summary.navmesh_colours}};
+  if (recording.contains("tiles")) data["tiles"] = recording["tiles"];
+  return data;
+}
+
+}  // namespace
+
+Vec4 IslandColor(int island) {
+  const float hue = std::fmod(0.61803f * static_cast<float>(island), 1.0f) * 6.0f;
+  const float x = 1.0f - std::abs(std::fmod(hue, 2.0f) - 1.0f);
+  const int sector = static_cast<int>(hue);
+  const Vec3 rgb = sector == 0   ? Vec3(1, x, 0)
+                   : sector == 1 ? Vec3(x, 1, 0)
+                   : sector == 2 ? Vec3(0, 1, x)
+                   : sector == 3 ? Vec3(0, x, 1)
+                   : sector == 4 ? Vec3(x, 0, 1)
+                                 : Vec3(1, 0, x);
+  return {0.2f + 0.7f * rgb.x(), 0.2f + 0.7f * rgb.y(), 0.2f + 0.7f * rgb.z(), 1.0f};
+}
+
+Result<ViewerFolderSummary> WriteViewerFolder(const nlohmann::json& recording,
+                                              const std::filesystem::path& folder) {
+  std::error_code error;
+  std::filesystem::create_directories(folder, error);
+  if (!std::filesystem::is_directory(folder, error))
+    return MakeError(ErrorCode::kInvalidArgument, folder.string() + ": cannot create the folder");
+  ViewerFolderSummary summary;
+  summary.bodies = recording["bodies"].size();
+  summary.agents = recording["agents"].size();
+  summary.frames = recording["frames"].size();
+  summary.tiles = recording.contains("tiles") ? recording["tiles"]["coords"].size() : 0;
+
+  // scene.glb first: it is written through the exporter, then read back for data.js.
+  const std::vector<GltfLayer> layers = SceneLayers(recording, summary);
+  const std::filesystem::path glb = folder / "scene.glb";
+  std::string glb_bytes;
+  const bool any_layer = std::any_of(layers.begin(), layers.end(),
+                                     [](const GltfLayer& layer) { return !layer.indices.empty(); });
+  if (any_layer) {
+    if (Status written = ExportGltf(layers, glb); !written) return written.error();
+    Result<std::string> bytes = ReadInputFile(glb, std::uint64_t{4} << 30);
+    if (!bytes) return bytes.error();
+    glb_bytes = std::move(*bytes);
+  }
+  std::string data = "window.STRATA_VIEW = " + PageData(recording, summary).dump() + ";\n";
+  if (!glb_bytes.empty()) data += "window.STRATA_GLB = \"" + Base64(glb_bytes) + "\";\n";
+  for (const auto& [name, text] : {std::pair<const char*, std::string>{"data.js", data},
+                                   {"viewer.js", ViewerScript()},
+                                   {"index.html", ViewerPage()}})
+    if (Status written = WriteOutputFile(folder / name, text); !written) return written.error();
+  return summary;
+}
+
+}  // namespace strata::view

@@ -1,0 +1,405 @@
+// The page `strata view` writes: the level, the navmesh (by island or by tile), tile borders coloured by
+// their state, bodies, agents and their paths, over the frames of a recorded demo or simulate run.
+// data.js sets window.STRATA_VIEW (the recording, prepared by ViewerFolder) and window.STRATA_GLB (scene.glb
+// as base64), so the page also works opened straight from disk, where a browser refuses to fetch files.
+import * as THREE from 'three';
+import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
+import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
+import { LineMaterial } from 'three/addons/lines/LineMaterial.js';
+import { LineSegments2 } from 'three/addons/lines/LineSegments2.js';
+import { LineSegmentsGeometry } from 'three/addons/lines/LineSegmentsGeometry.js';
+
+// Colours are shown exactly as the file stores them (no sRGB conversion), so a navmesh island's colour on
+// screen is the one the recording names: the browser test looks for it in a screenshot.
+THREE.ColorManagement.enabled = false;
+
+const TILE_STATE_COLOURS = {
+  missing: 0x707070,
+  queued: 0xc8a0ff,
+  building: 0x3070ff,
+  ready: 0x30c050,
+  stale: 0xffa020,
+};
+const TILE_STATES = ['missing', 'queued', 'building', 'ready', 'stale'];
+
+function decodeBase64(text) {
+  const binary = atob(text);
+  const bytes = new Uint8Array(binary.length);
+  for (let i = 0; i < binary.length; ++i) bytes[i] = binary.charCodeAt(i);
+  return bytes.buffer;
+}
+
+function tileColour(x, z) {
+  // Neighbouring tiles in different colours: a hash of the coordinates onto a hue.
+  const hue = (((x * 73856093) ^ (z * 19349663)) >>> 0) % 360;
+  return new THREE.Color().setHSL(hue / 360, 0.65, 0.55);
+}
+
+function shapeGeometry(shape) {
+  const geometry = new THREE.BufferGeometry();
+  geometry.setAttribute('position', new THREE.Float32BufferAttribute(shape.positions, 3));
+  geometry.setIndex(shape.indices);
+  geometry.computeVertexNormals();
+  return geometry;
+}
+
+class Viewer {
+  constructor(view, glb) {
+    this.view = view;
+    this.frame = 0;
+    this.playing = false;
+    this.layers = {};
+    this.renderer = new THREE.WebGLRenderer({ antialias: false, preserveDrawingBuffer: true });
+    this.renderer.outputColorSpace = THREE.LinearSRGBColorSpace;
+    this.renderer.setPixelRatio(window.devicePixelRatio || 1);
+    this.renderer.setSize(window.innerWidth, window.innerHeight);
+    document.getElementById('canvas-host').appendChild(this.renderer.domElement);
+    this.scene = new THREE.Scene();
+    this.scene.background = new THREE.Color(0x1d2128);
+    this.scene.add(new THREE.HemisphereLight(0xffffff, 0x404040, 1.6));
+    const sun = new THREE.DirectionalLight(0xffffff, 1.2);
+    sun.position.set(0.4, 1.0, 0.3);
+    this.scene.add(sun);
+    this.camera = new THREE.PerspectiveCamera(50, window.innerWidth / window.innerHeight, 0.1, 1e6);
+    this.controls = new OrbitControls(this.camera, this.renderer.domElement);
+    this.controls.addEventListener('change', () => this.render());
+    window.addEventListener('resize', () => this.resize());
+    this.glb = glb;
+  }
+
+  async load() {
+    if (this.glb) {
+      const gltf = await new GLTFLoader().parseAsync(this.glb, '');
+      const objects = [];
+      gltf.scene.traverse((object) => objects.push(object));
+      for (const object of objects) this.adoptGltfObject(object);
+      this.scene.add(gltf.scene);
+    }
+    this.addTileBorders();
+    this.addBodies();
+    this.addAgents();
+    this.frameCamera();
+    this.setupControls();
+    this.showFrame(this.view.frames.length > 0 ? this.view.frames.length - 1 : 0);
+    this.render();
+    this.publishStats();
+  }
+
+  // The file's layers by name: the level shaded, the navmesh and paths in their own colours, unlit.
+  adoptGltfObject(object) {
+    if (!object.isMesh && !object.isLine && !object.isLineSegments) return;
+    const name = object.name || (object.parent && object.parent.name) || '';
+    const layer = ['level', 'navmesh', 'paths'].find((known) => name.startsWith(known));
+    if (!layer) return;
+    if (layer === 'level') {
+      object.material = new THREE.MeshLambertMaterial({ vertexColors: true, side: THREE.DoubleSide });
+      object.geometry.computeVertexNormals();
+    } else if (layer === 'navmesh') {
+      object.material = new THREE.MeshBasicMaterial({
+        vertexColors: true, side: THREE.DoubleSide, polygonOffset: true, polygonOffsetFactor: -2,
+        polygonOffsetUnits: -2,
+      });
+      const colours = object.geometry.getAttribute('color');
+      object.userData.islandColours = colours.array.slice();
+      object.userData.tileColours = this.navmeshTileColours(object.geometry);
+    } else {
+      object = this.widenLines(object);
+    }
+    (this.layers[layer] = this.layers[layer] || []).push(object);
+  }
+
+  // Paths as 4-pixel lines drawn over the level (WebGL draws plain lines one pixel wide), in place of the
+  // file's line segments.
+  widenLines(lines) {
+    const geometry = new LineSegmentsGeometry();
+    geometry.setPositions(lines.geometry.getAttribute('position').array);
+    const colours = lines.geometry.getAttribute('color');
+    if (colours) {
+      const rgb = [];
+      for (let i = 0; i < colours.count; ++i) rgb.push(colours.getX(i), colours.getY(i), colours.getZ(i));
+      geometry.setColors(rgb);
+    }
+    const material = new LineMaterial({ vertexColors: Boolean(colours), linewidth: 4, depthTest: false });
+    material.resolution.set(window.innerWidth, window.innerHeight);
+    this.lineMaterials = (this.lineMaterials || []).concat(material);
+    const wide = new LineSegments2(geometry, material);
+    wide.name = lines.name;
+    wide.renderOrder = 10;
+    wide.applyMatrix4(lines.matrixWorld);
+    lines.visible = false;
+    lines.parent.add(wide);
+    return wide;
+  }
+
+  navmeshTileColours(geometry) {
+    const positions = geometry.getAttribute('position');
+    const colours = geometry.getAttribute('color');
+    const size = colours.itemSize;
+    const out = new Float32Array(colours.array.length);
+    const index = geometry.getIndex();
+    const tileSize = this.view.tiles ? this.view.tiles.size : 12.8;
+    const triangles = index ? index.count / 3 : positions.count / 3;
+    for (let t = 0; t < triangles; ++t) {
+      const corners = [0, 1, 2].map((k) => (index ? index.getX(3 * t + k) : 3 * t + k));
+      let cx = 0;
+      let cz = 0;
+      for (const v of corners) {
+        cx += positions.getX(v) / 3;
+        cz += positions.getZ(v) / 3;
+      }
+      const colour = tileColour(Math.floor(cx / tileSize), Math.floor(cz / tileSize));
+      for (const v of corners) {
+        out[v * size] = colour.r;
+        out[v * size + 1] = colour.g;
+        out[v * size + 2] = colour.b;
+        if (size === 4) out[v * size + 3] = 1;
+      }
+    }
+    return out;
+  }
+
+  addTileBorders() {
+    const tiles = this.view.tiles;
+    if (!tiles || tiles.coords.length === 0) return;
+    const positions = [];
+    const s = tiles.size;
+    // At the navmesh's usual height (the median), drawn over everything: a tile's state shows wherever
+    // the level's walls and floors are.
+    const y = this.navmeshMedianHeight(tiles.y) + 0.05;
+    for (const [x, z] of tiles.coords) {
+      const x0 = x * s + 0.1;
+      const x1 = (x + 1) * s - 0.1;
+      const z0 = z * s + 0.1;
+      const z1 = (z + 1) * s - 0.1;
+      positions.push(x0, y, z0, x1, y, z0, x1, y, z0, x1, y, z1, x1, y, z1, x0, y, z1, x0, y, z1, x0, y, z0);
+    }
+    const geometry = new THREE.BufferGeometry();
+    geometry.setAttribute('position', new THREE.Float32BufferAttribute(positions, 3));
+    geometry.setAttribute('color', new THREE.Float32BufferAttribute(new Float32Array(positions.length), 3));
+    const borders = new THREE.LineSegments(
+      geometry, new THREE.LineBasicMaterial({ vertexColors: true, depthTest: false, transparent: true }));
+    borders.renderOrder = 5;
+    borders.name = 'tile_borders';
+    this.scene.add(borders);
+    this.layers.tiles = [borders];
+  }
+
+  navmeshMedianHeight(fallback) {
+    const heights = [];
+    for (const mesh of this.layers.navmesh || []) {
+      const positions = mesh.geometry.getAttribute('position');
+      for (let i = 0; i < positions.count; ++i) heights.push(positions.getY(i));
+    }
+    if (heights.length === 0) return fallback;
+    heights.sort((a, b) => a - b);
+    return heights[Math.floor(heights.length / 2)];
+  }
+
+  addBodies() {
+    const geometries = this.view.shapes.map(shapeGeometry);
+    const materials = {
+      dynamic: new THREE.MeshLambertMaterial({ color: 0xc07a30 }),
+      kinematic: new THREE.MeshLambertMaterial({ color: 0x4a7fd0 }),
+    };
+    this.bodies = this.view.bodies.map((body) => {
+      const mesh = new THREE.Mesh(geometries[body.shape], materials[body.motion] || materials.dynamic);
+      mesh.name = body.name || 'body';
+      this.scene.add(mesh);
+      return mesh;
+    });
+    this.layers.bodies = this.bodies;
+  }
+
+  addAgents() {
+    const agentGeometry = new THREE.CylinderGeometry(0.6, 0.6, 2.0, 16);
+    agentGeometry.translate(0, 1.0, 0);
+    const targetGeometry = new THREE.ConeGeometry(0.5, 1.2, 12);
+    targetGeometry.rotateX(Math.PI);
+    targetGeometry.translate(0, 0.6, 0);
+    const agentMaterial = new THREE.MeshLambertMaterial({ color: 0x30d060 });
+    const targetMaterial = new THREE.MeshLambertMaterial({ color: 0xd030d0 });
+    this.agents = [];
+    this.layers.agents = [];
+    for (const agent of this.view.agents) {
+      const body = new THREE.Mesh(agentGeometry, agentMaterial);
+      body.position.fromArray(agent.position);
+      const target = new THREE.Mesh(targetGeometry, targetMaterial);
+      target.position.fromArray(agent.target);
+      this.scene.add(body, target);
+      this.agents.push(body);
+      this.layers.agents.push(body, target);
+    }
+  }
+
+  sceneBounds() {
+    const box = new THREE.Box3();
+    for (const layer of ['level', 'navmesh', 'bodies']) {
+      for (const object of this.layers[layer] || []) box.expandByObject(object);
+    }
+    if (box.isEmpty()) box.setFromCenterAndSize(new THREE.Vector3(), new THREE.Vector3(10, 10, 10));
+    return box;
+  }
+
+  frameCamera() {
+    const box = this.sceneBounds();
+    const centre = box.getCenter(new THREE.Vector3());
+    const radius = Math.max(box.getSize(new THREE.Vector3()).length() / 2, 1);
+    this.camera.position.copy(centre).add(new THREE.Vector3(0.35, 0.95, 0.75).normalize().multiplyScalar(radius * 1.9));
+    this.camera.near = radius / 1000;
+    this.camera.far = radius * 100;
+    this.camera.updateProjectionMatrix();
+    this.controls.target.copy(centre);
+    this.controls.update();
+  }
+
+  setupControls() {
+    for (const input of document.querySelectorAll('input[data-layer]')) {
+      const layer = input.dataset.layer;
+      if (!this.layers[layer] || this.layers[layer].length === 0) input.parentElement.classList.add('empty');
+      input.addEventListener('change', () => {
+        for (const object of this.layers[layer] || []) object.visible = input.checked;
+        this.render();
+      });
+    }
+    document.getElementById('colour-mode').addEventListener('change', (event) => {
+      this.colourNavmesh(event.target.value);
+      this.render();
+    });
+    const slider = document.getElementById('frame');
+    slider.max = Math.max(this.view.frames.length - 1, 0);
+    slider.addEventListener('input', () => {
+      this.playing = false;
+      this.showFrame(Number(slider.value));
+      this.render();
+    });
+    document.getElementById('play').addEventListener('click', () => {
+      this.playing = !this.playing;
+      if (this.playing && this.frame >= this.view.frames.length - 1) this.showFrame(0);
+      this.lastTick = performance.now();
+      if (this.playing) requestAnimationFrame((now) => this.tick(now));
+    });
+    const legend = document.getElementById('legend');
+    for (const state of TILE_STATES) {
+      const entry = document.createElement('span');
+      entry.innerHTML = `<i style="background:#${TILE_STATE_COLOURS[state].toString(16).padStart(6, '0')}"></i>${state}`;
+      legend.appendChild(entry);
+    }
+  }
+
+  colourNavmesh(mode) {
+    for (const mesh of this.layers.navmesh || []) {
+      const colours = mesh.geometry.getAttribute('color');
+      colours.array.set(mode === 'tile' ? mesh.userData.tileColours : mesh.userData.islandColours);
+      colours.needsUpdate = true;
+    }
+  }
+
+  tick(now) {
+    if (!this.playing) return;
+    const frames = this.view.frames;
+    let next = this.frame;
+    const elapsed = (now - this.lastTick) / 1000;
+    // Advance through the recording at its own pace.
+    while (next + 1 < frames.length && frames[next + 1].time - frames[this.frame].time <= elapsed) ++next;
+    if (next !== this.frame) {
+      this.lastTick = now;
+      this.showFrame(next);
+      this.render();
+    }
+    if (this.frame >= frames.length - 1) this.playing = false;
+    else requestAnimationFrame((time) => this.tick(time));
+  }
+
+  showFrame(index) {
+    const frames = this.view.frames;
+    this.frame = index;
+    document.getElementById('frame').value = index;
+    if (frames.length === 0) {
+      document.getElementById('time').textContent = 'no frames';
+      return;
+    }
+    const frame = frames[index];
+    document.getElementById('time').textContent =
+      `step ${frame.step}, ${frame.time.toFixed(2)} s (frame ${index + 1} of ${frames.length})`;
+    const poses = frame.poses;
+    this.bodies.forEach((mesh, i) => {
+      mesh.position.set(poses[7 * i], poses[7 * i + 1], poses[7 * i + 2]);
+      mesh.quaternion.set(poses[7 * i + 4], poses[7 * i + 5], poses[7 * i + 6], poses[7 * i + 3]);
+    });
+    const borders = this.layers.tiles && this.layers.tiles[0];
+    if (borders && frame.tiles) {
+      const colours = borders.geometry.getAttribute('color');
+      const colour = new THREE.Color();
+      frame.tiles.forEach((state, tile) => {
+        colour.setHex(TILE_STATE_COLOURS[TILE_STATES[state]] || 0xffffff);
+        for (let v = 0; v < 8; ++v) colours.setXYZ(tile * 8 + v, colour.r, colour.g, colour.b);
+      });
+      colours.needsUpdate = true;
+    }
+  }
+
+  resize() {
+    this.camera.aspect = window.innerWidth / window.innerHeight;
+    this.camera.updateProjectionMatrix();
+    this.renderer.setSize(window.innerWidth, window.innerHeight);
+    for (const material of this.lineMaterials || []) material.resolution.set(window.innerWidth, window.innerHeight);
+    this.render();
+  }
+
+  render() {
+    this.renderer.render(this.scene, this.camera);
+  }
+
+  // What the browser test reads: how much the page loaded and drew.
+  publishStats() {
+    let objects = 0;
+    let triangles = 0;
+    this.scene.traverse((object) => {
+      if (!object.visible || (!object.isMesh && !object.isLine)) return;
+      ++objects;
+      if (object.isMesh && !object.isLineSegments2) {
+        const index = object.geometry.getIndex();
+        triangles += (index ? index.count : object.geometry.getAttribute('position').count) / 3;
+      }
+    });
+    const navmeshTriangles = (this.layers.navmesh || []).reduce((sum, mesh) => {
+      const index = mesh.geometry.getIndex();
+      return sum + (index ? index.count : mesh.geometry.getAttribute('position').count) / 3;
+    }, 0);
+    const stats = {
+      ready: true,
+      objects,
+      triangles,
+      navmesh_triangles: navmeshTriangles,
+      level_objects: (this.layers.level || []).length,
+      path_objects: (this.layers.paths || []).length,
+      bodies: this.bodies.length,
+      agents: this.agents.length,
+      tiles: this.view.tiles ? this.view.tiles.coords.length : 0,
+      frames: this.view.frames.length,
+      drawn_triangles: this.renderer.info.render.triangles,
+      navmesh_colours: this.view.navmesh_colours || [],
+    };
+    document.getElementById('stats').textContent = JSON.stringify(stats);
+    document.body.dataset.ready = '1';
+  }
+}
+
+async function main() {
+  const view = window.STRATA_VIEW;
+  const status = document.getElementById('stats');
+  if (!view) {
+    status.textContent = JSON.stringify({ ready: false, error: 'data.js did not load' });
+    return;
+  }
+  document.getElementById('title').textContent = view.title;
+  try {
+    const viewer = new Viewer(view, window.STRATA_GLB ? decodeBase64(window.STRATA_GLB) : null);
+    await viewer.load();
+  } catch (error) {
+    status.textContent = JSON.stringify({ ready: false, error: String(error) });
+    throw error;
+  }
+}
+
+main();
