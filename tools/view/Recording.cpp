@@ -129,7 +129,6 @@ void Recorder::Capture(int step, float time) {
 }
 
 void Recorder::Finish(const navmesh::NavMesh* navmesh, const std::vector<RecordedAgent>& agents) {
-  document_["frames"] = frames_;
   nlohmann::json agent_list = nlohmann::json::array();
   for (const RecordedAgent& agent : agents) {
     nlohmann::json path = nlohmann::json::array();
@@ -155,6 +154,19 @@ Status Recorder::Write(const std::filesystem::path& path) const {
 }
 
 namespace {
+
+enum class Missing { kNull, kEmptyArray };
+
+/// The member `key` of `object` (no copy of a large member), or a null or empty array that lives on.
+const nlohmann::json& Member(const nlohmann::json& object, const std::string& key,
+                             Missing missing = Missing::kNull) {
+  static const nlohmann::json kNull;
+  static const nlohmann::json kEmptyArray = nlohmann::json::array();
+  const nlohmann::json& otherwise = missing == Missing::kNull ? kNull : kEmptyArray;
+  if (!object.is_object()) return otherwise;
+  const auto found = object.find(key);
+  return found == object.end() ? otherwise : *found;
+}
 
 // Checks as the reader goes, so that an error names the field.
 class RecordingChecker {
@@ -182,9 +194,8 @@ class RecordingChecker {
   }
   Status Mesh(const nlohmann::json& mesh, const std::string& field) const {
     if (!mesh.is_object()) return Fail(field, "must be an object with positions and indices");
-    if (Status status = Numbers(mesh.value("positions", nlohmann::json()), field + ".positions", 3); !status)
-      return status;
-    return Indices(mesh.value("indices", nlohmann::json()), field + ".indices", mesh["positions"].size() / 3);
+    if (Status status = Numbers(Member(mesh, "positions"), field + ".positions", 3); !status) return status;
+    return Indices(Member(mesh, "indices"), field + ".indices", mesh["positions"].size() / 3);
   }
 
  private:
@@ -196,27 +207,25 @@ Status CheckRecording(const nlohmann::json& document, const RecordingChecker& ch
     return check.Fail("format", "not a strata recording");
   if (document.value("version", 0) != kFormatVersion)
     return check.Fail("version", "version " + std::to_string(kFormatVersion) + " expected");
-  if (!document.value("title", nlohmann::json()).is_string()) return check.Fail("title", "must be a string");
-  if (Status status = check.Mesh(document.value("static", nlohmann::json()), "static"); !status)
-    return status;
-  const nlohmann::json& shapes = document.value("shapes", nlohmann::json());
+  if (!Member(document, "title").is_string()) return check.Fail("title", "must be a string");
+  if (Status status = check.Mesh(Member(document, "static"), "static"); !status) return status;
+  const nlohmann::json& shapes = Member(document, "shapes");
   if (!shapes.is_array()) return check.Fail("shapes", "must be an array");
   for (std::size_t i = 0; i < shapes.size(); ++i)
     if (Status status = check.Mesh(shapes[i], "shapes[" + std::to_string(i) + "]"); !status) return status;
-  const nlohmann::json& bodies = document.value("bodies", nlohmann::json());
+  const nlohmann::json& bodies = Member(document, "bodies");
   if (!bodies.is_array()) return check.Fail("bodies", "must be an array");
   for (std::size_t i = 0; i < bodies.size(); ++i) {
-    const nlohmann::json& shape =
-        bodies[i].is_object() ? bodies[i].value("shape", nlohmann::json()) : nlohmann::json();
+    const nlohmann::json& shape = Member(bodies[i], "shape");
     if (!shape.is_number_unsigned() || shape.get<std::uint64_t>() >= shapes.size())
       return check.Fail("bodies[" + std::to_string(i) + "].shape", "must be the index of a shape");
   }
   std::size_t tile_count = 0;
   if (document.contains("tiles")) {
     const nlohmann::json& tiles = document["tiles"];
-    if (!tiles.is_object() || !tiles.value("size", nlohmann::json()).is_number() ||
-        !(tiles["size"].get<double>() > 0.0) || !tiles.value("y", nlohmann::json()).is_number() ||
-        !std::isfinite(tiles["y"].get<double>()) || !tiles.value("coords", nlohmann::json()).is_array())
+    if (!tiles.is_object() || !Member(tiles, "size").is_number() || !(tiles["size"].get<double>() > 0.0) ||
+        !Member(tiles, "y").is_number() || !std::isfinite(tiles["y"].get<double>()) ||
+        !Member(tiles, "coords").is_array())
       return check.Fail("tiles", "must have a positive size, a finite y and coords");
     for (const nlohmann::json& coord : tiles["coords"])
       if (!coord.is_array() || coord.size() != 2 || !coord[0].is_number_integer() ||
@@ -224,19 +233,19 @@ Status CheckRecording(const nlohmann::json& document, const RecordingChecker& ch
         return check.Fail("tiles.coords", "must be [x, z] pairs of whole numbers");
     tile_count = tiles["coords"].size();
   }
-  const nlohmann::json& frames = document.value("frames", nlohmann::json());
+  const nlohmann::json& frames = Member(document, "frames");
   if (!frames.is_array()) return check.Fail("frames", "must be an array");
   for (std::size_t i = 0; i < frames.size(); ++i) {
     const std::string field = "frames[" + std::to_string(i) + "]";
     const nlohmann::json& frame = frames[i];
-    if (!frame.is_object() || !frame.value("step", nlohmann::json()).is_number_integer() ||
-        !frame.value("time", nlohmann::json()).is_number() || !std::isfinite(frame["time"].get<double>()))
+    if (!frame.is_object() || !Member(frame, "step").is_number_integer() ||
+        !Member(frame, "time").is_number() || !std::isfinite(frame["time"].get<double>()))
       return check.Fail(field, "must have a whole step and a finite time");
-    const nlohmann::json& poses = frame.value("poses", nlohmann::json());
+    const nlohmann::json& poses = Member(frame, "poses");
     if (Status status = check.Numbers(poses, field + ".poses", 7); !status) return status;
     if (poses.size() != 7 * bodies.size()) return check.Fail(field + ".poses", "must hold 7 numbers a body");
     if (tile_count > 0) {
-      const nlohmann::json& states = frame.value("tiles", nlohmann::json());
+      const nlohmann::json& states = Member(frame, "tiles");
       if (!states.is_array() || states.size() != tile_count)
         return check.Fail(field + ".tiles", "must hold one state a tile");
       for (const nlohmann::json& state : states)
@@ -247,26 +256,25 @@ Status CheckRecording(const nlohmann::json& document, const RecordingChecker& ch
   if (document.contains("navmesh")) {
     const nlohmann::json& surface = document["navmesh"];
     if (!surface.is_object()) return check.Fail("navmesh", "must be an object");
-    if (Status status = check.Numbers(surface.value("positions", nlohmann::json()), "navmesh.positions", 9);
-        !status)
+    if (Status status = check.Numbers(Member(surface, "positions"), "navmesh.positions", 9); !status)
       return status;
-    const nlohmann::json& islands = surface.value("island", nlohmann::json());
+    const nlohmann::json& islands = Member(surface, "island");
     if (!islands.is_array() || islands.size() != surface["positions"].size() / 9)
       return check.Fail("navmesh.island", "must hold one island a triangle");
     for (const nlohmann::json& island : islands)
       if (!island.is_number_unsigned()) return check.Fail("navmesh.island", "must be whole numbers");
   }
-  const nlohmann::json& agents = document.value("agents", nlohmann::json::array());
+  const nlohmann::json& agents = Member(document, "agents", Missing::kEmptyArray);
   if (!agents.is_array()) return check.Fail("agents", "must be an array");
   for (std::size_t i = 0; i < agents.size(); ++i) {
     const std::string field = "agents[" + std::to_string(i) + "]";
     if (!agents[i].is_object()) return check.Fail(field, "must be an object");
     for (const char* point : {"position", "target"}) {
-      const nlohmann::json& value = agents[i].value(point, nlohmann::json());
+      const nlohmann::json& value = Member(agents[i], point);
       if (Status status = check.Numbers(value, field + "." + point, 3); !status) return status;
       if (value.size() != 3) return check.Fail(field + "." + point, "must be x, y, z");
     }
-    const nlohmann::json& path = agents[i].value("path", nlohmann::json::array());
+    const nlohmann::json& path = Member(agents[i], "path", Missing::kEmptyArray);
     if (!path.is_array()) return check.Fail(field + ".path", "must be an array of points");
     for (const nlohmann::json& point : path)
       if (Status status = check.Numbers(point, field + ".path", 3); !status || point.size() != 3)

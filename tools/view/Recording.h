@@ -38,9 +38,7 @@ class Recorder {
   void Finish(const navmesh::NavMesh* navmesh, const std::vector<RecordedAgent>& agents);
 
   std::size_t frame_count() const { return frames_.size(); }
-  /// The recording as a document (what Write writes).
-  const nlohmann::json& document() const { return document_; }
-  /// Writes the file whole or not at all.
+  /// Writes the file (everything so far, frames included) whole or not at all.
   Status Write(const std::filesystem::path& path) const;
 
  private:
@@ -50,7 +48,7 @@ class Recorder {
   const navmesh::NavMeshService* service_ = nullptr;
   std::vector<navmesh::TileCoord> tiles_;
   nlohmann::json frames_ = nlohmann::json::array();
-  nlohmann::json document_;
+  nlohmann::json document_;  // all but the frames
 };
 
 /// Reads and checks a recording: the format and version, every number finite, every index in range, every
