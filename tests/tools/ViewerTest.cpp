@@ -19,7 +19,10 @@
 #include <thread>
 #include <vector>
 
+#include <assimp/scene.h>
 #include <stb/stb_image.h>
+
+#include <assimp/Importer.hpp>
 
 namespace strata::test {
 namespace {
@@ -56,8 +59,8 @@ std::string Chromium() {
 std::string ChromiumCommand(const std::string& browser, const std::string& what, const std::string& url) {
   const std::filesystem::path profile = TempPath("chromium-profile");
   return "timeout 120 " + browser + " --headless --no-sandbox --disable-gpu --use-angle=swiftshader " +
-         "--enable-unsafe-swiftshader --disable-dev-shm-usage --no-first-run --user-data-dir=" + profile.string() +
-         " --window-size=1280,800 --virtual-time-budget=15000 " + what + " '" + url + "'";
+         "--enable-unsafe-swiftshader --disable-dev-shm-usage --no-first-run --user-data-dir=" +
+         profile.string() + " --window-size=1280,800 --virtual-time-budget=15000 " + what + " '" + url + "'";
 }
 
 /// The page's stats element, as the browser left it.
@@ -244,6 +247,49 @@ TEST(View, ASimulateRunIsRecordedAndViewedWithoutANavmesh) {
     EXPECT_EQ(frame["poses"].size(), 7 * document["bodies"].size());
   ASSERT_EQ(RunCli("view " + recording.string() + " --out " + folder.string()), 0);
   EXPECT_TRUE(std::filesystem::is_regular_file(folder / "index.html"));
+}
+
+TEST(View, ALevelFarFromTheOriginIsDrawnRelativeToItsMiddle) {
+  // A floor quad 5,000 km out and a box resting on it: in float, as the browser draws, positions there
+  // step by half a metre.
+  const double far_x = 5.0e6, far_z = -3.0e6;
+  nlohmann::json recording = {
+      {"format", "strata-recording"},
+      {"version", 1},
+      {"source", "simulate"},
+      {"title", "far"},
+      {"static",
+       {{"positions",
+         {far_x, 0, far_z, far_x + 20, 0, far_z, far_x + 20, 0, far_z + 20, far_x, 0, far_z + 20}},
+        {"indices", {0, 1, 2, 0, 2, 3}}}},
+      {"shapes", {{{"positions", {-0.5, -0.5, 0, 0.5, -0.5, 0, 0, 0.5, 0}}, {"indices", {0, 1, 2}}}}},
+      {"bodies", {{{"shape", 0}, {"motion", "dynamic"}}}},
+      {"frames", {{{"step", 0}, {"time", 0.0}, {"poses", {far_x + 10.25, 0.5, far_z + 10.75, 1, 0, 0, 0}}}}},
+      {"agents", nlohmann::json::array()}};
+  const std::filesystem::path file = TempPath("far.json"), folder = TempPath("far-view");
+  std::ofstream(file) << recording.dump();
+  ASSERT_EQ(RunCli("view " + file.string() + " --out " + folder.string()), 0);
+  std::string data = ReadText(folder / "data.js");
+  const std::string prefix = "window.STRATA_VIEW = ";
+  ASSERT_EQ(data.rfind(prefix, 0), 0u);
+  data = data.substr(prefix.size(), data.find(";\n") - prefix.size());
+  const nlohmann::json view = nlohmann::json::parse(data);
+  // The origin is the middle of the level, in whole metres; the body's pose is given from there, exactly.
+  EXPECT_DOUBLE_EQ(view["origin"][0].get<double>(), far_x + 10);
+  EXPECT_DOUBLE_EQ(view["origin"][2].get<double>(), far_z + 10);
+  EXPECT_DOUBLE_EQ(view["frames"][0]["poses"][0].get<double>(), 0.25);
+  EXPECT_DOUBLE_EQ(view["frames"][0]["poses"][2].get<double>(), 0.75);
+  // scene.glb holds the floor around the page's origin, to the millimetre.
+  Assimp::Importer importer;
+  const aiScene* scene = importer.ReadFile((folder / "scene.glb").string(), 0);
+  ASSERT_NE(scene, nullptr) << importer.GetErrorString();
+  ASSERT_GE(scene->mNumMeshes, 1u);
+  const aiMesh* floor = scene->mMeshes[0];
+  ASSERT_EQ(floor->mNumVertices, 4u);
+  for (unsigned v = 0; v < floor->mNumVertices; ++v) {
+    EXPECT_NEAR(std::abs(floor->mVertices[v].x), 10.0f, 1e-3f);
+    EXPECT_NEAR(std::abs(floor->mVertices[v].z), 10.0f, 1e-3f);
+  }
 }
 
 TEST(View, BadRecordingsAreRefusedWithTheFieldNamedAndNothingWritten) {

@@ -17,9 +17,39 @@ namespace {
 constexpr float kNavmeshLift = 0.02f;  // above the level it lies on, so it is not hidden in it
 constexpr float kPathLift = 0.1f;
 
-Vec3 PointAt(const nlohmann::json& numbers, std::size_t vertex) {
-  return {numbers[3 * vertex].get<float>(), numbers[3 * vertex + 1].get<float>(),
-          numbers[3 * vertex + 2].get<float>()};
+/// The vertex's position relative to `origin`, subtracted in double: a browser draws in float, which a level
+/// kilometres from the world origin would otherwise turn into a jumble (float steps of 0.5 m at 5,000 km).
+Vec3 PointAt(const nlohmann::json& numbers, std::size_t vertex, const Vec3d& origin) {
+  return {static_cast<float>(numbers[3 * vertex].get<double>() - origin.x()),
+          static_cast<float>(numbers[3 * vertex + 1].get<double>() - origin.y()),
+          static_cast<float>(numbers[3 * vertex + 2].get<double>() - origin.z())};
+}
+
+/// Where the page's coordinates start: the middle of the static geometry (or of the bodies' first poses, or
+/// the agents), in whole tiles on x and z when there are tiles, so a tile's colour and border need no offset
+/// of their own, and whole metres on y.
+Vec3d PageOrigin(const nlohmann::json& recording) {
+  double low[3] = {1e300, 1e300, 1e300}, high[3] = {-1e300, -1e300, -1e300};
+  const auto take = [&](const nlohmann::json& numbers, std::size_t stride) {
+    for (std::size_t i = 0; i + 3 <= numbers.size(); i += stride)
+      for (std::size_t k = 0; k < 3; ++k) {
+        low[k] = std::min(low[k], numbers[i + k].get<double>());
+        high[k] = std::max(high[k], numbers[i + k].get<double>());
+      }
+  };
+  take(recording["static"]["positions"], 3);
+  if (low[0] > high[0] && !recording["frames"].empty()) take(recording["frames"][0]["poses"], 7);
+  if (low[0] > high[0])
+    for (const nlohmann::json& agent : recording["agents"]) take(agent["position"], 3);
+  if (low[0] > high[0]) return Vec3d::Zero();
+  Vec3d centre;
+  for (int k = 0; k < 3; ++k) centre[k] = std::round(0.5 * (low[k] + high[k]));
+  if (recording.contains("tiles")) {
+    const double size = recording["tiles"]["size"].get<double>();
+    centre.x() = std::floor(centre.x() / size) * size;
+    centre.z() = std::floor(centre.z() / size) * size;
+  }
+  return centre;
 }
 
 std::string HexColour(const Vec4& colour) {
@@ -48,12 +78,13 @@ std::string Base64(const std::string& bytes) {
   return out;
 }
 
-std::vector<GltfLayer> SceneLayers(const nlohmann::json& recording, ViewerFolderSummary& summary) {
+std::vector<GltfLayer> SceneLayers(const nlohmann::json& recording, const Vec3d& origin,
+                                   ViewerFolderSummary& summary) {
   GltfLayer level{"level", {}, {}, {}, false};
   const nlohmann::json& static_mesh = recording["static"];
   const std::size_t vertex_count = static_mesh["positions"].size() / 3;
   for (std::size_t v = 0; v < vertex_count; ++v) {
-    level.vertices.push_back(PointAt(static_mesh["positions"], v));
+    level.vertices.push_back(PointAt(static_mesh["positions"], v, origin));
     level.colors.emplace_back(0.55f, 0.55f, 0.55f, 1.0f);
   }
   for (const nlohmann::json& index : static_mesh["indices"])
@@ -68,7 +99,7 @@ std::vector<GltfLayer> SceneLayers(const nlohmann::json& recording, ViewerFolder
       const int island = surface["island"][v / 3].get<int>();
       islands.insert(island);
       navmesh.indices.push_back(static_cast<std::uint32_t>(v));
-      navmesh.vertices.push_back(PointAt(surface["positions"], v) + Vec3(0.0f, kNavmeshLift, 0.0f));
+      navmesh.vertices.push_back(PointAt(surface["positions"], v, origin) + Vec3(0.0f, kNavmeshLift, 0.0f));
       navmesh.colors.push_back(IslandColor(island));
     }
     for (const int island : islands) summary.navmesh_colours.push_back(HexColour(IslandColor(island)));
@@ -81,18 +112,35 @@ std::vector<GltfLayer> SceneLayers(const nlohmann::json& recording, ViewerFolder
     for (std::size_t k = 1; k < path.size(); ++k)
       for (const nlohmann::json* point : {&path[k - 1], &path[k]}) {
         paths.indices.push_back(static_cast<std::uint32_t>(paths.vertices.size()));
-        paths.vertices.push_back(PointAt(*point, 0) + Vec3(0.0f, kPathLift, 0.0f));
+        paths.vertices.push_back(PointAt(*point, 0, origin) + Vec3(0.0f, kPathLift, 0.0f));
         paths.colors.emplace_back(1.0f, 1.0f, 1.0f, 1.0f);  // white: no island's colour is
       }
   }
   return {level, navmesh, paths};
 }
 
-/// The page's data: what it animates (the file's static layers are in scene.glb).
-nlohmann::json PageData(const nlohmann::json& recording, const ViewerFolderSummary& summary) {
-  nlohmann::json data = {{"title", recording["title"]},   {"shapes", recording["shapes"]},
-                         {"bodies", recording["bodies"]}, {"frames", recording["frames"]},
-                         {"agents", recording["agents"]}, {"navmesh_colours", summary.navmesh_colours}};
+/// The page's data: what it animates (the file's static layers are in scene.glb), relative to `origin`.
+nlohmann::json PageData(const nlohmann::json& recording, const Vec3d& origin,
+                        const ViewerFolderSummary& summary) {
+  const auto shifted = [&](const nlohmann::json& point) {
+    return nlohmann::json{point[0].get<double>() - origin.x(), point[1].get<double>() - origin.y(),
+                          point[2].get<double>() - origin.z()};
+  };
+  nlohmann::json frames = recording["frames"];
+  for (nlohmann::json& frame : frames)
+    for (std::size_t i = 0; i + 7 <= frame["poses"].size(); i += 7)
+      for (std::size_t k = 0; k < 3; ++k)
+        frame["poses"][i + k] = frame["poses"][i + k].get<double>() - origin[static_cast<Eigen::Index>(k)];
+  nlohmann::json agents = nlohmann::json::array();
+  for (const nlohmann::json& agent : recording["agents"])
+    agents.push_back({{"position", shifted(agent["position"])}, {"target", shifted(agent["target"])}});
+  nlohmann::json data = {{"title", recording["title"]},
+                         {"origin", {origin.x(), origin.y(), origin.z()}},
+                         {"shapes", recording["shapes"]},
+                         {"bodies", recording["bodies"]},
+                         {"frames", std::move(frames)},
+                         {"agents", std::move(agents)},
+                         {"navmesh_colours", summary.navmesh_colours}};
   if (recording.contains("tiles")) data["tiles"] = recording["tiles"];
   return data;
 }
@@ -125,7 +173,8 @@ Result<ViewerFolderSummary> WriteViewerFolder(const nlohmann::json& recording,
   summary.tiles = recording.contains("tiles") ? recording["tiles"]["coords"].size() : 0;
 
   // scene.glb first: it is written through the exporter, then read back for data.js.
-  const std::vector<GltfLayer> layers = SceneLayers(recording, summary);
+  const Vec3d origin = PageOrigin(recording);
+  const std::vector<GltfLayer> layers = SceneLayers(recording, origin, summary);
   const std::filesystem::path glb = folder / "scene.glb";
   std::string glb_bytes;
   const bool any_layer = std::any_of(layers.begin(), layers.end(),
@@ -136,7 +185,7 @@ Result<ViewerFolderSummary> WriteViewerFolder(const nlohmann::json& recording,
     if (!bytes) return bytes.error();
     glb_bytes = std::move(*bytes);
   }
-  std::string data = "window.STRATA_VIEW = " + PageData(recording, summary).dump() + ";\n";
+  std::string data = "window.STRATA_VIEW = " + PageData(recording, origin, summary).dump() + ";\n";
   if (!glb_bytes.empty()) data += "window.STRATA_GLB = \"" + Base64(glb_bytes) + "\";\n";
   for (const auto& [name, text] : {std::pair<const char*, std::string>{"data.js", data},
                                    {"viewer.js", ViewerScript()},

@@ -1,7 +1,9 @@
 // ViewerFolder: turns a recording (Recording.h) into the folder `strata view` writes: index.html, viewer.js
 // (three.js and the viewer), scene.glb (the level, the navmesh coloured by island, the agents' paths) and
 // data.js (the recording's frames, bodies, tiles and agents, and scene.glb again as base64, so the page works
-// opened from disk). Every file is written whole or not at all. Safe from any thread.
+// opened from disk). Positions in the page are relative to an origin in the middle of the level (data.js
+// names it), so a level far from the world origin draws as well as one at it. Every file is written whole
+// or not at all. Safe from any thread.
 #pragma once
 
 #include <filesystem>

@@ -46,6 +46,8 @@ function shapeGeometry(shape) {
 class Viewer {
   constructor(view, glb) {
     this.view = view;
+    // Positions in data.js and scene.glb are relative to this point of the world (ViewerFolder).
+    this.origin = view.origin || [0, 0, 0];
     this.frame = 0;
     this.playing = false;
     this.layers = {};
@@ -138,6 +140,7 @@ class Viewer {
     const out = new Float32Array(colours.array.length);
     const index = geometry.getIndex();
     const tileSize = this.view.tiles ? this.view.tiles.size : 12.8;
+    const [ox, , oz] = this.origin;
     const triangles = index ? index.count / 3 : positions.count / 3;
     for (let t = 0; t < triangles; ++t) {
       const corners = [0, 1, 2].map((k) => (index ? index.getX(3 * t + k) : 3 * t + k));
@@ -147,7 +150,7 @@ class Viewer {
         cx += positions.getX(v) / 3;
         cz += positions.getZ(v) / 3;
       }
-      const colour = tileColour(Math.floor(cx / tileSize), Math.floor(cz / tileSize));
+      const colour = tileColour(Math.floor((cx + ox) / tileSize), Math.floor((cz + oz) / tileSize));
       for (const v of corners) {
         out[v * size] = colour.r;
         out[v * size + 1] = colour.g;
@@ -165,12 +168,13 @@ class Viewer {
     const s = tiles.size;
     // At the navmesh's usual height (the median), drawn over everything: a tile's state shows wherever
     // the level's walls and floors are.
-    const y = this.navmeshMedianHeight(tiles.y) + 0.05;
+    const [ox, oy, oz] = this.origin;
+    const y = this.navmeshMedianHeight(tiles.y - oy) + 0.05;
     for (const [x, z] of tiles.coords) {
-      const x0 = x * s + 0.1;
-      const x1 = (x + 1) * s - 0.1;
-      const z0 = z * s + 0.1;
-      const z1 = (z + 1) * s - 0.1;
+      const x0 = x * s - ox + 0.1;
+      const x1 = (x + 1) * s - ox - 0.1;
+      const z0 = z * s - oz + 0.1;
+      const z1 = (z + 1) * s - oz - 0.1;
       positions.push(x0, y, z0, x1, y, z0, x1, y, z0, x1, y, z1, x1, y, z1, x0, y, z1, x0, y, z1, x0, y, z0);
     }
     const geometry = new THREE.BufferGeometry();
@@ -379,6 +383,7 @@ class Viewer {
       frames: this.view.frames.length,
       drawn_triangles: this.renderer.info.render.triangles,
       navmesh_colours: this.view.navmesh_colours || [],
+      origin: this.origin,
     };
     document.getElementById('stats').textContent = JSON.stringify(stats);
     document.body.dataset.ready = '1';
