@@ -29,11 +29,19 @@ stop() {
   local status=$?
   for pid in "${pids[@]}"; do kill "$pid" 2> /dev/null || true; done
   for pid in "${pids[@]}"; do wait "$pid" 2> /dev/null || true; done
+  # munged puts itself in the background: stop it through its pid file, and wait until it is gone.
+  if [ -f "$work/munged.pid" ]; then
+    local munged_pid
+    munged_pid=$(cat "$work/munged.pid")
+    kill "$munged_pid" 2> /dev/null || true
+    for ((try = 0; try < 100; ++try)); do kill -0 "$munged_pid" 2> /dev/null || break; sleep 0.1; done
+  fi
   if [ $status -ne 0 ]; then
     echo "--- logs in $work:"
     for log in "$work"/*.log "$work"/shards/*.log; do [ -f "$log" ] && { echo "== $log"; tail -n 20 "$log"; }; done
   else
-    rm -rf "$work"
+    # A daemon's last log line can land while the folder is removed: try again briefly.
+    for ((try = 0; try < 20; ++try)); do rm -rf "$work" 2> /dev/null && break; sleep 0.2; done
   fi
   exit $status
 }
