@@ -431,16 +431,10 @@ Status NavMesh::WriteObj(const std::filesystem::path& path) const {
     int written = 0;
     ForEachTile(mesh, [&](const dtMeshTile& tile) {
       for (int p = 0; p < tile.header->polyCount; ++p) {
-        const dtPoly& poly = tile.polys[p];
-        if (poly.getType() != DT_POLYTYPE_GROUND) continue;
-        const dtPolyDetail& detail = tile.detailMeshes[p];
-        for (int t = 0; t < detail.triCount; ++t) {
-          const unsigned char* corners = &tile.detailTris[(detail.triBase + t) * 4];
+        if (tile.polys[p].getType() != DT_POLYTYPE_GROUND) continue;
+        for (int t = 0; t < tile.detailMeshes[p].triCount; ++t) {
           for (int k = 0; k < 3; ++k) {
-            const float* v = corners[k] < poly.vertCount
-                                 ? &tile.verts[poly.verts[corners[k]] * 3]
-                                 : &tile.detailVerts[(detail.vertBase + corners[k] - poly.vertCount) * 3];
-            const Vec3 world = ToWorld(Vec3(v[0], v[1], v[2]));
+            const Vec3 world = ToWorld(DetailTriangleCorner(tile, p, t, k));
             file << "v " << world.x() << ' ' << world.y() << ' ' << world.z() << '\n';
           }
           file << "f " << written + 1 << ' ' << written + 2 << ' ' << written + 3 << '\n';
@@ -450,6 +444,17 @@ Status NavMesh::WriteObj(const std::filesystem::path& path) const {
     });
   });
   return WriteOutputFile(path, file.str());
+}
+
+Vec3 DetailTriangleCorner(const dtMeshTile& tile, int poly, int triangle, int corner) {
+  const dtPoly& polygon = tile.polys[poly];
+  const dtPolyDetail& detail = tile.detailMeshes[poly];
+  const unsigned char index =
+      tile.detailTris[(detail.triBase + static_cast<unsigned>(triangle)) * 4 + corner];
+  const float* v = index < polygon.vertCount
+                       ? &tile.verts[polygon.verts[index] * 3]
+                       : &tile.detailVerts[(detail.vertBase + index - polygon.vertCount) * 3];
+  return {v[0], v[1], v[2]};
 }
 
 }  // namespace strata::navmesh

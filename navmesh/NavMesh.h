@@ -78,4 +78,9 @@ class NavMesh {
   Vec3d origin_;
 };
 
+/// Corner `corner` (0..2) of detail triangle `triangle` of polygon `poly` in `tile`, in the navmesh's own
+/// frame (NavMesh::ToWorld gives world space). Detour numbers a detail corner below the polygon's vertex
+/// count as one of the polygon's vertices, the rest as the tile's detail vertices.
+Vec3 DetailTriangleCorner(const dtMeshTile& tile, int poly, int triangle, int corner);
+
 }  // namespace strata::navmesh

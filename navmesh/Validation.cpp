@@ -168,20 +168,12 @@ NavMeshTriangles TrianglesByIsland(const NavMesh& navmesh) {
   navmesh.Read([&](const dtNavMesh& mesh) {
     const std::unordered_map<dtPolyRef, int> islands = LabelIslands(mesh, out.islands);
     ForEachGroundPoly(mesh, [&](const dtMeshTile& tile, int p) {
-      const dtPoly& poly = tile.polys[p];
-      const dtPolyDetail& detail = tile.detailMeshes[p];
       const int island = islands.at(mesh.getPolyRefBase(&tile) | static_cast<dtPolyRef>(p));
       const TileCoord coord{tile.header->x + navmesh.origin_tile().x,
                             tile.header->y + navmesh.origin_tile().z};
-      for (int t = 0; t < detail.triCount; ++t) {
-        const unsigned char* corners = &tile.detailTris[(detail.triBase + t) * 4];
-        for (int k = 0; k < 3; ++k) {
-          // A corner below vertCount is a polygon vertex, above it a detail vertex.
-          const float* v = corners[k] < poly.vertCount
-                               ? &tile.verts[poly.verts[corners[k]] * 3]
-                               : &tile.detailVerts[(detail.vertBase + corners[k] - poly.vertCount) * 3];
-          out.vertices.push_back(navmesh.ToWorld(Vec3(v[0], v[1], v[2])));
-        }
+      for (int t = 0; t < tile.detailMeshes[p].triCount; ++t) {
+        for (int k = 0; k < 3; ++k)
+          out.vertices.push_back(navmesh.ToWorld(DetailTriangleCorner(tile, p, t, k)));
         out.island.push_back(island);
         out.tile.push_back(coord);
       }

@@ -7,6 +7,8 @@
 #include <cerrno>
 #include <cstring>
 
+#include "physics/core/FileDescriptor.h"
+
 namespace strata {
 
 namespace {
@@ -38,21 +40,6 @@ Status CheckSize(const std::filesystem::path& path, std::uint64_t size, std::uin
   return InputError(
       path, "is " + Bytes(size) + ", more than the " + Bytes(max_bytes) + " this kind of file may have");
 }
-
-// Closes the descriptor on every path out.
-class FileDescriptor {
- public:
-  explicit FileDescriptor(int fd) : fd_(fd) {}
-  ~FileDescriptor() {
-    if (fd_ >= 0) ::close(fd_);
-  }
-  FileDescriptor(const FileDescriptor&) = delete;
-  FileDescriptor& operator=(const FileDescriptor&) = delete;
-  int get() const { return fd_; }
-
- private:
-  int fd_;
-};
 
 }  // namespace
 

@@ -13,6 +13,8 @@
 #include <iterator>
 #include <string>
 
+#include "physics/core/FileDescriptor.h"
+
 namespace strata::view {
 
 namespace {
@@ -22,20 +24,6 @@ std::atomic<bool> g_stop_requested{false};
 extern "C" void RequestStop(int) {
   g_stop_requested.store(true);
 }
-
-class Socket {
- public:
-  explicit Socket(int fd) : fd_(fd) {}
-  ~Socket() {
-    if (fd_ >= 0) ::close(fd_);
-  }
-  Socket(const Socket&) = delete;
-  Socket& operator=(const Socket&) = delete;
-  int fd() const { return fd_; }
-
- private:
-  int fd_;
-};
 
 const char* ContentType(const std::filesystem::path& path) {
   const std::string extension = path.extension().string();
@@ -118,22 +106,22 @@ Status ServeFolder(const std::filesystem::path& folder, const ServeOptions& opti
   if (options.port < 0 || options.port > 65535)
     return MakeError(ErrorCode::kInvalidArgument,
                      "port must be in [0, 65535], got " + std::to_string(options.port));
-  const Socket listener(::socket(AF_INET, SOCK_STREAM, 0));
-  if (listener.fd() < 0)
+  const FileDescriptor listener(::socket(AF_INET, SOCK_STREAM, 0));
+  if (listener.get() < 0)
     return MakeError(ErrorCode::kInvalidState, std::string("socket: ") + std::strerror(errno));
   const int reuse = 1;
-  ::setsockopt(listener.fd(), SOL_SOCKET, SO_REUSEADDR, &reuse, sizeof(reuse));
+  ::setsockopt(listener.get(), SOL_SOCKET, SO_REUSEADDR, &reuse, sizeof(reuse));
   sockaddr_in address{};
   address.sin_family = AF_INET;
   address.sin_port = htons(static_cast<std::uint16_t>(options.port));
   address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  if (::bind(listener.fd(), reinterpret_cast<const sockaddr*>(&address), sizeof(address)) != 0 ||
-      ::listen(listener.fd(), 16) != 0)
+  if (::bind(listener.get(), reinterpret_cast<const sockaddr*>(&address), sizeof(address)) != 0 ||
+      ::listen(listener.get(), 16) != 0)
     return MakeError(
         ErrorCode::kInvalidArgument,
         "cannot listen on 127.0.0.1:" + std::to_string(options.port) + ": " + std::strerror(errno));
   socklen_t length = sizeof(address);
-  ::getsockname(listener.fd(), reinterpret_cast<sockaddr*>(&address), &length);
+  ::getsockname(listener.get(), reinterpret_cast<sockaddr*>(&address), &length);
   if (options.on_listening) options.on_listening(ntohs(address.sin_port));
 
   g_stop_requested.store(false);
@@ -148,10 +136,10 @@ Status ServeFolder(const std::filesystem::path& folder, const ServeOptions& opti
       if (left.count() <= 0) break;
       wait_ms = static_cast<int>(std::min<std::int64_t>(left.count(), 200));
     }
-    pollfd ready{listener.fd(), POLLIN, 0};
+    pollfd ready{listener.get(), POLLIN, 0};
     if (::poll(&ready, 1, wait_ms) <= 0) continue;
-    const Socket client(::accept(listener.fd(), nullptr, nullptr));
-    if (client.fd() >= 0) Handle(client.fd(), folder);
+    const FileDescriptor client(::accept(listener.get(), nullptr, nullptr));
+    if (client.get() >= 0) Handle(client.get(), folder);
   }
   std::signal(SIGINT, SIG_DFL);
   std::signal(SIGTERM, SIG_DFL);
