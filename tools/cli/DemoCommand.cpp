@@ -256,32 +256,17 @@ Status DrawPicture(PhysicsSystem& world, const LoadedLevel& level, const navmesh
   return image.SavePng(path);
 }
 
-/// Level (grey), navmesh (by island, lifted 2 cm off the level) and the agents' paths (red lines).
+/// The level, the navmesh by island and the agents' paths, as the viewer's scene.glb shows them.
 Status WriteGltf(PhysicsSystem& world, const LoadedLevel& level, const navmesh::NavMesh& navmesh,
                  const std::vector<navmesh::PathResult>& paths, const std::filesystem::path& path) {
-  GltfLayer level_layer{"level", {}, {}, {}, false};
+  view::SceneGeometry geometry;
   for (const Triangle& t : LevelTriangles(world, level))
-    for (const Vec3& v : t.vertices) {
-      level_layer.indices.push_back(static_cast<std::uint32_t>(level_layer.vertices.size()));
-      level_layer.vertices.push_back(v);
-      level_layer.colors.emplace_back(0.55f, 0.55f, 0.55f, 1.0f);
-    }
-  GltfLayer navmesh_layer{"navmesh", {}, {}, {}, false};
-  const navmesh::NavMeshTriangles surface = navmesh::TrianglesByIsland(navmesh);
-  for (std::size_t i = 0; i < surface.vertices.size(); ++i) {
-    navmesh_layer.indices.push_back(static_cast<std::uint32_t>(i));
-    navmesh_layer.vertices.push_back(surface.vertices[i] + Vec3(0.0f, 0.02f, 0.0f));
-    navmesh_layer.colors.push_back(view::IslandColor(surface.island[i / 3]));
-  }
-  GltfLayer path_layer{"paths", {}, {}, {}, true};
-  for (const navmesh::PathResult& agent_path : paths)
-    for (std::size_t k = 1; k < agent_path.points.size(); ++k)
-      for (const Vec3& point : {agent_path.points[k - 1], agent_path.points[k]}) {
-        path_layer.indices.push_back(static_cast<std::uint32_t>(path_layer.vertices.size()));
-        path_layer.vertices.push_back(point + Vec3(0.0f, 0.1f, 0.0f));
-        path_layer.colors.emplace_back(0.9f, 0.1f, 0.1f, 1.0f);
-      }
-  return ExportGltf({level_layer, navmesh_layer, path_layer}, path);
+    geometry.level.insert(geometry.level.end(), std::begin(t.vertices), std::end(t.vertices));
+  navmesh::NavMeshTriangles surface = navmesh::TrianglesByIsland(navmesh);
+  geometry.navmesh = std::move(surface.vertices);
+  geometry.island = std::move(surface.island);
+  for (const navmesh::PathResult& agent_path : paths) geometry.paths.push_back(agent_path.points);
+  return ExportGltf(view::SceneLayers(geometry), path);
 }
 
 int RunDemo(const DemoOptions& options) {

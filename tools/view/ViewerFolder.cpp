@@ -78,45 +78,28 @@ std::string Base64(const std::string& bytes) {
   return out;
 }
 
-std::vector<GltfLayer> SceneLayers(const nlohmann::json& recording, const Vec3d& origin,
-                                   ViewerFolderSummary& summary) {
-  GltfLayer level{"level", {}, {}, {}, false};
+/// scene.glb's layers from the recording, moved to `origin`.
+std::vector<GltfLayer> RecordedSceneLayers(const nlohmann::json& recording, const Vec3d& origin,
+                                           ViewerFolderSummary& summary) {
+  SceneGeometry geometry;
   const nlohmann::json& static_mesh = recording["static"];
-  const std::size_t vertex_count = static_mesh["positions"].size() / 3;
-  for (std::size_t v = 0; v < vertex_count; ++v) {
-    level.vertices.push_back(PointAt(static_mesh["positions"], v, origin));
-    level.colors.emplace_back(0.55f, 0.55f, 0.55f, 1.0f);
-  }
   for (const nlohmann::json& index : static_mesh["indices"])
-    level.indices.push_back(index.get<std::uint32_t>());
-  summary.level_triangles = level.indices.size() / 3;
-
-  GltfLayer navmesh{"navmesh", {}, {}, {}, false};
+    geometry.level.push_back(PointAt(static_mesh["positions"], index.get<std::size_t>(), origin));
   if (recording.contains("navmesh")) {
     const nlohmann::json& surface = recording["navmesh"];
-    std::set<int> islands;
-    for (std::size_t v = 0; v < surface["positions"].size() / 3; ++v) {
-      const int island = surface["island"][v / 3].get<int>();
-      islands.insert(island);
-      navmesh.indices.push_back(static_cast<std::uint32_t>(v));
-      navmesh.vertices.push_back(PointAt(surface["positions"], v, origin) + Vec3(0.0f, kNavmeshLift, 0.0f));
-      navmesh.colors.push_back(IslandColor(island));
-    }
-    for (const int island : islands) summary.navmesh_colours.push_back(HexColour(IslandColor(island)));
+    for (std::size_t v = 0; v < surface["positions"].size() / 3; ++v)
+      geometry.navmesh.push_back(PointAt(surface["positions"], v, origin));
+    for (const nlohmann::json& island : surface["island"]) geometry.island.push_back(island.get<int>());
   }
-  summary.navmesh_triangles = navmesh.indices.size() / 3;
-
-  GltfLayer paths{"paths", {}, {}, {}, true};
   for (const nlohmann::json& agent : recording["agents"]) {
-    const nlohmann::json& path = agent["path"];
-    for (std::size_t k = 1; k < path.size(); ++k)
-      for (const nlohmann::json* point : {&path[k - 1], &path[k]}) {
-        paths.indices.push_back(static_cast<std::uint32_t>(paths.vertices.size()));
-        paths.vertices.push_back(PointAt(*point, 0, origin) + Vec3(0.0f, kPathLift, 0.0f));
-        paths.colors.emplace_back(1.0f, 1.0f, 1.0f, 1.0f);  // white: no island's colour is
-      }
+    std::vector<Vec3>& path = geometry.paths.emplace_back();
+    for (const nlohmann::json& point : agent["path"]) path.push_back(PointAt(point, 0, origin));
   }
-  return {level, navmesh, paths};
+  summary.level_triangles = geometry.level.size() / 3;
+  summary.navmesh_triangles = geometry.island.size();
+  for (const int island : std::set<int>(geometry.island.begin(), geometry.island.end()))
+    summary.navmesh_colours.push_back(HexColour(IslandColor(island)));
+  return SceneLayers(geometry);
 }
 
 /// The page's data: what it animates (the file's static layers are in scene.glb), relative to `origin`.
@@ -147,6 +130,30 @@ nlohmann::json PageData(const nlohmann::json& recording, const Vec3d& origin,
 
 }  // namespace
 
+std::vector<GltfLayer> SceneLayers(const SceneGeometry& geometry) {
+  GltfLayer level{"level", {}, {}, {}, false};
+  for (const Vec3& vertex : geometry.level) {
+    level.indices.push_back(static_cast<std::uint32_t>(level.vertices.size()));
+    level.vertices.push_back(vertex);
+    level.colors.emplace_back(0.55f, 0.55f, 0.55f, 1.0f);
+  }
+  GltfLayer navmesh{"navmesh", {}, {}, {}, false};
+  for (std::size_t v = 0; v < geometry.navmesh.size(); ++v) {
+    navmesh.indices.push_back(static_cast<std::uint32_t>(v));
+    navmesh.vertices.push_back(geometry.navmesh[v] + Vec3(0.0f, kNavmeshLift, 0.0f));
+    navmesh.colors.push_back(IslandColor(geometry.island[v / 3]));
+  }
+  GltfLayer paths{"paths", {}, {}, {}, true};
+  for (const std::vector<Vec3>& path : geometry.paths)
+    for (std::size_t k = 1; k < path.size(); ++k)
+      for (const Vec3& point : {path[k - 1], path[k]}) {
+        paths.indices.push_back(static_cast<std::uint32_t>(paths.vertices.size()));
+        paths.vertices.push_back(point + Vec3(0.0f, kPathLift, 0.0f));
+        paths.colors.emplace_back(1.0f, 1.0f, 1.0f, 1.0f);  // white: no island's colour is
+      }
+  return {level, navmesh, paths};
+}
+
 Vec4 IslandColor(int island) {
   const float hue = std::fmod(0.61803f * static_cast<float>(island), 1.0f) * 6.0f;
   const float x = 1.0f - std::abs(std::fmod(hue, 2.0f) - 1.0f);
@@ -174,7 +181,7 @@ Result<ViewerFolderSummary> WriteViewerFolder(const nlohmann::json& recording,
 
   // scene.glb first: it is written through the exporter, then read back for data.js.
   const Vec3d origin = PageOrigin(recording);
-  const std::vector<GltfLayer> layers = SceneLayers(recording, origin, summary);
+  const std::vector<GltfLayer> layers = RecordedSceneLayers(recording, origin, summary);
   const std::filesystem::path glb = folder / "scene.glb";
   std::string glb_bytes;
   const bool any_layer = std::any_of(layers.begin(), layers.end(),

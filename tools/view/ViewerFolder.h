@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "assets/import/GltfExporter.h"
 #include "physics/core/Result.h"
 #include "physics/math/Math.h"
 
@@ -19,6 +20,19 @@ namespace strata::view {
 /// A colour per navmesh island that neighbours in number tell apart (RGBA 0..1): hues a golden-ratio turn
 /// apart. The demo's scene.glb and the viewer use the same.
 Vec4 IslandColor(int island);
+
+/// What scene.glb shows: the level as triangles (3 points each), the navmesh's triangles with one island
+/// each, and the agents' paths.
+struct SceneGeometry {
+  std::vector<Vec3> level;
+  std::vector<Vec3> navmesh;
+  std::vector<int> island;  ///< per navmesh triangle
+  std::vector<std::vector<Vec3>> paths;
+};
+
+/// The layers of scene.glb (the viewer's, and the demo's own): the level grey, the navmesh by island (2 cm
+/// above the level it lies on), the paths as white lines.
+std::vector<GltfLayer> SceneLayers(const SceneGeometry& geometry);
 
 /// What the folder holds.
 struct ViewerFolderSummary {
