@@ -12,6 +12,7 @@
 #include <span>
 #include <sstream>
 #include <string>
+#include <tuple>
 
 #include "physics/core/InputFile.h"
 #include "physics/core/OutputFile.h"
@@ -43,7 +44,8 @@ Error FileError(const std::filesystem::path& path, const std::string& why) {
   return MakeError(ErrorCode::kParseError, path.string() + ": " + why);
 }
 
-/// Calls `function(const dtMeshTile&)` for every tile that holds data.
+/// Calls `function(const dtMeshTile&)` for every tile that holds data, in slot order (for sums and counts,
+/// which that order cannot change).
 template <class Function>
 void ForEachTile(const dtNavMesh& mesh, Function&& function) {
   for (int i = 0; i < mesh.getMaxTiles(); ++i) {
@@ -342,11 +344,7 @@ Status NavMesh::Save(const std::filesystem::path& path) const {
     // The same navmesh gives the same file whatever order its tiles were published in (worker threads race
     // for that): tiles go in coordinate order, each named by the reference it gets when the file is loaded
     // into a fresh navmesh, with its runtime links cleared (Detour rebuilds them when it adds the tile).
-    std::vector<const dtMeshTile*> tiles;
-    ForEachTile(mesh, [&](const dtMeshTile& tile) { tiles.push_back(&tile); });
-    std::sort(tiles.begin(), tiles.end(), [](const dtMeshTile* a, const dtMeshTile* b) {
-      return TileCoord{a->header->x, a->header->y} < TileCoord{b->header->x, b->header->y};
-    });
+    const std::vector<const dtMeshTile*> tiles = TilesInOrder(mesh);
     SetHeader header{kSetMagic, kSetVersion, static_cast<std::int32_t>(tiles.size()), *mesh.getParams()};
     // Detour's own origin stays zero (it works relative to ours); the file records ours there.
     for (int k = 0; k < 3; ++k) header.params.orig[k] = static_cast<float>(origin_[k]);
@@ -429,7 +427,8 @@ Status NavMesh::WriteObj(const std::filesystem::path& path) const {
   file << "# Strata navmesh: detail triangles of every walkable polygon\n";
   Read([&](const dtNavMesh& mesh) {
     int written = 0;
-    ForEachTile(mesh, [&](const dtMeshTile& tile) {
+    for (const dtMeshTile* in_order : TilesInOrder(mesh)) {
+      const dtMeshTile& tile = *in_order;
       for (int p = 0; p < tile.header->polyCount; ++p) {
         if (tile.polys[p].getType() != DT_POLYTYPE_GROUND) continue;
         for (int t = 0; t < tile.detailMeshes[p].triCount; ++t) {
@@ -441,9 +440,19 @@ Status NavMesh::WriteObj(const std::filesystem::path& path) const {
           written += 3;
         }
       }
-    });
+    }
   });
   return WriteOutputFile(path, file.str());
+}
+
+std::vector<const dtMeshTile*> TilesInOrder(const dtNavMesh& mesh) {
+  std::vector<const dtMeshTile*> tiles;
+  ForEachTile(mesh, [&](const dtMeshTile& tile) { tiles.push_back(&tile); });
+  std::sort(tiles.begin(), tiles.end(), [](const dtMeshTile* a, const dtMeshTile* b) {
+    return std::tuple(a->header->x, a->header->y, a->header->layer) <
+           std::tuple(b->header->x, b->header->y, b->header->layer);
+  });
+  return tiles;
 }
 
 Vec3 DetailTriangleCorner(const dtMeshTile& tile, int poly, int triangle, int corner) {

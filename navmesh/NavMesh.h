@@ -83,4 +83,8 @@ class NavMesh {
 /// count as one of the polygon's vertices, the rest as the tile's detail vertices.
 Vec3 DetailTriangleCorner(const dtMeshTile& tile, int poly, int triangle, int corner);
 
+/// The tiles of `mesh` that hold data, in coordinate order (x, then y, then layer): what is written or drawn
+/// from a navmesh must not depend on which worker published a tile first (that decides its slot).
+std::vector<const dtMeshTile*> TilesInOrder(const dtNavMesh& mesh);
+
 }  // namespace strata::navmesh

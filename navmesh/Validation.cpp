@@ -64,14 +64,13 @@ std::vector<Point2> Rectangle(const AABB& box) {
           {box.min.x(), box.max.z()}};
 }
 
+// In tile coordinate order: island numbers and triangle order must not depend on which worker published a
+// tile first.
 template <class Function>
 void ForEachGroundPoly(const dtNavMesh& mesh, Function&& function) {
-  for (int t = 0; t < mesh.getMaxTiles(); ++t) {
-    const dtMeshTile* tile = mesh.getTile(t);
-    if (!tile || !tile->header) continue;
+  for (const dtMeshTile* tile : TilesInOrder(mesh))
     for (int p = 0; p < tile->header->polyCount; ++p)
       if (tile->polys[p].getType() == DT_POLYTYPE_GROUND) function(*tile, p);
-  }
 }
 
 }  // namespace

@@ -1,8 +1,8 @@
 // BakeLevel, the one bake the CLI, demo and benches share: levels of any extent bake every tile (extents that
 // are not a multiple of the tile, levels off the origin), a request wider than a small level still builds it,
-// too large or empty levels are clear errors, and the saved file is the same bytes however many threads
-// built it and in whatever order its tiles were published or rebuilt, or when it was baked in shards and
-// merged.
+// too large or empty levels are clear errors, and the saved file (and the OBJ and the triangles by island
+// that the viewer draws) is the same however many threads built it and in whatever order its tiles were
+// published or rebuilt, or when it was baked in shards and merged.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -14,6 +14,7 @@
 #include "assets/import/MeshExporter.h"
 #include "assets/level/LevelLoader.h"
 #include "navmesh/LevelBake.h"
+#include "navmesh/Validation.h"
 #include "tools/levelgen/LevelGenerator.h"
 
 namespace strata::test {
@@ -42,6 +43,25 @@ std::string SavedBytes(const navmesh::NavMesh& navmesh, const std::string& name)
   const std::filesystem::path path = std::filesystem::path(::testing::TempDir()) / (name + ".bin");
   EXPECT_TRUE(navmesh.Save(path).ok());
   return ReadBytes(path);
+}
+
+std::string ObjBytes(const navmesh::NavMesh& navmesh, const std::string& name) {
+  const std::filesystem::path path = std::filesystem::path(::testing::TempDir()) / (name + ".obj");
+  EXPECT_TRUE(navmesh.WriteObj(path).ok());
+  return ReadBytes(path);
+}
+
+// What a navmesh writes and draws: its file, its OBJ and its triangles by island and tile.
+void ExpectSameOutputs(const navmesh::NavMesh& navmesh, const navmesh::NavMesh& reference,
+                       const std::string& name) {
+  EXPECT_EQ(SavedBytes(navmesh, name), SavedBytes(reference, name + "_reference")) << name;
+  EXPECT_EQ(ObjBytes(navmesh, name), ObjBytes(reference, name + "_reference")) << name;
+  const navmesh::NavMeshTriangles triangles = navmesh::TrianglesByIsland(navmesh);
+  const navmesh::NavMeshTriangles expected = navmesh::TrianglesByIsland(reference);
+  EXPECT_EQ(triangles.islands, expected.islands) << name;
+  EXPECT_EQ(triangles.island, expected.island) << name;
+  EXPECT_EQ(triangles.tile, expected.tile) << name;
+  EXPECT_EQ(triangles.vertices, expected.vertices) << name;
 }
 
 TEST(LevelBake, FloorsOfOddSizesAndPlacesBakeEveryTile) {
@@ -228,21 +248,23 @@ std::unique_ptr<PhysicsSystem> FourByFourLevel() {
   return world;
 }
 
-TEST(LevelBake, TheSavedFileIsTheSameBytesForAnyThreadCountAndPublishOrder) {
+TEST(LevelBake, WhatANavMeshWritesIsTheSameForAnyThreadCountAndPublishOrder) {
   const AABB level = TileArea(4);
   auto world = FourByFourLevel();
   const Result<navmesh::LevelBake> one = navmesh::BakeLevel(*world, level, Options(1));
   ASSERT_TRUE(one.ok()) << one.error().message;
-  const std::string reference = SavedBytes(one->service->navmesh(), "one_thread");
-  ASSERT_GT(one->service->navmesh().tile_count(), 10);
+  const navmesh::NavMesh& reference = one->service->navmesh();
+  ASSERT_GT(reference.tile_count(), 10);
+  ASSERT_GT(navmesh::TrianglesByIsland(reference).vertices.size(), 100u);
 
   for (const int workers : {2, 4}) {
     const Result<navmesh::LevelBake> bake = navmesh::BakeLevel(*world, level, Options(workers));
     ASSERT_TRUE(bake.ok()) << bake.error().message;
-    EXPECT_EQ(SavedBytes(bake->service->navmesh(), "threads"), reference) << workers << " workers";
+    ExpectSameOutputs(bake->service->navmesh(), reference, std::to_string(workers) + "_workers");
   }
 
-  // Published in another order (from the far corner inwards, one tile at a time) ...
+  // Published in another order (from the far corner inwards, one tile at a time, so every tile sits in
+  // another slot) ...
   const Result<navmesh::NavMeshServiceConfig> config = navmesh::ConfigForLevel(FastServiceConfig(1), level);
   ASSERT_TRUE(config.ok());
   const auto reversed = MakeService(*world, *config);
@@ -251,13 +273,13 @@ TEST(LevelBake, TheSavedFileIsTheSameBytesForAnyThreadCountAndPublishOrder) {
       ASSERT_TRUE(reversed->RequestBox(reversed->grid().Bounds({x, z}, -0.5f)).ok());
       ASSERT_TRUE(reversed->WaitUntilIdle(std::chrono::seconds(60)));
     }
-  EXPECT_EQ(SavedBytes(reversed->navmesh(), "reversed"), reference);
+  ExpectSameOutputs(reversed->navmesh(), reference, "reversed");
   // ... and after every tile was rebuilt (Detour gives a rebuilt tile a new reference).
   const std::size_t builds = reversed->stats().builds;
   ASSERT_TRUE(reversed->Invalidate(level).ok());
   ASSERT_TRUE(WaitForRebuilds(*reversed, builds));
   EXPECT_GE(reversed->stats().rebuilds, builds);
-  EXPECT_EQ(SavedBytes(reversed->navmesh(), "rebuilt"), reference);
+  ExpectSameOutputs(reversed->navmesh(), reference, "rebuilt");
 
   // The file loads and answers as the navmesh it came from.
   const std::filesystem::path path = std::filesystem::path(::testing::TempDir()) / "rebuilt.bin";
