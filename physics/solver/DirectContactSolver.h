@@ -31,10 +31,11 @@ class DirectContactSolver {
   static DirectContactSolver* Create(BlockArena& arena, std::span<SolverContact* const> contacts,
                                      const SolverBody* bodies, float weight_per_impulse);
 
-  /// One pass (replacing SolveContactVelocity over the island's contacts): the friction impulses with which,
-  /// all together, each contact holds still within the friction of its normal impulses so far, then the
-  /// normal impulses with which, all together, no point sinks (softly with `use_bias`, rigidly in relax
-  /// passes) and none pulls. `deepest` as in SolveContactVelocity.
+  /// One pass (replacing SolveContactVelocity over the island's contacts): in a velocity pass (`use_bias`)
+  /// the friction impulses with which, all together, each contact holds still within the friction of its
+  /// normal impulses so far; then, in every pass, the normal impulses with which, all together, no point
+  /// sinks (softly with `use_bias`, rigidly in relax passes) and none pulls. `deepest` as in
+  /// SolveContactVelocity.
   void Solve(SolverBody* bodies, const SubstepContext& context, bool use_bias, float* deepest);
 
  private:
@@ -91,7 +92,7 @@ class DirectContactSolver {
     std::uint32_t* neighbours = nullptr;
     float* coupling = nullptr;
     float* diagonal = nullptr;  // each row's own entry: its inverse effective mass
-    Factor factors[2];          // [use_bias] for the normals; friction's softness is one for both: [0]
+    Factor factors[2];          // [use_bias] for the normals; friction (velocity passes only): [0]
   };
   // What Create orders and shares between the two sets.
   struct Layout;

@@ -333,6 +333,20 @@ void BM_StepSlidingOnFloor(benchmark::State& state) {
 }
 BENCHMARK(BM_StepSlidingOnFloor)->ArgName("bullet")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
+// One sphere drifting through empty space for a minute (no gravity, 1 m/s): no pair, no contact, no cast, so
+// all of its time is what every step costs whatever the world holds.
+void BM_StepOneBody(benchmark::State& state) {
+  accuracy::AccuracyScene scene;
+  accuracy::AccuracyBody sphere;
+  sphere.shape = accuracy::AccuracyShape::kSphere;
+  sphere.radius = 0.5f;
+  sphere.linear_velocity = Vec3(1, 0, 0);
+  scene.gravity = Vec3::Zero();
+  scene.bodies.push_back(sphere);
+  StepWholeRun(state, scene, 60.0);
+}
+BENCHMARK(BM_StepOneBody)->ArgName("bullet")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+
 void BM_StepHeavyOnLight(benchmark::State& state) {
   StepWholeRun(state, accuracy::HeavyOnLightScene(100.0f), 5.0);
 }
