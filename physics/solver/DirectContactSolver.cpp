@@ -447,7 +447,7 @@ bool DirectContactSolver::Refactor(const RowSet& set, Factor& factor) {
   for (std::uint32_t i = 0; i < n; ++i)
     if (free_[i]) packed_of_[i] = m, factor.rows[m++] = i;
   factor.size = m;
-  // Skyline (envelope) Cholesky: packed row r of the factor is zero left of the first free neighbour of its
+  // Skyline (envelope) L D L^T: packed row r of the factor is zero left of the first free neighbour of its
   // row, so a banded matrix costs rows x band^2.
   factor.start[0] = 0;
   for (std::uint32_t r = 0; r < m; ++r) {
@@ -477,13 +477,19 @@ bool DirectContactSolver::Refactor(const RowSet& set, Factor& factor) {
       if (j > i) break;
       if (free_[j]) row[packed_of_[j]] = set.coupling[k];
     }
+    // L D L^T without square roots: the row is first worked out as L(r, c) D(c) (each entry waits only on the
+    // dot product before it), then scaled by 1 / D(c), which no other entry of the row waits on.
     for (std::uint32_t c = row_first; c < r; ++c)
-      row[c] = (row[c] - Dot(row, factor.base[c], std::max(row_first, factor.first[c]), c)) *
-               factor.inverse_diagonal[c];
-    const double diagonal = row[r] + softness_[i] - Dot(row, row, row_first, r);
+      row[c] -= Dot(row, factor.base[c], std::max(row_first, factor.first[c]), c);
+    double diagonal = row[r] + softness_[i];
+    for (std::uint32_t c = row_first; c < r; ++c) {
+      const double scaled = row[c] * factor.inverse_diagonal[c];
+      diagonal -= scaled * row[c];
+      row[c] = scaled;
+    }
     if (diagonal > 0.0) {
-      row[r] = std::sqrt(diagonal);
-      factor.inverse_diagonal[r] = 1.0 / row[r];
+      row[r] = 1.0;
+      factor.inverse_diagonal[r] = 1.0 / diagonal;
     } else {
       positive = false;  // never seen: the softness keeps the matrix positive definite
     }
@@ -495,11 +501,10 @@ void DirectContactSolver::SolveWith(const Factor& factor, const double* right, d
   const std::uint32_t m = factor.size;
   double* packed = scratch_;
   for (std::uint32_t r = 0; r < m; ++r)
-    packed[r] = (right[factor.rows[r]] - Dot(factor.base[r], packed, factor.first[r], r)) *
-                factor.inverse_diagonal[r];
+    packed[r] = right[factor.rows[r]] - Dot(factor.base[r], packed, factor.first[r], r);
+  for (std::uint32_t r = 0; r < m; ++r) packed[r] *= factor.inverse_diagonal[r];
   for (std::uint32_t r = m; r-- > 0;) {
     const double* const row = factor.base[r];
-    packed[r] *= factor.inverse_diagonal[r];
     const double value = packed[r];
     for (std::uint32_t k = factor.first[r]; k < r; ++k) packed[k] -= row[k] * value;
   }

@@ -2,7 +2,7 @@
 // time: first all friction axes, then all normals. Gauss-Seidel passes move momentum through a stack one
 // contact per pass, and between a heavy and a light body a thousandth at a time, so a tall tower sags and
 // buckles and a 1000 kg box squeezes out the 1 kg box under it; solving each set's coupling matrix (a banded
-// Cholesky factor of the rows that are not at a limit, those found by a few active-set rounds) lands where
+// L D L^T factor of the rows that are not at a limit, those found by a few active-set rounds) lands where
 // unlimited passes would. Two sets, one row per point and three friction rows per contact, cost much less
 // than one set of three rows per point (the factorisation goes with the cube of the rows). Because the solve
 // is exact, each contact's spring can be as stiff as the load it carries needs (see Create). One island per
@@ -67,11 +67,11 @@ class DirectContactSolver {
     std::uint8_t axis;  // 0: the normal, 1 and 2: the friction axes, 3: the twist
     float load;         // the contact's spring scale: carried mass over its heavier body's mass, >= 1
   };
-  // A Cholesky factor of the free rows' block of (coupling + softness) in skyline storage, kept while the
-  // same rows are free with the same softness.
+  // An L D L^T factor (L unit lower triangular) of the free rows' block of (coupling + softness) in skyline
+  // storage, kept while the same rows are free with the same softness.
   struct Factor {
-    double* lower = nullptr;             // packed row r's entries from column first[r] to r at start[r]
-    double* inverse_diagonal = nullptr;  // 1 / the factor's diagonal, by packed row
+    double* lower = nullptr;             // L's packed row r from column first[r] to r at start[r]
+    double* inverse_diagonal = nullptr;  // 1 / D, by packed row
     std::uint32_t* start = nullptr;      // packed rows + 1
     std::uint32_t* rows = nullptr;       // packed row -> row
     std::uint32_t* first = nullptr;      // first packed column of each packed row's envelope
