@@ -126,11 +126,11 @@ double Dot(const double* x, const double* y, std::uint32_t begin, std::uint32_t 
 
 // The patch's bound on friction axis `axis` (1, 2) or on the twist: friction times the points' normal
 // impulses, for the twist each times the point's distance from the centre.
-float PatchBound(const SolverContact& c, const Vec4* turn, int axis) {
+float PatchBound(const SolverContact& c, const float* lever, int axis) {
   float bound = 0.0f;
   for (int k = 0; k < c.point_count; ++k) {
     const float pushed = std::max(c.points()[k].normal_impulse, 0.0f);
-    bound += axis == kTwist ? pushed * turn[k].norm() : pushed;
+    bound += axis == kTwist ? pushed * lever[k] : pushed;
   }
   return c.friction * bound;
 }
@@ -242,6 +242,7 @@ void DirectContactSolver::MakePatch(const SolverContact& c, const SolverBody* bo
     Vec3 offset = points[k].r_b - centre;
     offset -= offset.dot(normal) * normal;
     patch.turn[k] = ToVec4(normal.cross(offset));
+    patch.lever[k] = patch.turn[k].norm();
     patch.spread += offset.squaredNorm();
   }
 }
@@ -607,7 +608,7 @@ bool DirectContactSolver::SolveRows(RowSet& set, SolverBody* bodies, const Subst
         (r.direction->cwiseProduct(b.linear_velocity - a.linear_velocity) +
          r.angular[1]->cwiseProduct(b.angular_velocity) - r.angular[0]->cwiseProduct(a.angular_velocity))
             .sum();
-    const double bound = r.axis == kNormal ? 0.0 : PatchBound(c, r.patch->turn, r.axis);
+    const double bound = r.axis == kNormal ? 0.0 : PatchBound(c, r.patch->lever, r.axis);
     lower_[i] = r.axis == kNormal ? 0.0 : -bound;
     upper_[i] = r.axis == kNormal ? kUnbounded : bound;
     softness_[i] = softness;
@@ -631,7 +632,7 @@ bool DirectContactSolver::SolveRows(RowSet& set, SolverBody* bodies, const Subst
     if (r.axis == 1) {
       // The active set holds friction inside a box; the sequential solver's limit is the circle.
       const double second = impulse_[i + 1];
-      const double limit = PatchBound(*r.contact, r.patch->turn, 1);
+      const double limit = upper_[i];  // the axes' bound
       const double length = std::sqrt(value * value + second * second);
       if (length > limit) {
         const double scale = length > 0.0 ? limit / length : 0.0;

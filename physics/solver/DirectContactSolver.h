@@ -51,9 +51,10 @@ class DirectContactSolver {
     Vec4 angular_b[3];
     Vec4 response_a[3];  // inverse inertia of A times angular_a
     Vec4 response_b[3];
-    Vec4 turn[ContactManifold::kMaxPoints];  // normal x each point's offset from the centre (in the plane)
-    float spread;                            // the offsets' squared lengths summed; no twist row when ~0
-    float accumulated[3];                    // the rows' impulses, gathered from the points' each pass
+    Vec4 turn[ContactManifold::kMaxPoints];    // normal x each point's offset from the centre (in the plane)
+    float lever[ContactManifold::kMaxPoints];  // each offset's length (|turn|), for the twist's bound
+    float spread;                              // the offsets' squared lengths summed; no twist row when ~0
+    float accumulated[3];                      // the rows' impulses, gathered from the points' each pass
   };
   struct Row {
     SolverContact* contact;
