@@ -55,6 +55,11 @@ std::filesystem::path TempFile(const std::string& name) {
          ("strata_cli_test_" + std::to_string(::getpid()) + "_" + name);
 }
 
+nlohmann::json ReadJson(const std::filesystem::path& path) {
+  std::ifstream file(path);
+  return nlohmann::json::parse(file);
+}
+
 TEST(Cli, SimulateWarnsWhenVelocitiesWereClamped) {
   const auto scene = TempFile("clamped.json");
   std::ofstream(scene) << R"({"settings": {"gravity": [0, 0, 0]}, "bodies": [{"name": "b", "shape":
@@ -81,8 +86,7 @@ TEST(Cli, AccuracyWritesJsonMarkdownAndPlot) {
   ASSERT_EQ(RunCliCapture("accuracy --quick --case free_fall --case fast_thin_wall --out-dir " + dir.string(),
                           output),
             0);
-  std::ifstream json_file(dir / "accuracy.json");
-  const auto json = nlohmann::json::parse(json_file);
+  const nlohmann::json json = ReadJson(dir / "accuracy.json");
   ASSERT_EQ(json["cases"].size(), 2u);
   std::set<std::string> engines;
   for (const auto& run : json["runs"]) {
@@ -113,8 +117,7 @@ TEST(Cli, AccuracyRunsOnlyTheSettingsAsked) {
                               dir.string(),
                           output),
             0);
-  std::ifstream json_file(dir / "accuracy.json");
-  const auto json = nlohmann::json::parse(json_file);
+  const nlohmann::json json = ReadJson(dir / "accuracy.json");
   std::multiset<std::string> settings;
   for (const auto& run : json["runs"]) settings.insert(run["setting"].get<std::string>());
   EXPECT_EQ(settings, (std::multiset<std::string>{"dt1/120 sub8", "dt1/30 sub1"}));
@@ -194,8 +197,7 @@ TEST(Cli, NavmeshBakeWritesSetObjAndReportThenPathQueriesIt) {
   ASSERT_EQ(RunCli("navmesh bake " + (kLevels / "arena.glb").string() + " --out " + nav.string() + " --obj " +
                    obj.string() + " --json " + report.string()),
             0);
-  std::ifstream report_file(report);
-  const auto json = nlohmann::json::parse(report_file);
+  const nlohmann::json json = ReadJson(report);
   EXPECT_EQ(json["tiles"].get<int>(), 4);
   EXPECT_GT(json["polygons"].get<int>(), 4);
   // 25.6 m square minus the agent radius at the edges and the pillars' footprints.
@@ -453,8 +455,7 @@ TEST(Cli, BenchSweepsThreadCountsAndWritesJson) {
   ASSERT_EQ(RunCliCapture("bench --steps 12 --threads 1,2 --no-bullet --json " + json.string(), output), 0);
   EXPECT_NE(output.find("where a step goes"), std::string::npos);
   EXPECT_NE(output.find("serial stages"), std::string::npos);
-  std::ifstream file(json);
-  const nlohmann::json document = nlohmann::json::parse(file);
+  const nlohmann::json document = ReadJson(json);
   ASSERT_EQ(document["scenes"].size(), 4u);  // pyramid, convex_vs_mesh, ragdolls, chains
   for (const auto& scene : document["scenes"]) {
     const auto& runs = scene["strata"];
@@ -539,8 +540,7 @@ TEST(Cli, BroadPhaseAndNavmeshBenchesWriteTheirFiguresAsJson) {
                    "--no-bullet --json " +
                    broad.string()),
             0);
-  std::ifstream broad_file(broad);
-  const nlohmann::json broad_json = nlohmann::json::parse(broad_file);
+  const nlohmann::json broad_json = ReadJson(broad);
   // What was measured is the benchmarks' to print; the file must hold every figure, as a number.
   const auto is_figure = [](const nlohmann::json& value) {
     return value.is_number() && std::isfinite(value.get<double>());
@@ -556,8 +556,7 @@ TEST(Cli, BroadPhaseAndNavmeshBenchesWriteTheirFiguresAsJson) {
                             "lock_wait_us_worst", "contended", "acquisitions"})
       EXPECT_TRUE(is_figure(row[key])) << key;
   ASSERT_EQ(RunCli("bench-navmesh --crates 50 --repeats 1 --blocks 2 --steps 10 --json " + nav.string()), 0);
-  std::ifstream nav_file(nav);
-  const nlohmann::json nav_json = nlohmann::json::parse(nav_file);
+  const nlohmann::json nav_json = ReadJson(nav);
   EXPECT_GT(nav_json["tiles"]["count"].get<int>(), 0);
   EXPECT_GT(nav_json["request_to_ready"]["tiles"].get<int>(), 0);
   EXPECT_EQ(nav_json["step"]["steps_each"].get<int>(), 10);
@@ -570,8 +569,7 @@ TEST(Cli, BroadPhaseAndNavmeshBenchesWriteTheirFiguresAsJson) {
                    "--tile-budget 16 --json " +
                    open_world.string()),
             0);
-  std::ifstream open_world_file(open_world);
-  const nlohmann::json open_world_json = nlohmann::json::parse(open_world_file);
+  const nlohmann::json open_world_json = ReadJson(open_world);
   EXPECT_EQ(open_world_json["tile_budget"].get<int>(), 16);
   EXPECT_EQ(open_world_json["failures"].get<int>(), 0);
   EXPECT_GT(open_world_json["tiles_built"].get<int>(), 0);
