@@ -348,18 +348,41 @@ ConstraintSolver::BatchResult ConstraintSolver::TryRunWholeGroup(Group& group, J
   const std::uint64_t done = static_cast<std::uint64_t>(group.round_count) << 32;
   if (status == done || !group.status.compare_exchange_strong(status, done, std::memory_order_acq_rel))
     return BatchResult::kDone;
-  if (group.free) {
+  if (group.free)
     RunFreeGroup(group);  // the same work as its rounds, without describing each
-  } else {
-    // The rounds in their order, each whole, as single batches would have run them.
-    for (std::uint32_t round_index = 0; round_index < group.round_count; ++round_index) {
-      const Round round = Describe(group, round_index);
-      const std::uint32_t items = RoundItems(group, round);
-      if (items > 0) RunBatch(group, round, 0, items, job, job_index);
-    }
-  }
+  else
+    RunRoundsInOrder(group, job, job_index);
   groups_finished_.fetch_add(1, std::memory_order_release);
   return BatchResult::kRan;
+}
+
+void ConstraintSolver::RunRoundsInOrder(Group& group, JobState& job, std::uint32_t job_index) {
+  // The rounds Describe numbers, in its order, each whole, as single batches would have run them; walked
+  // directly, since describing a round by its number takes integer divisions and a small island's step is
+  // mostly such fixed costs.
+  auto run = [&](const Round& round) {
+    const std::uint32_t items = RoundItems(group, round);
+    if (items > 0) RunBatch(group, round, 0, items, job, job_index);
+  };
+  const PhysicsSettings& settings = *input_.settings;
+  const std::uint32_t splits = group.split_count;
+  run({RoundKind::kSetup});
+  for (int substep = 0; substep < settings.substeps; ++substep) {
+    run({RoundKind::kAddForces, 0, 0, substep});
+    for (std::uint32_t split = 0; split < splits; ++split) run({RoundKind::kWarmStart, split, 0, substep});
+    for (int iteration = 0; iteration < settings.velocity_iterations; ++iteration)
+      for (std::uint32_t split = 0; split < splits; ++split)
+        run({RoundKind::kVelocity, split, iteration, substep});
+    run({RoundKind::kIntegrate, 0, 0, substep});
+    for (int iteration = 0; iteration < settings.relax_iterations; ++iteration)
+      for (std::uint32_t split = 0; split < splits; ++split)
+        run({RoundKind::kRelax, split, iteration, substep});
+  }
+  if (group.bounces)
+    for (int iteration = 0; iteration < settings.restitution_iterations; ++iteration)
+      for (std::uint32_t split = 0; split < splits; ++split) run({RoundKind::kRestitution, split, iteration});
+  if (group.positions)
+    for (std::uint32_t split = 0; split < splits; ++split) run({RoundKind::kPositions, split});
 }
 
 ConstraintSolver::BatchResult ConstraintSolver::TryRunBatch(Group& group, JobState& job,

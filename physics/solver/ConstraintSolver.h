@@ -110,6 +110,8 @@ class ConstraintSolver {
   void AddGroup(std::uint32_t first_island, std::uint32_t end_island, bool exact);
   BatchResult TryRunBatch(Group& group, JobState& job, std::uint32_t job_index);
   BatchResult TryRunWholeGroup(Group& group, JobState& job, std::uint32_t job_index);
+  // Every round of a group one job runs whole, in order.
+  void RunRoundsInOrder(Group& group, JobState& job, std::uint32_t job_index);
   Round Describe(const Group& group, std::uint32_t round) const;
   // The user that owns solver-wide split `split` of `group`.
   std::uint32_t UserOf(const Group& group, std::uint32_t split) const;

@@ -150,7 +150,8 @@ void ContactConstraintUser::Setup(std::uint32_t group_index, std::uint32_t begin
       continue;
     }
     for (std::uint32_t k = 0; k < group.sequential_count; ++k)
-      group.sequential_contacts[k] = SetupSolverContact(arena, *group.sequential[k], step_.bodies, context_);
+      group.sequential_contacts[k] =
+          SetupSolverContact(arena, *group.sequential[k], step_.bodies, context_, !group.exact);
     if (group.exact) SetupDirectSolvers(group, arena);
   }
 }
@@ -194,9 +195,13 @@ void ContactConstraintUser::RunSequential(Group& group, const SolverPass& pass, 
   const std::span<SolverContact*> contacts(group.sequential_contacts, group.sequential_count);
   SolverBody* const bodies = step_.bodies;
   const bool solve = pass.kind == SolverPassKind::kVelocity || pass.kind == SolverPassKind::kRelax;
-  if (group.exact && solve) {
+  // An exact group's contacts have no friction rows per point: its solvers warm start and solve them.
+  if (group.exact && (solve || pass.kind == SolverPassKind::kWarmStart)) {
     for (std::uint32_t island = 0; island < group.end_island - group.first_island; ++island)
-      group.direct_solvers[island]->Solve(bodies, context, use_bias, deepest);
+      if (solve)
+        group.direct_solvers[island]->Solve(bodies, context, use_bias, deepest);
+      else
+        group.direct_solvers[island]->WarmStart(bodies);
     if (pass.keeps_impulses)
       for (const SolverContact* c : contacts) StoreContactImpulses(*c);
     return;

@@ -172,8 +172,29 @@ ContactMotion MotionSinceStepBegan(const SolverContact& c, const SolverBody* bod
   return motion;
 }
 
+namespace {
+
+// Point `p`'s rows for axes [first_axis, end_axis) of `axes` (normal, first tangent, second tangent), and
+// each row's mass (1 / inverse effective mass) in `masses`.
+void SetupPointRows(const ContactConstraint& constraint, const ContactConstraintPoint& point,
+                    const SolverBody* bodies, const Vec4 axes[3], int first_axis, int end_axis,
+                    SolverContactPoint& p, float masses[3]) {
+  const SolverBody& a = bodies[constraint.body_a];
+  const SolverBody& b = bodies[constraint.body_b];
+  const Vec4 r_a = ToVec4(point.r_a), r_b = ToVec4(point.r_b);
+  for (int axis = first_axis; axis < end_axis; ++axis) {
+    p.angular_a[axis] = Cross(r_a, axes[axis]);
+    p.angular_b[axis] = Cross(r_b, axes[axis]);
+    const float k = InverseEffectiveMass(a, b, constraint.dynamic_a, constraint.dynamic_b, p.angular_a[axis],
+                                         p.angular_b[axis], p.response_a[axis], p.response_b[axis]);
+    masses[axis] = k > 0.0f ? 1.0f / k : 0.0f;
+  }
+}
+
+}  // namespace
+
 SolverContact* SetupSolverContact(BlockArena& arena, ContactConstraint& constraint, const SolverBody* bodies,
-                                  const SubstepContext& context) {
+                                  const SubstepContext& context, bool point_friction_rows) {
   const int count = constraint.point_count;
   void* memory =
       arena.Allocate(sizeof(SolverContact) + count * sizeof(SolverContactPoint), alignof(SolverContact));
@@ -189,27 +210,18 @@ SolverContact* SetupSolverContact(BlockArena& arena, ContactConstraint& constrai
   c->friction = constraint.friction;
   c->restitution = constraint.restitution;
   c->point_count = constraint.point_count;
-  const SolverBody& a = bodies[constraint.body_a];
-  const SolverBody& b = bodies[constraint.body_b];
   const Vec4 axes[3] = {c->normal, c->tangent[0], c->tangent[1]};
   // A frictionless contact's friction rows would never push: they are left zero (no impulse, no arm, no
   // response), which spares two thirds of the setup and of each pass. The direct solve holds such rows at
   // their zero bound.
   const bool with_friction = c->friction > 0.0f;
-  const int axis_count = with_friction ? 3 : 1;
+  c->friction_rows_pending = with_friction && !point_friction_rows;
+  const int axis_count = with_friction && point_friction_rows ? 3 : 1;
   for (int i = 0; i < count; ++i) {
     const ContactConstraintPoint& point = constraint.points()[i];
-    const Vec4 r_a = ToVec4(point.r_a), r_b = ToVec4(point.r_b);
     SolverContactPoint& p = *new (&c->points()[i]) SolverContactPoint;
     float masses[3] = {0.0f, 0.0f, 0.0f};
-    for (int axis = 0; axis < axis_count; ++axis) {
-      p.angular_a[axis] = Cross(r_a, axes[axis]);
-      p.angular_b[axis] = Cross(r_b, axes[axis]);
-      const float k =
-          InverseEffectiveMass(a, b, constraint.dynamic_a, constraint.dynamic_b, p.angular_a[axis],
-                               p.angular_b[axis], p.response_a[axis], p.response_b[axis]);
-      masses[axis] = k > 0.0f ? 1.0f / k : 0.0f;
-    }
+    SetupPointRows(constraint, point, bodies, axes, 0, axis_count, p, masses);
     for (int axis = axis_count; axis < 3; ++axis)
       p.angular_a[axis] = p.angular_b[axis] = p.response_a[axis] = p.response_b[axis] = Vec4::Zero();
     p.normal_mass = masses[kNormal];
@@ -222,6 +234,18 @@ SolverContact* SetupSolverContact(BlockArena& arena, ContactConstraint& constrai
     p.tangent_impulse[1] = with_friction ? point.warm_friction.dot(ToVec3(c->tangent[1])) : 0.0f;
   }
   return c;
+}
+
+void SetupPendingFrictionRows(SolverContact& c, const SolverBody* bodies) {
+  if (!c.friction_rows_pending) return;
+  c.friction_rows_pending = false;
+  const Vec4 axes[3] = {c.normal, c.tangent[0], c.tangent[1]};
+  for (int i = 0; i < c.point_count; ++i) {
+    SolverContactPoint& p = c.points()[i];
+    float masses[3] = {0.0f, 0.0f, 0.0f};
+    SetupPointRows(*c.constraint, c.constraint->points()[i], bodies, axes, kFirstTangent, 3, p, masses);
+    p.tangent_mass = std::min(masses[kFirstTangent], masses[kSecondTangent]);
+  }
 }
 
 void WarmStartContact(const SolverContact& c, SolverBody* bodies) {

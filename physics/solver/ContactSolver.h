@@ -36,6 +36,9 @@ struct alignas(16) SolverContact {
   float friction;
   float restitution;
   std::uint8_t point_count;
+  /// Friction > 0 but the points' friction rows not set up yet (an exact island solves friction as one
+  /// patch per contact; see SetupPendingFrictionRows).
+  bool friction_rows_pending;
 
   SolverContactPoint* points() { return reinterpret_cast<SolverContactPoint*>(this + 1); }
   const SolverContactPoint* points() const { return reinterpret_cast<const SolverContactPoint*>(this + 1); }
@@ -57,9 +60,13 @@ inline float SeparationNow(const SolverContactPoint& p, const ContactMotion& mot
 }
 
 /// Sets `constraint` up in `arena` against the bodies' current inverse masses and inertias. A frictionless
-/// contact gets zero friction rows and no friction impulse.
+/// contact gets zero friction rows and no friction impulse. Without `point_friction_rows` the points get
+/// their normal rows only, friction impulses kept (an exact island's friction rows are per contact; a third
+/// of the setup): call SetupPendingFrictionRows before a sequential pass or a warm start takes the contact.
 SolverContact* SetupSolverContact(BlockArena& arena, ContactConstraint& constraint, const SolverBody* bodies,
-                                  const SubstepContext& context);
+                                  const SubstepContext& context, bool point_friction_rows = true);
+/// Sets up the friction rows SetupSolverContact left out, if any.
+void SetupPendingFrictionRows(SolverContact& contact, const SolverBody* bodies);
 /// Applies the accumulated impulses to the bodies' velocities (every substep).
 void WarmStartContact(const SolverContact& contact, SolverBody* bodies);
 /// One Gauss-Seidel pass: friction (clamped to the circle), then non-penetration, softly pushing overlap

@@ -211,31 +211,30 @@ DirectContactSolver* DirectContactSolver::Create(BlockArena& arena, std::span<So
 }
 
 void DirectContactSolver::MakePatch(const SolverContact& c, const SolverBody* bodies, Patch& patch) {
+  const ContactConstraint& constraint = *c.constraint;
+  const ContactConstraintPoint* points = constraint.points();
   const int count = c.point_count;
   const float share = 1.0f / static_cast<float>(count);
-  // The arm to the centre crossed with an axis is the mean of the points' (the cross product is linear).
+  Vec3 centre_a = Vec3::Zero(), centre = Vec3::Zero();  // the points' centre, from A's and from B's centre
+  for (int k = 0; k < count; ++k) {
+    centre_a += points[k].r_a;
+    centre += points[k].r_b;
+  }
+  centre_a *= share;
+  centre *= share;
+  const SolverBody& a = bodies[constraint.body_a];
+  const SolverBody& b = bodies[constraint.body_b];
   for (int axis = 0; axis < 2; ++axis) {
-    Vec4 angular_a = Vec4::Zero(), angular_b = Vec4::Zero(), response_a = Vec4::Zero(),
-         response_b = Vec4::Zero();
-    for (int k = 0; k < count; ++k) {
-      const SolverContactPoint& p = c.points()[k];
-      angular_a += p.angular_a[axis + 1];
-      angular_b += p.angular_b[axis + 1];
-      response_a += p.response_a[axis + 1];
-      response_b += p.response_b[axis + 1];
-    }
-    patch.angular_a[axis] = share * angular_a;
-    patch.angular_b[axis] = share * angular_b;
-    patch.response_a[axis] = share * response_a;
-    patch.response_b[axis] = share * response_b;
+    patch.angular_a[axis] = Cross(ToVec4(centre_a), c.tangent[axis]);
+    patch.angular_b[axis] = Cross(ToVec4(centre), c.tangent[axis]);
+    patch.response_a[axis] =
+        constraint.dynamic_a ? a.InverseInertiaTimes(patch.angular_a[axis]) : Vec4::Zero();
+    patch.response_b[axis] =
+        constraint.dynamic_b ? b.InverseInertiaTimes(patch.angular_b[axis]) : Vec4::Zero();
   }
   patch.angular_a[2] = patch.angular_b[2] = c.normal;
-  patch.response_a[2] = bodies[c.constraint->body_a].InverseInertiaTimes(c.normal);
-  patch.response_b[2] = bodies[c.constraint->body_b].InverseInertiaTimes(c.normal);
-  const ContactConstraintPoint* points = c.constraint->points();
-  Vec3 centre = Vec3::Zero();
-  for (int k = 0; k < count; ++k) centre += points[k].r_b;
-  centre *= share;
+  patch.response_a[2] = a.InverseInertiaTimes(c.normal);
+  patch.response_b[2] = b.InverseInertiaTimes(c.normal);
   const Vec3 normal = ToVec3(c.normal);
   patch.spread = 0.0f;
   for (int k = 0; k < count; ++k) {
@@ -244,6 +243,38 @@ void DirectContactSolver::MakePatch(const SolverContact& c, const SolverBody* bo
     patch.turn[k] = ToVec4(normal.cross(offset));
     patch.lever[k] = patch.turn[k].norm();
     patch.spread += offset.squaredNorm();
+  }
+}
+
+void DirectContactSolver::WarmStart(SolverBody* bodies) {
+  for (std::size_t k = 0; k < contacts_.size(); ++k) {
+    const SolverContact& c = *contacts_[k];
+    Patch& patch = patches_[k];
+    GatherPatch(c, patch);
+    const float* friction = patch.accumulated;
+    float pushed = 0.0f;
+    Vec4 turn_a = friction[0] * patch.response_a[0] + friction[1] * patch.response_a[1] +
+                  friction[2] * patch.response_a[2];
+    Vec4 turn_b = friction[0] * patch.response_b[0] + friction[1] * patch.response_b[1] +
+                  friction[2] * patch.response_b[2];
+    for (int i = 0; i < c.point_count; ++i) {
+      const SolverContactPoint& p = c.points()[i];
+      pushed += p.normal_impulse;
+      turn_a += p.normal_impulse * p.response_a[kNormal];
+      turn_b += p.normal_impulse * p.response_b[kNormal];
+    }
+    const Vec4 impulse = pushed * c.normal + friction[0] * c.tangent[0] + friction[1] * c.tangent[1];
+    const ContactConstraint& constraint = *c.constraint;
+    if (constraint.dynamic_a) {
+      SolverBody& a = bodies[constraint.body_a];
+      a.linear_velocity -= a.inverse_mass * impulse;
+      a.angular_velocity -= turn_a;
+    }
+    if (constraint.dynamic_b) {
+      SolverBody& b = bodies[constraint.body_b];
+      b.linear_velocity += b.inverse_mass * impulse;
+      b.angular_velocity += turn_b;
+    }
   }
 }
 
@@ -367,10 +398,52 @@ void DirectContactSolver::BuildRowSet(BlockArena& arena, const Layout& layout, c
     }
   }
   set.neighbour_begin[count] = neighbour_count;
+  // Each row's own entry now (every pass reads it); the rest of the coupling when a pass first solves the set
+  // (a resting contact's friction, right after its warm start, needs none: see AtMinimum).
+  set.contact_count = contact_count;
+  set.row_begin = row_begin;
+  set.link_offset = link_offset;
+  set.linked_begin = linked_begin;
+  set.linked = linked;
+  set.coupled = false;
+  set.diagonal = arena.AllocateArray<float>(count);
+  for (std::uint32_t k = 0; k < contact_count; ++k) {
+    // A row shares with itself each side the solver moves, A's first (as SharedBodies lists them).
+    const Row& first = set.rows[row_begin[k]];
+    SharedBody shared[2];
+    int shared_count = 0;
+    if (first.body_a != 0) shared[shared_count++] = {bodies[first.body_a].inverse_mass, 1.0f, 0, 0};
+    if (first.body_b != 0) shared[shared_count++] = {bodies[first.body_b].inverse_mass, 1.0f, 1, 1};
+    for (std::uint32_t i = row_begin[k]; i < row_begin[k + 1]; ++i)
+      set.diagonal[i] =
+          Coupling(set.rows[i], *set.rows[i].direction, set.rows[i].response, shared, shared_count);
+  }
+  // Friction rows are solved in velocity passes only (see Solve): one factor.
+  AllocateFactor(arena, set, set.factors[0]);
+  if (!friction) AllocateFactor(arena, set, set.factors[1]);
+}
+
+float DirectContactSolver::Coupling(const Row& i, const Vec4& direction_j, const Vec4* const response_j[2],
+                                    const SharedBody shared[2], int shared_count) {
+  // Through each body both rows move: the side signs times the body's response.
+  const float directions = i.direction->dot(direction_j);
+  float value = 0.0f;
+  for (int b = 0; b < shared_count; ++b)
+    value += shared[b].sign * (shared[b].inverse_mass * directions +
+                               i.angular[shared[b].side_i]->dot(*response_j[shared[b].side_j]));
+  return value;
+}
+
+void DirectContactSolver::Couple(RowSet& set, const SolverBody* bodies) {
+  if (set.coupled) return;
+  set.coupled = true;
+  const std::uint32_t* row_begin = set.row_begin;
+  const std::uint32_t* link_offset = set.link_offset;
+  const std::uint32_t* linked_begin = set.linked_begin;
+  const std::uint32_t* linked = set.linked;
   // The coupling is symmetric: each block of two contacts is computed once (l <= k) and stored on both
   // sides (k's entry in l's links found by a short search).
-  set.diagonal = arena.AllocateArray<float>(count);
-  for (std::uint32_t k = 0; k < contact_count; ++k)
+  for (std::uint32_t k = 0; k < set.contact_count; ++k)
     for (std::uint32_t e = linked_begin[k]; e < linked_begin[k + 1] && linked[e] <= k; ++e) {
       const std::uint32_t l = linked[e];
       std::uint32_t back = linked_begin[l];
@@ -378,47 +451,19 @@ void DirectContactSolver::BuildRowSet(BlockArena& arena, const Layout& layout, c
       // Every row of a contact has the same bodies: which ones the two contacts share is found once.
       SharedBody shared[2];
       const int shared_count = SharedBodies(set.rows[row_begin[k]], set.rows[row_begin[l]], bodies, shared);
-      // Row j's direction and, per shared body, its response on that body's side (a contact has at most
-      // four normal rows and three friction rows).
-      constexpr std::uint32_t kMaxRows = ContactManifold::kMaxPoints;
-      static_assert(kMaxRows >= 3);
-      const Vec4* directions_j[kMaxRows];
-      const Vec4* responses_j[2][kMaxRows];
-      for (std::uint32_t j = row_begin[l]; j < row_begin[l + 1]; ++j) {
-        const Row& rj = set.rows[j];
-        directions_j[j - row_begin[l]] = rj.direction;
-        for (int b = 0; b < shared_count; ++b)
-          responses_j[b][j - row_begin[l]] = rj.response[shared[b].side_j];
-      }
       for (std::uint32_t i = row_begin[k]; i < row_begin[k + 1]; ++i) {
         const Row& ri = set.rows[i];
-        const Vec4& direction_i = *ri.direction;
-        const Vec4* angular_i[2];
-        for (int b = 0; b < shared_count; ++b) angular_i[b] = ri.angular[shared[b].side_i];
         float* const row_i = set.coupling + set.neighbour_begin[i] + link_offset[e];
         const std::uint32_t end = (l < k ? row_begin[l + 1] : i + 1) - row_begin[l];
         for (std::uint32_t j = 0; j < end; ++j) {
-          // Through each body both rows move: the side signs times the body's response.
-          const float directions = direction_i.dot(*directions_j[j]);
-          float value = 0.0f;
-          for (int b = 0; b < shared_count; ++b)
-            value += shared[b].sign *
-                     (shared[b].inverse_mass * directions + angular_i[b]->dot(*responses_j[b][j]));
+          const Row& rj = set.rows[row_begin[l] + j];
+          const float value = Coupling(ri, *rj.direction, rj.response, shared, shared_count);
           row_i[j] = value;
           set.coupling[set.neighbour_begin[row_begin[l] + j] + link_offset[back] + (i - row_begin[k])] =
               value;
         }
       }
     }
-  for (std::uint32_t k = 0; k < contact_count; ++k) {
-    std::uint32_t self = linked_begin[k];
-    while (linked[self] != k) ++self;
-    for (std::uint32_t i = row_begin[k]; i < row_begin[k + 1]; ++i)
-      set.diagonal[i] = set.coupling[set.neighbour_begin[i] + link_offset[self] + (i - row_begin[k])];
-  }
-  // Friction rows are solved in velocity passes only (see Solve): one factor.
-  AllocateFactor(arena, set, set.factors[0]);
-  if (!friction) AllocateFactor(arena, set, set.factors[1]);
 }
 
 void DirectContactSolver::AllocateFactor(BlockArena& arena, const RowSet& set, Factor& factor) {
@@ -453,31 +498,23 @@ bool DirectContactSolver::Refactor(const RowSet& set, Factor& factor) {
   factor.start[0] = 0;
   for (std::uint32_t r = 0; r < m; ++r) {
     const std::uint32_t i = factor.rows[r];
-    std::uint32_t first = r;
-    for (std::uint32_t k = set.neighbour_begin[i]; k < set.neighbour_begin[i + 1]; ++k)
-      if (free_[set.neighbours[k]]) {
-        first = std::min(first, packed_of_[set.neighbours[k]]);
-        break;  // neighbours are in row order
-      }
-    factor.first[r] = first;
-    factor.start[r + 1] = factor.start[r] + (r - first + 1);
+    const std::uint32_t* const neighbours = set.neighbours + set.neighbour_begin[i];
+    const std::uint32_t neighbour_count = set.neighbour_begin[i + 1] - set.neighbour_begin[i];
+    const float* const coupling = set.coupling + set.neighbour_begin[i];
+    // Neighbours are in row order and the row is its own neighbour: the first free one starts the envelope.
+    std::uint32_t k = 0;
+    while (!free_[neighbours[k]]) ++k;
+    const std::uint32_t row_first = packed_of_[neighbours[k]];
+    factor.first[r] = row_first;
+    factor.start[r + 1] = factor.start[r] + (r - row_first + 1);
     // Row r of the factor as an array indexed by packed column (valid from first[r] to r), so the inner
     // loops are plain dot products over contiguous memory.
-    factor.base[r] = factor.lower + factor.start[r] - first;
-  }
-  bool positive = true;
-  for (std::uint32_t r = 0; r < m && positive; ++r) {
-    const std::uint32_t i = factor.rows[r];
-    double* const row = factor.base[r];
-    const std::uint32_t row_first = factor.first[r];
-    // The row of the matrix: zero, then the free neighbours left of the diagonal (in row order, so the scan
-    // stops at the diagonal).
+    double* const row = factor.lower + factor.start[r] - row_first;
+    factor.base[r] = row;
+    // The row of the matrix: zero, then the free neighbours up to the diagonal.
     std::fill(row + row_first, row + r + 1, 0.0);
-    for (std::uint32_t k = set.neighbour_begin[i]; k < set.neighbour_begin[i + 1]; ++k) {
-      const std::uint32_t j = set.neighbours[k];
-      if (j > i) break;
-      if (free_[j]) row[packed_of_[j]] = set.coupling[k];
-    }
+    for (; k < neighbour_count && neighbours[k] <= i; ++k)
+      if (free_[neighbours[k]]) row[packed_of_[neighbours[k]]] = coupling[k];
     // L D L^T without square roots: the row is first worked out as L(r, c) D(c) (each entry waits only on the
     // dot product before it), then scaled by 1 / D(c), which no other entry of the row waits on.
     for (std::uint32_t c = row_first; c < r; ++c)
@@ -488,14 +525,12 @@ bool DirectContactSolver::Refactor(const RowSet& set, Factor& factor) {
       diagonal -= scaled * row[c];
       row[c] = scaled;
     }
-    if (diagonal > 0.0) {
-      row[r] = 1.0;
-      factor.inverse_diagonal[r] = 1.0 / diagonal;
-    } else {
-      positive = false;  // never seen: the softness keeps the matrix positive definite
-    }
+    // Never seen: the softness keeps the matrix positive definite.
+    if (!(diagonal > 0.0)) return factor.valid = false;
+    row[r] = 1.0;
+    factor.inverse_diagonal[r] = 1.0 / diagonal;
   }
-  return factor.valid = positive;
+  return factor.valid = true;
 }
 
 void DirectContactSolver::SolveWith(const Factor& factor, const double* right, double* out) const {
@@ -517,6 +552,22 @@ double DirectContactSolver::Residual(const RowSet& set, std::uint32_t row, const
   for (std::uint32_t k = set.neighbour_begin[row]; k < set.neighbour_begin[row + 1]; ++k)
     sum += set.coupling[k] * (impulse[set.neighbours[k]] - start_[set.neighbours[k]]);
   return sum;
+}
+
+bool DirectContactSolver::AtMinimum(RowSet& set, const SolverBody* bodies) {
+  // Rows clamped into their limits have moved off their start: only then does the coupling enter.
+  bool clamped = false;
+  for (std::uint32_t i = 0; i < set.count && !clamped; ++i) clamped = impulse_[i] != start_[i];
+  if (clamped) Couple(set, bodies);
+  for (std::uint32_t i = 0; i < set.count; ++i) {
+    const double residual = clamped ? Residual(set, i, impulse_) : offset_[i] + softness_[i] * impulse_[i];
+    const bool free = free_[i] != 0, at_lower = impulse_[i] <= lower_[i];
+    if (free ? std::abs(residual) > kResidualTolerance
+             : lower_[i] != upper_[i] &&
+                   (at_lower ? residual < -kResidualTolerance : residual > kResidualTolerance))
+      return false;
+  }
+  return true;
 }
 
 bool DirectContactSolver::FreeRowsStep(const RowSet& set, Factor& factor) {
@@ -625,7 +676,10 @@ bool DirectContactSolver::SolveRows(RowSet& set, SolverBody* bodies, const Subst
   // Only the normals' softness differs between velocity and relax passes.
   Factor& factor = set.factors[use_bias && !friction ? 1 : 0];
   int round = 0;
-  while (round < kMaxActiveSetRounds && FreeRowsStep(set, factor)) ++round;
+  if (!AtMinimum(set, bodies)) {
+    Couple(set, bodies);
+    while (round < kMaxActiveSetRounds && FreeRowsStep(set, factor)) ++round;
+  }
   for (std::uint32_t i = 0; i < n; ++i) {
     const Row& r = set.rows[i];
     double value = impulse_[i];
@@ -643,6 +697,7 @@ bool DirectContactSolver::SolveRows(RowSet& set, SolverBody* bodies, const Subst
     }
     float& accumulated = Accumulated(r);
     const float delta = static_cast<float>(value) - accumulated;
+    if (delta == 0.0f) continue;  // a row the pass left as it was (a set already at its minimum)
     accumulated = static_cast<float>(value);
     if (r.axis == kNormal)
       r.point->max_normal_impulse = std::max(r.point->max_normal_impulse, delta);
@@ -676,7 +731,10 @@ void DirectContactSolver::Solve(SolverBody* bodies, const SubstepContext& contex
   const bool normals_settled = SolveRows(normals_, bodies, context, use_bias, &lowest);
   // An unfinished active set (a pile landing at once) leaves no row worse than a sequential pass would.
   if (!friction_settled || !normals_settled)
-    for (SolverContact* c : contacts_) SolveContactVelocity(*c, bodies, context, use_bias, false, nullptr);
+    for (SolverContact* c : contacts_) {
+      SetupPendingFrictionRows(*c, bodies);
+      SolveContactVelocity(*c, bodies, context, use_bias, false, nullptr);
+    }
   if (deepest != nullptr) *deepest = std::min(*deepest, lowest);
 }
 

@@ -5,8 +5,10 @@
 // L D L^T factor of the rows that are not at a limit, those found by a few active-set rounds) lands where
 // unlimited passes would. Two sets, one row per point and three friction rows per contact, cost much less
 // than one set of three rows per point (the factorisation goes with the cube of the rows). Because the solve
-// is exact, each contact's spring can be as stiff as the load it carries needs (see Create). One island per
-// solver; ContactConstraintUser runs a solver on one thread at a time.
+// is exact, each contact's spring can be as stiff as the load it carries needs (see Create). Its contacts'
+// points come without friction rows of their own (SetupSolverContact without point friction rows): it warm
+// starts and solves friction per contact. One island per solver; ContactConstraintUser runs a solver on one
+// thread at a time.
 #pragma once
 
 #include <cstdint>
@@ -30,6 +32,11 @@ class DirectContactSolver {
   /// on the floor (g / omega^2). nullptr if there are no points or more than kMaxPoints.
   static DirectContactSolver* Create(BlockArena& arena, std::span<SolverContact* const> contacts,
                                      const SolverBody* bodies, float weight_per_impulse);
+
+  /// Applies the contacts' accumulated impulses to the bodies (replacing WarmStartContact over the island's
+  /// contacts, whose points have no friction rows of their own): each point's normal impulse, and each
+  /// contact's friction impulses as its patch's.
+  void WarmStart(SolverBody* bodies);
 
   /// One pass (replacing SolveContactVelocity over the island's contacts): in a velocity pass (`use_bias`)
   /// the friction impulses with which, all together, each contact holds still within the friction of its
@@ -91,9 +98,17 @@ class DirectContactSolver {
     std::uint32_t count = 0;
     std::uint32_t* neighbour_begin = nullptr;  // count + 1
     std::uint32_t* neighbours = nullptr;
-    float* coupling = nullptr;
+    float* coupling = nullptr;  // filled by Couple when a pass first needs it
     float* diagonal = nullptr;  // each row's own entry: its inverse effective mass
     Factor factors[2];          // [use_bias] for the normals; friction (velocity passes only): [0]
+    // What Couple reads: contact k's rows [row_begin[k], row_begin[k + 1]); its links (banded positions)
+    // linked[linked_begin[k] ..], the e-th link's rows from link_offset[e] in each of k's neighbour lists.
+    std::uint32_t contact_count = 0;
+    const std::uint32_t* row_begin = nullptr;
+    const std::uint32_t* link_offset = nullptr;
+    const std::uint32_t* linked_begin = nullptr;
+    const std::uint32_t* linked = nullptr;
+    bool coupled = false;
   };
   // What Create orders and shares between the two sets.
   struct Layout;
@@ -113,10 +128,20 @@ class DirectContactSolver {
   static int SharedBodies(const Row& i, const Row& j, const SolverBody* bodies, SharedBody shared[2]);
   static void BuildRowSet(BlockArena& arena, const Layout& layout, const SolverBody* bodies, bool friction,
                           RowSet& set);
+  // The coupling entry of row i with a row of direction `direction_j` and responses `response_j` (by side)
+  // through the bodies they share.
+  static float Coupling(const Row& i, const Vec4& direction_j, const Vec4* const response_j[2],
+                        const SharedBody shared[2], int shared_count);
+  // Fills the set's coupling, once a step.
+  static void Couple(RowSet& set, const SolverBody* bodies);
   static void AllocateFactor(BlockArena& arena, const RowSet& set, Factor& factor);
   bool Refactor(const RowSet& set, Factor& factor);
   void SolveWith(const Factor& factor, const double* right, double* out) const;
   double Residual(const RowSet& set, std::uint32_t row, const double* impulse) const;
+  // Whether the pass's starting impulses already solve the set: no free row's residual above the tolerance
+  // and no held row pulled off its limit (a resting contact's friction after its warm start). Then there is
+  // nothing to factor.
+  bool AtMinimum(RowSet& set, const SolverBody* bodies);
   // One round: move the free rows towards their minimum, stopping at the first limit hit (that row is then
   // held), or, at the minimum, free the held rows that would move off their limits. False when done.
   bool FreeRowsStep(const RowSet& set, Factor& factor);

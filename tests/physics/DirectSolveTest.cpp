@@ -1,9 +1,13 @@
 // The exact solve of small resting islands (DirectContactSolver): which islands take it, that stacks and
 // heavy-on-light pairs hold with it where the sequential passes let them sag or slide, that it keeps friction
-// (a box held on a slope, a box sliding down one at the closed-form rate), and that it is deterministic.
+// (a box held on a slope, a box sliding down one at the closed-form rate), that its per-contact friction
+// warm starts as the points' own rows would, and that it is deterministic.
 #include <cmath>
+#include <new>
 
 #include "TestWorld.h"
+#include "physics/solver/ContactSolver.h"
+#include "physics/solver/DirectContactSolver.h"
 
 namespace strata::test {
 namespace {
@@ -170,6 +174,90 @@ TEST(DirectSolve, FrictionHoldsATwistBelowItsTorqueAndTurnsABoxAboveAtTheClosedF
       const float time = static_cast<float>(steps) / kSecond;
       const float expected = (factor - 1.0f) * limit / inertia * time;
       EXPECT_NEAR(world->bodies().GetAngularVelocity(id)->y(), expected, 0.02f * expected);
+    }
+  }
+}
+
+// A face-on-face contact between solver bodies `a` and `b` (0: the fixed body): four points on the plane
+// through `centre` across `normal`, each with its own last-step impulses (times `load`).
+ContactConstraint* FaceContact(BlockArena& arena, std::uint32_t a, std::uint32_t b, const Vec3& normal,
+                               const Vec3& centre, const Vec3& centre_of_mass_a, const Vec3& centre_of_mass_b,
+                               float load) {
+  const Vec3 u = normal.unitOrthogonal(), v = normal.cross(u);
+  auto* contact =
+      new (arena.Allocate(ContactConstraint::Bytes(4), alignof(ContactConstraint))) ContactConstraint;
+  *contact = {normal, a, b, 0.6f, 0.0f, nullptr, 4, a != 0, b != 0};
+  const float corners[4][2] = {{0.5f, 0.4f}, {-0.5f, 0.4f}, {-0.5f, -0.4f}, {0.5f, -0.4f}};
+  for (int k = 0; k < 4; ++k) {
+    const Vec3 point = centre + corners[k][0] * u + corners[k][1] * v;
+    ContactConstraintPoint& p = *new (&contact->points()[k]) ContactConstraintPoint;
+    p.r_a = point - centre_of_mass_a;
+    p.r_b = point - centre_of_mass_b;
+    p.warm_normal = load * (1.0f + 0.7f * static_cast<float>(k));
+    p.warm_friction =
+        load * ((0.3f - 0.2f * static_cast<float>(k)) * u + (0.1f * static_cast<float>(k * k) - 0.2f) * v);
+    p.separation = -0.001f;
+    p.normal_velocity = 0.0f;
+  }
+  return contact;
+}
+
+TEST(DirectSolve, PatchWarmStartMovesTheBodiesAsThePointsOwnFrictionRowsWould) {
+  // A tilted light box on the ground under a heavy box, both with inertia off their axes: the exact solve's
+  // contacts carry no friction rows per point, and warm start their friction as one patch each.
+  SolverBody bodies[3];
+  const Vec3 lower(0.2f, 0.5f, -0.1f), upper(0.25f, 1.5f, -0.05f);
+  const Mat3 turn = Quat(Eigen::AngleAxisf(0.4f, Vec3(1, 2, 3).normalized())).toRotationMatrix();
+  const Mat3 inverse_inertia[2] = {turn * Vec3(6, 4, 3).asDiagonal() * turn.transpose(),
+                                   turn * Vec3(0.06f, 0.05f, 0.03f).asDiagonal() * turn.transpose()};
+  for (int body = 1; body <= 2; ++body) {
+    bodies[body].inverse_mass = body == 1 ? 1.0f : 0.01f;
+    for (int column = 0; column < 3; ++column)
+      bodies[body].inverse_inertia[column] = ToVec4(inverse_inertia[body - 1].col(column));
+  }
+  const Vec3 up = Vec3(0.1f, 1.0f, -0.05f).normalized();
+  BlockArena arena;
+  ContactConstraint* constraints[2] = {
+      FaceContact(arena, 0, 1, up, Vec3(0.2f, 0.0f, -0.1f), Vec3::Zero(), lower, 3.0f),
+      FaceContact(arena, 1, 2, up, Vec3(0.22f, 1.0f, -0.08f), lower, upper, 1.0f)};
+  const SubstepContext context{MakeSoftSpring(30, 10, 1.0f / 240),
+                               MakeSoftSpring(60, 10, 1.0f / 240),
+                               240,
+                               3,
+                               0,
+                               1,
+                               1.0f / (9.81f / 240)};
+  SolverBody per_point[3] = {bodies[0], bodies[1], bodies[2]};
+  SolverContact* full[2];
+  SolverContact* patched[2];
+  for (int k = 0; k < 2; ++k) {
+    full[k] = SetupSolverContact(arena, *constraints[k], per_point, context);
+    WarmStartContact(*full[k], per_point);
+    patched[k] = SetupSolverContact(arena, *constraints[k], bodies, context, false);
+  }
+  DirectContactSolver* solver =
+      DirectContactSolver::Create(arena, patched, bodies, context.weight_per_impulse);
+  ASSERT_NE(solver, nullptr);
+  solver->WarmStart(bodies);
+  for (int body = 1; body <= 2; ++body) {
+    EXPECT_LT((bodies[body].linear_velocity - per_point[body].linear_velocity).norm(),
+              1e-5f * per_point[body].linear_velocity.norm());
+    EXPECT_LT((bodies[body].angular_velocity - per_point[body].angular_velocity).norm(),
+              1e-4f * per_point[body].angular_velocity.norm());
+  }
+  // The rows left out are set up when a sequential pass needs them, as the full setup has them.
+  for (int k = 0; k < 2; ++k) {
+    EXPECT_TRUE(patched[k]->friction_rows_pending);
+    SetupPendingFrictionRows(*patched[k], bodies);
+    EXPECT_FALSE(patched[k]->friction_rows_pending);
+    for (int i = 0; i < 4; ++i) {
+      const SolverContactPoint &p = patched[k]->points()[i], &q = full[k]->points()[i];
+      for (int axis = 0; axis < 3; ++axis) {
+        EXPECT_EQ(p.angular_a[axis], q.angular_a[axis]);
+        EXPECT_EQ(p.response_b[axis], q.response_b[axis]);
+      }
+      EXPECT_EQ(p.tangent_mass, q.tangent_mass);
+      EXPECT_EQ(p.tangent_impulse[0], q.tangent_impulse[0]);
     }
   }
 }
