@@ -32,6 +32,23 @@ inline float InverseEffectiveMass(const SolverBody& a, const SolverBody& b, bool
   return k;
 }
 
+// Point `p`'s rows for axes [first_axis, end_axis) of `axes` (normal, first tangent, second tangent), and
+// each row's mass (1 / inverse effective mass) in `masses`.
+void SetupPointRows(const ContactConstraint& constraint, const ContactConstraintPoint& point,
+                    const SolverBody* bodies, const Vec4 axes[3], int first_axis, int end_axis,
+                    SolverContactPoint& p, float masses[3]) {
+  const SolverBody& a = bodies[constraint.body_a];
+  const SolverBody& b = bodies[constraint.body_b];
+  const Vec4 r_a = ToVec4(point.r_a), r_b = ToVec4(point.r_b);
+  for (int axis = first_axis; axis < end_axis; ++axis) {
+    p.angular_a[axis] = Cross(r_a, axes[axis]);
+    p.angular_b[axis] = Cross(r_b, axes[axis]);
+    const float k = InverseEffectiveMass(a, b, constraint.dynamic_a, constraint.dynamic_b, p.angular_a[axis],
+                                         p.angular_b[axis], p.response_a[axis], p.response_b[axis]);
+    masses[axis] = k > 0.0f ? 1.0f / k : 0.0f;
+  }
+}
+
 // How a side moved and turned since the step began: its deltas if the solver moves it, else its velocity
 // times the elapsed time (kinematic bodies; the fixed body does not move).
 inline void SideMotion(const SolverBody& body, bool dynamic, float elapsed, Vec4& moved, Vec4& turned) {
@@ -171,27 +188,6 @@ ContactMotion MotionSinceStepBegan(const SolverContact& c, const SolverBody* bod
   motion.moved_apart = c.normal.dot(moved_b - moved_a);
   return motion;
 }
-
-namespace {
-
-// Point `p`'s rows for axes [first_axis, end_axis) of `axes` (normal, first tangent, second tangent), and
-// each row's mass (1 / inverse effective mass) in `masses`.
-void SetupPointRows(const ContactConstraint& constraint, const ContactConstraintPoint& point,
-                    const SolverBody* bodies, const Vec4 axes[3], int first_axis, int end_axis,
-                    SolverContactPoint& p, float masses[3]) {
-  const SolverBody& a = bodies[constraint.body_a];
-  const SolverBody& b = bodies[constraint.body_b];
-  const Vec4 r_a = ToVec4(point.r_a), r_b = ToVec4(point.r_b);
-  for (int axis = first_axis; axis < end_axis; ++axis) {
-    p.angular_a[axis] = Cross(r_a, axes[axis]);
-    p.angular_b[axis] = Cross(r_b, axes[axis]);
-    const float k = InverseEffectiveMass(a, b, constraint.dynamic_a, constraint.dynamic_b, p.angular_a[axis],
-                                         p.angular_b[axis], p.response_a[axis], p.response_b[axis]);
-    masses[axis] = k > 0.0f ? 1.0f / k : 0.0f;
-  }
-}
-
-}  // namespace
 
 SolverContact* SetupSolverContact(BlockArena& arena, ContactConstraint& constraint, const SolverBody* bodies,
                                   const SubstepContext& context, bool point_friction_rows) {
