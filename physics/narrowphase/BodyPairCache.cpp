@@ -76,6 +76,12 @@ CachedManifold* BodyPairCache::AddManifold(std::uint32_t job, CachedBodyPair& pa
   return manifold;
 }
 
+void BodyPairCache::SetFace(std::uint32_t job, CachedManifold& manifold, const SlidingFace& face) {
+  BlockArena& arena = generations_[current_].jobs[job].arena;
+  void* memory = arena.Allocate(sizeof(SlidingFace), alignof(SlidingFace));
+  manifold.face = new (memory) SlidingFace(face);
+}
+
 std::size_t BodyPairCache::current_pair_count() const {
   std::size_t total = 0;
   for (const JobSlot& job : generations_[current_].jobs) total += job.pairs;

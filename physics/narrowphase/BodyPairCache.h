@@ -14,6 +14,7 @@
 #include "physics/body/BodyID.h"
 #include "physics/core/BlockArena.h"
 #include "physics/math/Math.h"
+#include "physics/narrowphase/SlidingFace.h"
 
 namespace strata {
 
@@ -28,7 +29,8 @@ struct CachedContactPoint {
 /// One manifold of a pair (one pair of sub-shapes) with its points stored right after it.
 struct CachedManifold {
   CachedManifold* next = nullptr;
-  Vec3 normal_a;  ///< contact normal (A to B) in A's frame
+  const SlidingFace* face = nullptr;  ///< where a slide may carry the points, if anywhere
+  Vec3 normal_a;                      ///< contact normal (A to B) in A's frame
   std::uint32_t sub_shape_a = 0;
   std::uint32_t sub_shape_b = 0;
   std::uint32_t point_count = 0;
@@ -89,6 +91,9 @@ class BodyPairCache {
   /// points to `pair`, from job `job`'s arena.
   CachedManifold* AddManifold(std::uint32_t job, CachedBodyPair& pair, std::uint32_t sub_shape_a,
                               std::uint32_t sub_shape_b, const Vec3& normal_a, std::uint32_t point_count);
+
+  /// Gives `manifold` a copy of `face`, from job `job`'s arena.
+  void SetFace(std::uint32_t job, CachedManifold& manifold, const SlidingFace& face);
 
   /// Entries added this step so far (exact once the narrow phase is over).
   std::size_t current_pair_count() const;

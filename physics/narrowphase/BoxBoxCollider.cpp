@@ -245,6 +245,9 @@ void FaceManifold(const PosedBox& a, int face_a, const PosedBox& b, int face_b, 
                     max_separation, points, point_count);
   }
   SetManifoldPoints(points, point_count, manifold);
+  // All four corners, uncut and kept, on a face whose normal is the contact normal: the pair may slide.
+  if (sides == 0 && manifold.count == 4 && std::abs(denominator) >= 1.0f - kParallelFaces)
+    manifold.face = {true, reference_is_a, centre, u, v, normal, half_u, half_v};
 }
 
 }  // namespace

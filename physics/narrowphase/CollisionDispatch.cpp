@@ -33,6 +33,7 @@ void TurnRound(ContactManifold& manifold) {
   std::swap(manifold.body_a, manifold.body_b);
   std::swap(manifold.sub_shape_a, manifold.sub_shape_b);
   manifold.normal = -manifold.normal;
+  manifold.face.on_a = !manifold.face.on_a;
   for (int i = 0; i < manifold.count; ++i)
     std::swap(manifold.points[i].position_a, manifold.points[i].position_b);
 }

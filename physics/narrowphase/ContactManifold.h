@@ -16,6 +16,22 @@ struct ContactPoint {
   float separation;  ///< (position_b - position_a) . normal
 };
 
+/// The flat face a manifold's points were pressed onto, when every point is a corner of the other body's
+/// face and none was cut by this face's sides (a box resting or sliding on a floor or on a wider box). Those
+/// corners stay the contact points while the bodies keep their relative turn and the corners stay inside the
+/// face, however far one slides over the other: the body-pair cache then carries them along instead of
+/// testing the shapes again. World space.
+struct ContactFace {
+  bool valid = false;
+  bool on_a = false;  ///< the face is A's and the corners B's, or the other way round
+  Vec3 centre = Vec3::Zero();
+  Vec3 u = Vec3::UnitX();       ///< the face's first edge direction (unit)
+  Vec3 v = Vec3::UnitZ();       ///< its second (unit)
+  Vec3 normal = Vec3::UnitY();  ///< out of the face's body
+  float half_u = 0.0f;
+  float half_v = 0.0f;
+};
+
 /// Contact between body A and body B, or between their sub-shapes (a mesh triangle; 0 for a shape without).
 struct ContactManifold {
   static constexpr int kMaxPoints = 4;
@@ -26,6 +42,7 @@ struct ContactManifold {
   Vec3 normal = Vec3::UnitY();  ///< unit, from A towards B
   int count = 0;
   ContactPoint points[kMaxPoints];
+  ContactFace face;  ///< set by colliders that know it (box on box), else not valid
 
   float MinSeparation() const {
     float smallest = kLargeFloat;

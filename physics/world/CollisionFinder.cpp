@@ -46,6 +46,7 @@ void CollisionFinder::BeginStep(const Input& input, std::uint32_t job_count) {
   const PhysicsSettings& settings = *input.settings;
   replay_max_distance_squared_ =
       settings.body_pair_cache_max_distance * settings.body_pair_cache_max_distance;
+  slides_ = settings.body_pair_cache_slides && settings.body_pair_cache_max_distance > 0.0f;
   // Quaternions measure half the angle. (A cosine is a fair share of a small world's step: only on a change.)
   if (settings.body_pair_cache_max_angle != replay_max_angle_) {
     replay_max_angle_ = settings.body_pair_cache_max_angle;
@@ -159,17 +160,23 @@ void CollisionFinder::CollidePair(BodyPair pair, BodyPairCache::PreviousPairs& p
       previous != nullptr &&
       (delta_position - previous->delta_position).squaredNorm() < replay_max_distance_squared_ &&
       std::abs(delta_rotation.dot(previous->delta_rotation)) > replay_min_half_angle_cosine_;
-  // A replayed pair keeps the pose its manifolds were made at, so slow drift still ends in a fresh test.
-  CachedBodyPair& entry = *input_.cache->Create(job_index, pair.a, pair.b, a.body->id(), b.body->id(),
-                                                replay ? previous->delta_position : delta_position,
-                                                replay ? previous->delta_rotation : delta_rotation);
   if (replay) {
+    // A replayed pair keeps the pose its manifolds were made at, so slow drift still ends in a fresh test.
+    CachedBodyPair& entry = *input_.cache->Create(job_index, pair.a, pair.b, a.body->id(), b.body->id(),
+                                                  previous->delta_position, previous->delta_rotation);
     ++job.stats.pairs_replayed;
     ReplayManifolds(*previous, a, b, entry, job_index);
     return;
   }
   const float max_separation =
       input_.settings->speculative_distance + a.body->MotionBound(input_.dt) + b.body->MotionBound(input_.dt);
+  if (previous != nullptr &&
+      SlideManifold(pair, *previous, a, b, delta_position, delta_rotation, max_separation, job_index)) {
+    ++job.stats.pairs_slid;
+    return;
+  }
+  CachedBodyPair& entry = *input_.cache->Create(job_index, pair.a, pair.b, a.body->id(), b.body->id(),
+                                                delta_position, delta_rotation);
   ContactManifold prototype;
   prototype.body_a = a.body->id();
   prototype.body_b = b.body->id();
@@ -192,6 +199,7 @@ void CollisionFinder::ReplayManifolds(const CachedBodyPair& previous, const Side
     CachedManifold& cached = *input_.cache->AddManifold(job_index, entry, old->sub_shape_a, old->sub_shape_b,
                                                         old->normal_a, old->point_count);
     std::copy(old->points(), old->points() + old->point_count, cached.points());
+    if (old->face != nullptr) input_.cache->SetFace(job_index, cached, *old->face);
     const Vec3 normal = a.rotation_matrix * old->normal_a;
     ContactArms arms[ContactManifold::kMaxPoints];
     for (std::uint32_t i = 0; i < old->point_count; ++i) {
@@ -204,6 +212,49 @@ void CollisionFinder::ReplayManifolds(const CachedBodyPair& previous, const Side
   }
 }
 
+bool CollisionFinder::SlideManifold(BodyPair pair, const CachedBodyPair& previous, const Side& a,
+                                    const Side& b, const Vec3& delta_position, const Quat& delta_rotation,
+                                    float max_separation, std::uint32_t job_index) {
+  const CachedManifold* old = previous.manifolds;
+  if (!slides_ || old == nullptr || old->next != nullptr || old->face == nullptr) return false;
+  const SlidingFace& face = *old->face;
+  // Turned since the face was found: other corners could be touching it.
+  if (std::abs(delta_rotation.dot(face.found_turn)) <= replay_min_half_angle_cosine_) return false;
+  Vec3 corners[ContactManifold::kMaxPoints];
+  for (std::uint32_t i = 0; i < old->point_count; ++i)
+    corners[i] = face.on_a ? old->points()[i].local_b : old->points()[i].local_a;
+  ContactManifold slid;
+  const PosedBody frame_a{a.center_of_mass, a.rotation_matrix}, frame_b{b.center_of_mass, b.rotation_matrix};
+  if (!SlideCorners(face, face.on_a ? frame_a : frame_b, face.on_a ? frame_b : frame_a,
+                    std::span<const Vec3>(corners, old->point_count), max_separation, slid))
+    return false;
+
+  // The face keeps the turn it was found at, so a slow turn still ends in a fresh test; the entry takes the
+  // pose now, so a box that stops sliding replays from the next step on.
+  CachedBodyPair& entry = *input_.cache->Create(job_index, pair.a, pair.b, a.body->id(), b.body->id(),
+                                                delta_position, delta_rotation);
+  const auto to_a = a.rotation_matrix.transpose();
+  const auto to_b = b.rotation_matrix.transpose();
+  CachedManifold& cached = *input_.cache->AddManifold(job_index, entry, old->sub_shape_a, old->sub_shape_b,
+                                                      to_a * slid.normal, old->point_count);
+  input_.cache->SetFace(job_index, cached, face);
+  ContactArms arms[ContactManifold::kMaxPoints];
+  for (int i = 0; i < slid.count; ++i) {
+    const ContactPoint& contact = slid.points[i];
+    arms[i] = {contact.position_a - a.center_of_mass, contact.position_b - b.center_of_mass,
+               contact.separation};
+    // The same corners as last step, in the same order: each keeps its impulses and its place on its body.
+    CachedContactPoint& point = cached.points()[i];
+    point = old->points()[i];
+    if (face.on_a)
+      point.local_a = to_a * arms[i].r_a;
+    else
+      point.local_b = to_b * arms[i].r_b;
+  }
+  AddConstraint(slid.normal, std::span(arms, old->point_count), a, b, cached, job_index);
+  return true;
+}
+
 void CollisionFinder::AddComputedManifold(const ContactManifold& manifold, const Side& a, const Side& b,
                                           CachedBodyPair& entry, const CachedManifold* previous,
                                           std::uint32_t job_index) {
@@ -214,6 +265,12 @@ void CollisionFinder::AddComputedManifold(const ContactManifold& manifold, const
   CachedManifold& cached =
       *input_.cache->AddManifold(job_index, entry, manifold.sub_shape_a, manifold.sub_shape_b,
                                  to_a * manifold.normal, static_cast<std::uint32_t>(manifold.count));
+  if (manifold.face.valid) {
+    const Side& owner = manifold.face.on_a ? a : b;
+    input_.cache->SetFace(
+        job_index, cached,
+        MakeSlidingFace(manifold, {owner.center_of_mass, owner.rotation_matrix}, entry.delta_rotation));
+  }
   const float match_distance_squared =
       input_.settings->contact_match_distance * input_.settings->contact_match_distance;
   ContactArms arms[ContactManifold::kMaxPoints];
@@ -297,6 +354,7 @@ CollisionStats CollisionFinder::stats() const {
     const CollisionStats& s = jobs_[j].stats;
     total.pairs += s.pairs;
     total.pairs_replayed += s.pairs_replayed;
+    total.pairs_slid += s.pairs_slid;
     total.manifolds += s.manifolds;
     total.contact_points += s.contact_points;
     total.constraints += s.constraints;

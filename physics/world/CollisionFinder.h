@@ -1,9 +1,10 @@
 // CollisionFinder: the step's "find collisions" stage. Each job claims small batches of active bodies and,
 // for each, asks the broad phase for its pairs and runs the narrow phase on them straight away (no global
-// pair list or sort): a pair that barely moved relative to last step replays its cached manifolds, any other
-// runs the shape test. Every manifold becomes a ContactConstraint in the job's own arena and a body-pair
-// cache entry, and links the two bodies' islands. Runs only inside the step's unlocked window, where nothing
-// else writes bodies; BeginStep and Gather run alone, RunJob from any number of jobs.
+// pair list or sort): a pair that barely moved relative to last step replays its cached manifolds, a face
+// contact that only slid carries its corners along, any other runs the shape test. Every manifold becomes a
+// ContactConstraint in the job's own arena and a body-pair cache entry, and links the two bodies' islands.
+// Runs only inside the step's unlocked window, where nothing else writes bodies; BeginStep and Gather run
+// alone, RunJob from any number of jobs.
 #pragma once
 
 #include <atomic>
@@ -25,6 +26,7 @@ namespace strata {
 struct CollisionStats {
   std::size_t pairs = 0;           ///< body pairs whose bounds overlap
   std::size_t pairs_replayed = 0;  ///< of those, how many reused last step's manifolds
+  std::size_t pairs_slid = 0;      ///< how many carried last step's face contact along a slide
   std::size_t manifolds = 0;
   std::size_t contact_points = 0;
   std::size_t constraints = 0;  ///< manifolds with a body the solver moves
@@ -103,6 +105,11 @@ class CollisionFinder {
   /// Makes last step's manifolds this step's, moved with the bodies.
   void ReplayManifolds(const CachedBodyPair& previous, const Side& a, const Side& b, CachedBodyPair& entry,
                        std::uint32_t job_index);
+  /// Carries last step's face manifold along with the corners' body if the pair kept its turn and the
+  /// corners are still on the face (ContactFace); false, adding nothing, where the shapes need a test.
+  bool SlideManifold(BodyPair pair, const CachedBodyPair& previous, const Side& a, const Side& b,
+                     const Vec3& delta_position, const Quat& delta_rotation, float max_separation,
+                     std::uint32_t job_index);
   /// Takes a freshly computed manifold, warm-started from last step's manifold of the same sub-shape.
   void AddComputedManifold(const ContactManifold& manifold, const Side& a, const Side& b,
                            CachedBodyPair& entry, const CachedManifold* previous, std::uint32_t job_index);
@@ -118,6 +125,7 @@ class CollisionFinder {
   float replay_max_distance_squared_ = 0.0f;
   float replay_min_half_angle_cosine_ = 1.0f;
   float replay_max_angle_ = 0.0f;  // degrees, what the cosine above was computed from
+  bool slides_ = false;
   std::atomic<std::uint32_t> next_body_{0};
   std::vector<Job> jobs_;
   std::vector<BodyContacts> body_contacts_;  // by active index

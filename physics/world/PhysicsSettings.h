@@ -58,9 +58,14 @@ struct PhysicsSettings {
   /// 0.9 cm at these defaults (0.7 cm without reuse), while a resting pyramid still reuses 97% of its pairs.
   float body_pair_cache_max_distance = 0.25e-3f;
   float body_pair_cache_max_angle = 1.0f;  ///< ...and turned less than this (degrees, [0, 180])
-  float time_before_sleep = 0.5f;          ///< seconds a body must rest before its island sleeps
-  float sleep_linear_velocity = 0.05f;     ///< m/s
-  float sleep_angular_velocity = 0.05f;    ///< rad/s
+  /// A box's face lying on another box's face (all four corners on it, none cut by its sides) is carried
+  /// along however far it slides, while the pair turned less than the angle above and every corner stays
+  /// on the face: the corners are then the contact a new test would find. A distance limit of 0 turns this
+  /// off as well.
+  bool body_pair_cache_slides = true;
+  float time_before_sleep = 0.5f;        ///< seconds a body must rest before its island sleeps
+  float sleep_linear_velocity = 0.05f;   ///< m/s
+  float sleep_angular_velocity = 0.05f;  ///< rad/s
 
   /// Checks every field; the message names the first bad one.
   Status Validate() const;

@@ -595,6 +595,7 @@ void PhysicsSystem::FinishStep() {
   const CollisionStats collision = collisions_.stats();
   stats_.pairs = collision.pairs;
   stats_.pairs_replayed = collision.pairs_replayed;
+  stats_.pairs_slid = collision.pairs_slid;
   stats_.manifolds = collision.manifolds;
   stats_.contact_points = collision.contact_points;
   stats_.island_links = collision.links;

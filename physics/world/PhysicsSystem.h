@@ -52,6 +52,7 @@ struct StepStats {
   std::size_t active_bodies = 0;
   std::size_t pairs = 0;           ///< body pairs whose bounds overlap (at least one dynamic body)
   std::size_t pairs_replayed = 0;  ///< pairs that reused last step's manifolds (body-pair cache)
+  std::size_t pairs_slid = 0;      ///< pairs that carried last step's face contact along a slide
   std::size_t manifolds = 0;
   std::size_t contact_points = 0;
   std::size_t islands = 0;

@@ -1,5 +1,6 @@
 // Physical behaviour of the step: resting, stacking, bouncing, friction on inclines, momentum.
 #include <cmath>
+#include <vector>
 
 #include "TestWorld.h"
 #include "physics/core/ThreadPoolJobSystem.h"
@@ -296,13 +297,78 @@ TEST(Simulation, RestingPairsReplayTheirManifoldsAndMovedPairsAreTestedAgain) {
   StepFor(*world, 60);
   EXPECT_EQ(world->last_step_stats().pairs, 1u);
   EXPECT_EQ(world->last_step_stats().pairs_replayed, 1u);  // at rest: last step's manifold moved along
-  // Two millimetres sideways is more than the pair may drift and still replay: the shapes are tested anew.
-  ASSERT_TRUE(world->bodies().SetPosition(box, Position(*world, box) + Vec3(0.002f, 0, 0)).ok());
-  StepFor(*world, 1);
-  EXPECT_EQ(world->last_step_stats().pairs_replayed, 0u);
-  StepFor(*world, 1);
-  EXPECT_EQ(world->last_step_stats().pairs_replayed, 1u);
-  EXPECT_NEAR(Position(*world, box).y(), 0.5f, 0.01f);
+  // Two millimetres sideways is more than the pair may drift and still replay. The box's face still lies on
+  // the floor's, so its corners are carried along the slide; with slides off, the shapes are tested anew.
+  for (const bool slides : {true, false}) {
+    settings.body_pair_cache_slides = slides;
+    ASSERT_TRUE(world->SetSettings(settings).ok());
+    ASSERT_TRUE(world->bodies().SetPosition(box, Position(*world, box) + Vec3(0.002f, 0, 0)).ok());
+    StepFor(*world, 1);
+    EXPECT_EQ(world->last_step_stats().pairs_replayed, 0u);
+    EXPECT_EQ(world->last_step_stats().pairs_slid, slides ? 1u : 0u);
+    StepFor(*world, 1);
+    EXPECT_EQ(world->last_step_stats().pairs_replayed, 1u);
+    EXPECT_EQ(world->last_step_stats().pairs_slid, 0u);
+    EXPECT_NEAR(Position(*world, box).y(), 0.5f, 0.01f);
+  }
+}
+
+// A frictionless box sent sliding across a floor box, over its edge and off. Returns the box's position and
+// rotation every step; counts the steps whose contact was carried along the slide.
+std::vector<float> SlideOffAnEdge(bool slides, float yaw, float speed, int& slid_steps) {
+  PhysicsSettings settings;
+  settings.allow_sleeping = false;
+  settings.body_pair_cache_slides = slides;
+  auto world = MakeWorld(settings);
+  BodyCreationSettings floor = Static(Box(4, 1, 4), Vec3(0, -1, 0));
+  floor.friction = 0.0f;
+  Add(*world, floor);
+  BodyCreationSettings box =
+      Dynamic(Box(0.5f, 0.3f, 0.4f), Vec3(0, 0.3f, 0), Quat(Eigen::AngleAxisf(yaw, Vec3::UnitY())));
+  box.friction = 0.0f;
+  const BodyID id = Add(*world, box);
+  StepFor(*world, 30);  // settle
+  EXPECT_TRUE(world->bodies().SetLinearVelocity(id, Vec3(speed, 0, 0.3f * speed)).ok());
+  std::vector<float> path;
+  slid_steps = 0;
+  for (int step = 0; step < 250; ++step) {
+    EXPECT_TRUE(world->Step(1.0f / 60.0f).ok());
+    slid_steps += static_cast<int>(world->last_step_stats().pairs_slid);
+    const Vec3 position = Position(*world, id);
+    const Quat rotation = *world->bodies().GetRotation(id);
+    path.insert(path.end(), {position.x(), position.y(), position.z(), rotation.w(), rotation.x(),
+                             rotation.y(), rotation.z()});
+  }
+  return path;
+}
+
+TEST(Simulation, ABoxSlidingOffAnEdgeMovesAsWhenEveryStepTestsTheShapes) {
+  // Carried along while its corners are on the floor's face, then tested as it tips over the edge: the same
+  // path as with a shape test every step until it tips (from there on, rounding grows as it tumbles), for a
+  // sweep of turns and speeds.
+  for (const float yaw : {0.0f, 0.4f, 1.1f})
+    for (const float speed : {2.0f, 4.0f, 8.0f}) {
+      int slid = 0, never = 0;
+      const std::vector<float> carried = SlideOffAnEdge(true, yaw, speed, slid);
+      const std::vector<float> tested = SlideOffAnEdge(false, yaw, speed, never);
+      EXPECT_EQ(never, 0);
+      ASSERT_EQ(carried.size(), tested.size());
+      int level_steps = 0;
+      float worst = 0.0f;
+      for (std::size_t step = 0; step < carried.size() / 7; ++step) {
+        if (tested[7 * step + 1] < 0.295f) break;  // tipping over the edge
+        ++level_steps;
+        for (std::size_t i = 7 * step; i < 7 * step + 7; ++i)
+          worst = std::max(worst, std::abs(carried[i] - tested[i]));
+      }
+      EXPECT_LT(worst, 1e-4f) << yaw << " " << speed;
+      // It slid most of the way to the edge without a shape test, and was tested again once it left the face.
+      EXPECT_GT(slid, level_steps / 2) << yaw << " " << speed;
+      EXPECT_LT(slid, level_steps) << yaw << " " << speed;
+      // And both went over: the box ends well below the floor's top.
+      EXPECT_LT(carried[carried.size() - 6], -1.0f) << yaw << " " << speed;
+      EXPECT_LT(tested[tested.size() - 6], -1.0f) << yaw << " " << speed;
+    }
 }
 
 TEST(Simulation, PairCacheLimitsOfZeroTestEveryPairEveryStep) {
