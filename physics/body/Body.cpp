@@ -40,6 +40,7 @@ void Body::Reset(const BodyCreationSettings& settings, BodyID id) {
     MassProperties properties = shape_->ComputeMassProperties(settings.density);
     if (settings.mass) properties = properties.WithMass(*settings.mass);
     center_of_mass_local_ = properties.center_of_mass;
+    centered_ = center_of_mass_local_.isZero(0.0f);
     if (motion_type_ == MotionType::kDynamic) {
       inverse_mass_ = 1.0f / properties.mass;
       inverse_inertia_local_ = properties.inertia.inverse();

@@ -36,7 +36,8 @@ class Body {
     return precise_position() + (pose_.rotation * center_of_mass_local_).cast<double>();
   }
   const Quat& rotation() const { return pose_.rotation; }
-  Vec3 CenterOfMass() const { return pose_.ToWorld(center_of_mass_local_); }
+  /// Most shapes (boxes, spheres, capsules) have theirs at the shape origin: no rotation then.
+  Vec3 CenterOfMass() const { return centered_ ? pose_.position : pose_.ToWorld(center_of_mass_local_); }
   const Vec3& center_of_mass_local() const { return center_of_mass_local_; }
   const Vec3& linear_velocity() const { return linear_velocity_; }
   const Vec3& angular_velocity() const { return angular_velocity_; }
@@ -92,6 +93,7 @@ class Body {
   Pose pose_;
   Vec3 position_remainder_ = Vec3::Zero();  // precise_position() - position(), below half a float step
   Vec3 center_of_mass_local_ = Vec3::Zero();
+  bool centered_ = true;  // center_of_mass_local_ is zero
   Vec3 linear_velocity_ = Vec3::Zero();
   Vec3 angular_velocity_ = Vec3::Zero();
   Vec3 force_ = Vec3::Zero();

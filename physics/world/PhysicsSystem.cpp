@@ -555,8 +555,9 @@ void PhysicsSystem::FinishIslands(std::uint32_t job) {
       ClampVelocities(body, finish_counters_[job]);  // the substeps after the first added gravity again
       // The position takes the step's motion (small, so exact in a float) rather than the solver's pose,
       // which far from the origin rounds a slow body's motion away.
-      const Vec3 turned_offset =
-          (body.pose_.rotation * body.center_of_mass_local_) - (pose.rotation * body.center_of_mass_local_);
+      const Vec3 turned_offset = body.centered_ ? Vec3::Zero()
+                                                : Vec3(body.pose_.rotation * body.center_of_mass_local_ -
+                                                       pose.rotation * body.center_of_mass_local_);
       body.pose_.rotation = pose.rotation;
       body.AddToPosition(ToVec3(solved.delta_position) + turned_offset);
       body.UpdateWorldBounds();
