@@ -4,15 +4,6 @@
 
 namespace strata {
 
-void Body::AddToPosition(const Vec3& motion) {
-  // Two-sum (Knuth): the float sum plus the exact rounding error it made.
-  const Vec3 addend = position_remainder_ + motion;
-  const Vec3 sum = pose_.position + addend;
-  const Vec3 taken = sum - pose_.position;
-  position_remainder_ = (pose_.position - (sum - taken)) + (addend - taken);
-  pose_.position = sum;
-}
-
 void Body::Reset(const BodyCreationSettings& settings, BodyID id) {
   *this = Body();
   id_ = id;

@@ -85,8 +85,16 @@ class Body {
 
   void Reset(const BodyCreationSettings& settings, BodyID id);
   void UpdateWorldBounds() { world_bounds_ = Shape::WorldBoundsOf(local_bounds_, bounds_turn_, pose_); }
-  /// Moves the shape origin by `motion` (small) without rounding it away where position() is large.
-  void AddToPosition(const Vec3& motion);
+  /// Moves the shape origin by `motion` (small) without rounding it away where position() is large. Inline:
+  /// the step's write-back passes `motion` in registers, not through a just-stored temporary.
+  void AddToPosition(const Vec3& motion) {
+    // Two-sum (Knuth): the float sum plus the exact rounding error it made.
+    const Vec3 addend = position_remainder_ + motion;
+    const Vec3 sum = pose_.position + addend;
+    const Vec3 taken = sum - pose_.position;
+    position_remainder_ = (pose_.position - (sum - taken)) + (addend - taken);
+    pose_.position = sum;
+  }
 
   BodyID id_;
   ShapeRef shape_;

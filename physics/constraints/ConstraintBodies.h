@@ -57,9 +57,7 @@ inline void ApplyAngularImpulse(SolverBody& body, const Vec3& impulse) {
 inline void MoveSolverBody(SolverBody& body, SolverPose& pose, const Vec3& move, const Vec3& turn) {
   pose.center_of_mass += ToVec4(move);
   body.delta_position += ToVec4(move);
-  const Quat delta(0.0f, 0.5f * turn.x(), 0.5f * turn.y(), 0.5f * turn.z());
-  pose.rotation.coeffs() += (delta * pose.rotation).coeffs();
-  pose.rotation.normalize();
+  TurnBy(pose.rotation, ToVec4(turn));
   body.delta_rotation += ToVec4(turn);
 }
 

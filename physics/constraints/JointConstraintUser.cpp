@@ -7,8 +7,10 @@ namespace strata {
 void JointConstraintUser::BeginStep(const SolverStep& step, std::uint32_t job_count) {
   step_ = step;
   const PhysicsSettings& settings = *step.settings;
-  rigid_spring_ = MakeSoftSpring(std::min(settings.joint_hertz, 0.25f / step.substep_dt),
-                                 settings.joint_damping_ratio, step.substep_dt);
+  // Only joints use it: a world without any is spared its divisions.
+  if (!input_joints_.empty())
+    rigid_spring_ = MakeSoftSpring(std::min(settings.joint_hertz, 0.25f / step.substep_dt),
+                                   settings.joint_damping_ratio, step.substep_dt);
   SortJointsByIsland();
   if (jobs_.size() < job_count) jobs_.resize(job_count);
   if (!input_joints_.empty())
@@ -20,8 +22,8 @@ void JointConstraintUser::SortJointsByIsland() {
   // A counting sort by island; within an island the joints keep the step's order (slot order).
   const IslandBuilder& islands = *step_.islands;
   const std::uint32_t island_count = islands.island_count();
-  if (input_joints_.empty()) {  // no joints: no counting, no exact-solve decisions
-    island_begin_.assign(island_count + 1, 0);
+  if (input_joints_.empty()) {  // no joints: no counting, no exact-solve decisions, no work in any island
+    island_begin_.clear();
     joints_.clear();
     exact_.clear();
     return;
@@ -56,11 +58,16 @@ bool JointConstraintUser::NeedsExactSolve(const Constraint& joint) const {
 }
 
 std::uint32_t JointConstraintUser::IslandWork(std::uint32_t island) const {
+  if (island_begin_.empty()) return 0;  // no joints this step
   return island_begin_[island + 1] - island_begin_[island];
 }
 
 void JointConstraintUser::BeginGroups(std::span<const SolverGroup> groups) {
   groups_.resize(groups.size());
+  if (island_begin_.empty()) {  // no joints this step
+    for (const SolverGroup& g : groups) groups_[g.index] = Group{};
+    return;
+  }
   for (const SolverGroup& g : groups) {
     Group& group = groups_[g.index];
     const std::uint32_t first = island_begin_[g.first_island];

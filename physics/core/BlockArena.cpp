@@ -1,14 +1,16 @@
 #include "physics/core/BlockArena.h"
 
 #include <algorithm>
+#include <cstdint>
 
 namespace strata {
 
 BlockPool::~BlockPool() {
   for (Block* block = free_; block != nullptr;) {
     Block* next = block->next;
+    std::byte* const memory = block->memory;
     block->~Block();
-    ::operator delete[](reinterpret_cast<std::byte*>(block), std::align_val_t(kAlignment));
+    ::operator delete[](memory, std::align_val_t(kAlignment));
     block = next;
   }
 }
@@ -29,11 +31,19 @@ BlockPool::Block* BlockPool::Take(std::size_t bytes) {
 }
 
 BlockPool::Block* BlockPool::MakeBlock(std::size_t size) {
-  auto* memory = static_cast<std::byte*>(::operator new[](kHeaderBytes + size, std::align_val_t(kAlignment)));
-  Block* block = new (memory) Block;
-  block->size = size;
+  // Every block has room for the largest colour offset, so each takes the same bytes whatever its colour.
+  constexpr std::size_t kColourRoom =
+      (kColours - 1) * kAlignment;  // the colours are every 64 bytes of a page
+  const std::size_t allocated = kHeaderBytes + size + kColourRoom;
+  auto* memory = static_cast<std::byte*>(::operator new[](allocated, std::align_val_t(kAlignment)));
   std::lock_guard lock(mutex_);
-  bytes_reserved_ += kHeaderBytes + size;
+  // The block's page offset is its colour whatever page offset the allocation began at.
+  const std::size_t colour = next_colour_++ % kColours * kColourStride % 4096;
+  const std::size_t shift = (colour + 4096 - reinterpret_cast<std::uintptr_t>(memory) % 4096) % 4096;
+  Block* block = new (memory + shift) Block;
+  block->size = size;
+  block->memory = memory;
+  bytes_reserved_ += allocated;
   if (size == block_bytes_) standard_blocks_.fetch_add(1, std::memory_order_release);
   return block;
 }

@@ -22,11 +22,18 @@ class BlockPool {
   /// A block: its header sits at the start, the usable bytes follow.
   struct Block {
     Block* next = nullptr;
-    std::size_t size = 0;  ///< usable bytes
+    std::size_t size = 0;         ///< usable bytes
+    std::byte* memory = nullptr;  ///< what was allocated (the block sits at its colour offset in it)
     std::byte* data() { return reinterpret_cast<std::byte*>(this) + kHeaderBytes; }
   };
   static constexpr std::size_t kAlignment = 64;
   static constexpr std::size_t kHeaderBytes = kAlignment;  // keeps data() aligned
+  /// Blocks start at different offsets within a page ("colours", kColourStride apart): each step writes its
+  /// blocks while it reads the ones it wrote a step before (the body-pair cache's two halves), and blocks
+  /// that all started at the same page offset put those reads on the writes' cache sets and made the loads
+  /// wait on unrelated stores with the same low address bits (4K aliasing).
+  static constexpr std::size_t kColourStride = 5 * kAlignment;
+  static constexpr std::size_t kColours = 4096 / kAlignment;
 
   explicit BlockPool(std::size_t block_bytes = 256 * 1024) : block_bytes_(block_bytes) {}
   ~BlockPool();
@@ -51,6 +58,7 @@ class BlockPool {
   mutable std::mutex mutex_;
   Block* free_ = nullptr;
   std::size_t bytes_reserved_ = 0;
+  std::size_t next_colour_ = 0;
   // Changed under mutex_; read without it by EnsureBlocks, which a steady step calls to learn it has enough.
   std::atomic<std::size_t> standard_blocks_{0};
 };

@@ -35,25 +35,33 @@ bool SlideCorners(const SlidingFace& face, const PosedBody& face_body, const Pos
   const Mat3& turn = face_body.rotation;
   const Vec3 normal = turn * face.normal, u = turn * face.u, v = turn * face.v;
   const Vec3 centre = face_body.center_of_mass + turn * face.centre;
-  ContactPoint points[ContactManifold::kMaxPoints];
+  // The points are written only once every corner passed; until then only the corners and their heights
+  // are kept (copying whole points from a scratch array re-read fresh piecewise stores in wider loads, which
+  // stalls).
+  Vec3 placed[ContactManifold::kMaxPoints];
+  float heights[ContactManifold::kMaxPoints];
   float clearance = kLargeFloat, deepest = 0.0f;
   for (std::size_t i = 0; i < corners.size(); ++i) {
-    const Vec3 corner = corner_body.center_of_mass + corner_body.rotation * corners[i];
-    const Vec3 offset = corner - centre;
-    const float height = normal.dot(offset);
+    placed[i] = corner_body.center_of_mass + corner_body.rotation * corners[i];
+    const Vec3 offset = placed[i] - centre;
+    heights[i] = normal.dot(offset);
     // The shape test would drop this corner: let it decide what is left.
-    if (height > max_separation) return false;
+    if (heights[i] > max_separation) return false;
     clearance =
         std::min({clearance, face.half_u - std::abs(u.dot(offset)), face.half_v - std::abs(v.dot(offset))});
-    deepest = std::max(deepest, -height);
-    const Vec3 on_face = corner - height * normal;
-    points[i] = face.on_a ? ContactPoint{on_face, corner, height} : ContactPoint{corner, on_face, height};
+    deepest = std::max(deepest, -heights[i]);
   }
   // Off the face, or deeper in than a side of either body is away: that side could be the shallower way out.
   if (!(deepest < clearance && deepest < face.corner_face_half)) return false;
   out.normal = face.on_a ? normal : Vec3(-normal);
   out.count = static_cast<int>(corners.size());
-  std::copy(points, points + corners.size(), out.points);
+  for (std::size_t i = 0; i < corners.size(); ++i) {
+    ContactPoint& point = out.points[i];
+    const Vec3 on_face = placed[i] - heights[i] * normal;
+    point.position_a = face.on_a ? on_face : placed[i];
+    point.position_b = face.on_a ? placed[i] : on_face;
+    point.separation = heights[i];
+  }
   return true;
 }
 

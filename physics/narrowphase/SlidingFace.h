@@ -28,10 +28,11 @@ struct SlidingFace {
   Quat found_turn = Quat::Identity();
 };
 
-/// Where a body is: its centre of mass and its rotation as a matrix.
+/// Where a body is: its centre of mass and its rotation as a matrix, viewed where the caller keeps them (a
+/// copy stored field by field just before the call is re-read in wider loads, which stall on the stores).
 struct PosedBody {
-  Vec3 center_of_mass;
-  Mat3 rotation;
+  const Vec3& center_of_mass;
+  const Mat3& rotation;
 };
 
 /// The face of `manifold` (which must have a valid ContactFace) in the frame of its body, posed at

@@ -122,9 +122,12 @@ void ConstraintSolver::FormGroups() {
 
 void ConstraintSolver::AddGroup(std::uint32_t first_island, std::uint32_t end_island, bool exact) {
   Group& group = groups_[group_count_];
-  group.islands = {group_count_, first_island, end_island, exact};
+  // Both copies from the value in registers: re-reading group.islands whole right after its fields were
+  // stored one by one stalls on the stores.
+  const SolverGroup islands{group_count_, first_island, end_island, exact};
+  group.islands = islands;
   group.work = 0;
-  group_islands_.push_back(group.islands);
+  group_islands_.push_back(islands);
   ++group_count_;
 }
 
@@ -295,9 +298,7 @@ void ConstraintSolver::Integrate(std::uint32_t island_body) {
   const Vec4 moved = body.linear_velocity * h;
   const Vec4 turn = body.angular_velocity * h;
   pose.center_of_mass += moved;
-  const Quat delta(0.0f, 0.5f * turn.x(), 0.5f * turn.y(), 0.5f * turn.z());
-  pose.rotation.coeffs() += (delta * pose.rotation).coeffs();
-  pose.rotation.normalize();
+  TurnBy(pose.rotation, turn);
   body.delta_position += moved;
   body.delta_rotation += turn;
 }
@@ -364,25 +365,35 @@ void ConstraintSolver::RunRoundsInOrder(Group& group, JobState& job, std::uint32
     const std::uint32_t items = RoundItems(group, round);
     if (items > 0) RunBatch(group, round, 0, items, job, job_index);
   };
+  // A constraint round's pass is described once, for its item count and its run.
+  auto run_split = [&](RoundKind kind, std::uint32_t split, int iteration, int substep) {
+    const Round round{kind, split, iteration, substep};
+    const std::uint32_t user = UserOf(group, split);
+    const SolverPass pass = PassFor(group, round, user);
+    const std::uint32_t items = users_[user]->Items(group.islands.index, pass);
+    if (items > 0) users_[user]->Run(group.islands.index, pass, 0, items, job_index);
+  };
   const PhysicsSettings& settings = *input_.settings;
   const std::uint32_t splits = group.split_count;
   run({RoundKind::kSetup});
   for (int substep = 0; substep < settings.substeps; ++substep) {
     run({RoundKind::kAddForces, 0, 0, substep});
-    for (std::uint32_t split = 0; split < splits; ++split) run({RoundKind::kWarmStart, split, 0, substep});
+    for (std::uint32_t split = 0; split < splits; ++split)
+      run_split(RoundKind::kWarmStart, split, 0, substep);
     for (int iteration = 0; iteration < settings.velocity_iterations; ++iteration)
       for (std::uint32_t split = 0; split < splits; ++split)
-        run({RoundKind::kVelocity, split, iteration, substep});
+        run_split(RoundKind::kVelocity, split, iteration, substep);
     run({RoundKind::kIntegrate, 0, 0, substep});
     for (int iteration = 0; iteration < settings.relax_iterations; ++iteration)
       for (std::uint32_t split = 0; split < splits; ++split)
-        run({RoundKind::kRelax, split, iteration, substep});
+        run_split(RoundKind::kRelax, split, iteration, substep);
   }
   if (group.bounces)
     for (int iteration = 0; iteration < settings.restitution_iterations; ++iteration)
-      for (std::uint32_t split = 0; split < splits; ++split) run({RoundKind::kRestitution, split, iteration});
+      for (std::uint32_t split = 0; split < splits; ++split)
+        run_split(RoundKind::kRestitution, split, iteration, 0);
   if (group.positions)
-    for (std::uint32_t split = 0; split < splits; ++split) run({RoundKind::kPositions, split});
+    for (std::uint32_t split = 0; split < splits; ++split) run_split(RoundKind::kPositions, split, 0, 0);
 }
 
 ConstraintSolver::BatchResult ConstraintSolver::TryRunBatch(Group& group, JobState& job,
@@ -423,9 +434,20 @@ ConstraintSolver::BatchResult ConstraintSolver::TryRunBatch(Group& group, JobSta
   }
 }
 
-void ConstraintSolver::SolveJob(std::uint32_t job_index) {
+void ConstraintSolver::SolveJob(std::uint32_t job_index, std::uint32_t width) {
   JobState& job = jobs_[job_index];
   if (group_count_ == 0) return;
+  if (width == 1) {
+    // The rounds a job would take one batch at a time, without the claims: each is a locked operation,
+    // and a small world's step has a few.
+    for (std::uint32_t g = 0; g < group_count_; ++g) {
+      if (groups_[g].free)
+        RunFreeGroup(groups_[g]);
+      else
+        RunRoundsInOrder(groups_[g], job, job_index);
+    }
+    return;
+  }
   // Jobs start spread over the groups and stay on a group while it has work, so they rarely meet.
   const auto job_count = static_cast<std::uint32_t>(jobs_.size());
   std::uint32_t cursor = static_cast<std::uint32_t>(static_cast<std::uint64_t>(job_index % job_count) *

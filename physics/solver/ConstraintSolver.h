@@ -58,8 +58,9 @@ class ConstraintSolver {
   std::uint32_t group_count() const { return group_count_; }
   /// Lets every user order and split its constraints of group `group` (one group per call, any job).
   void PrepareGroup(std::uint32_t group, std::uint32_t job);
-  /// After every PrepareGroup: solves batches of any group until every group is done (one call per job).
-  void SolveJob(std::uint32_t job);
+  /// After every PrepareGroup: solves batches of any group until every group is done (one call per job, of
+  /// `width` jobs). A single job solves each group whole, in order, claiming nothing.
+  void SolveJob(std::uint32_t job, std::uint32_t width);
 
   /// Bytes this step's set-up constraints take in the pool's blocks.
   std::size_t arena_bytes() const;

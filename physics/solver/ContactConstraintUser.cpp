@@ -8,17 +8,23 @@ void ContactConstraintUser::BeginStep(const SolverStep& step, std::uint32_t job_
   step_ = step;
   const PhysicsSettings& settings = *step.settings;
   const float h = step.substep_dt;
-  // Contacts stiffer than a quarter of the substep rate would ring; contacts with a fixed body may be twice
-  // as stiff, since only one side moves.
-  const float hertz = std::min(settings.contact_hertz, 0.25f / h);
-  context_.between_moving = MakeSoftSpring(hertz, settings.contact_damping_ratio, h);
-  context_.against_fixed = MakeSoftSpring(2.0f * hertz, settings.contact_damping_ratio, h);
-  context_.inverse_h = 1.0f / h;
+  // The springs and rates depend on the substep and three settings only: worked out again when one of them
+  // changed (their divisions and square root were a fair share of a small world's step).
+  const RateInputs inputs{h, settings.contact_hertz, settings.contact_damping_ratio, settings.gravity};
+  if (!(inputs == rate_inputs_)) {
+    rate_inputs_ = inputs;
+    // Contacts stiffer than a quarter of the substep rate would ring; contacts with a fixed body may be
+    // twice as stiff, since only one side moves.
+    const float hertz = std::min(settings.contact_hertz, 0.25f / h);
+    context_.between_moving = MakeSoftSpring(hertz, settings.contact_damping_ratio, h);
+    context_.against_fixed = MakeSoftSpring(2.0f * hertz, settings.contact_damping_ratio, h);
+    context_.inverse_h = 1.0f / h;
+    const float gravity = settings.gravity.norm();
+    context_.weight_per_impulse = gravity > 0.0f ? 1.0f / (gravity * h) : 0.0f;
+  }
   context_.max_push_velocity = settings.contact_push_max_velocity;
   context_.restitution_threshold = settings.min_velocity_for_restitution;
   context_.elapsed = 0.0f;
-  const float gravity = settings.gravity.norm();
-  context_.weight_per_impulse = gravity > 0.0f ? 1.0f / (gravity * h) : 0.0f;
   ordered_.resize(contacts_.size());
   body_masks_.resize(step.solver_body_count);
   if (jobs_.size() < job_count) jobs_.resize(job_count);
@@ -63,7 +69,7 @@ void ContactConstraintUser::BeginGroups(std::span<const SolverGroup> groups) {
     group.exact = g.exact;
     group.first_contact = islands.constraint_offset(g.first_island);
     // A group without constraints is never prepared: it must not show last step's layout.
-    group.splits = IslandSplits{};
+    group.splits.SetSequential(0);
     group.bundle_count = 0;
     group.sequential_count = 0;
     largest = std::max(largest, islands.constraint_count(g.first_island, g.end_island));
@@ -88,10 +94,7 @@ GroupLayout ContactConstraintUser::PrepareGroup(const SolverGroup& solver_group,
   // One sequential split in island order: for an exact group, whose islands' rows are solved together, and
   // for a group too small for any parallel split (the splitter would merge each into the sequential one).
   if (group.exact || count < LargeIslandSplitter::kMinSplitSize) {
-    group.splits = IslandSplits{};
-    group.splits.split_count = count > 0 ? 1 : 0;
-    group.splits.begin[1] = count;
-    group.splits.last_is_sequential = count > 0;
+    group.splits.SetSequential(count);
   } else {
     for (const std::uint32_t body : islands.bodies(group.first_island, group.end_island))
       body_masks_[body + 1] = 0;

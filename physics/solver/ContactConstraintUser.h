@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <span>
 #include <vector>
 
@@ -77,7 +78,19 @@ class ContactConstraintUser final : public ConstraintUser {
 
   std::span<ContactConstraint* const> contacts_;
   SolverStep step_;
-  SubstepContext context_{};                 // elapsed set per pass
+  SubstepContext context_{};  // elapsed set per pass
+  // What context_'s springs and rates were worked out from (NaN at first, so the first step computes them).
+  struct RateInputs {
+    float substep = std::numeric_limits<float>::quiet_NaN();
+    float contact_hertz = 0.0f;
+    float contact_damping_ratio = 0.0f;
+    Vec3 gravity = Vec3::Zero();
+    bool operator==(const RateInputs& other) const {
+      return substep == other.substep && contact_hertz == other.contact_hertz &&
+             contact_damping_ratio == other.contact_damping_ratio && gravity == other.gravity;
+    }
+  };
+  RateInputs rate_inputs_;
   std::vector<ContactConstraint*> ordered_;  // every group's contacts, island after island
   std::vector<std::uint32_t> body_masks_;    // LargeIslandSplitter scratch, by solver body
   std::vector<Group> groups_;

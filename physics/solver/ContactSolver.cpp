@@ -195,10 +195,10 @@ SolverContact* SetupSolverContact(BlockArena& arena, ContactConstraint& constrai
   void* memory =
       arena.Allocate(sizeof(SolverContact) + count * sizeof(SolverContactPoint), alignof(SolverContact));
   auto* c = new (memory) SolverContact;
-  const Vec3 first_tangent = AnyPerpendicular(constraint.normal);
+  // The basis in 4-wide vectors (a 3-vector temporary here was re-read in wider loads than it was stored in).
   c->normal = ToVec4(constraint.normal);
-  c->tangent[0] = ToVec4(first_tangent);
-  c->tangent[1] = ToVec4(constraint.normal.cross(first_tangent));
+  c->tangent[0] = ToVec4(AnyPerpendicular(constraint.normal));
+  c->tangent[1] = Cross(c->normal, c->tangent[0]);
   c->constraint = &constraint;
   c->softness = SoftnessFor(
       constraint.dynamic_a && constraint.dynamic_b ? context.between_moving : context.against_fixed,
@@ -226,7 +226,7 @@ SolverContact* SetupSolverContact(BlockArena& arena, ContactConstraint& constrai
     p.normal_velocity = point.normal_velocity;
     p.max_normal_impulse = 0.0f;
     p.normal_impulse = point.warm_normal;
-    p.tangent_impulse[0] = with_friction ? point.warm_friction.dot(first_tangent) : 0.0f;
+    p.tangent_impulse[0] = with_friction ? point.warm_friction.dot(ToVec3(c->tangent[0])) : 0.0f;
     p.tangent_impulse[1] = with_friction ? point.warm_friction.dot(ToVec3(c->tangent[1])) : 0.0f;
   }
   return c;

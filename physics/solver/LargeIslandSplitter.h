@@ -21,6 +21,16 @@ struct IslandSplits {
   std::uint32_t split_count = 0;                   ///< non-empty splits, the sequential one last if present
   std::uint32_t begin[kMaxSplits + 1] = {};        ///< split s is [begin[s], begin[s + 1])
   bool last_is_sequential = false;
+
+  /// Makes this one sequential split of `count` constraints (none if `count` is 0). Readers look at begin[]
+  /// only up to begin[split_count], so the rest is left as it was: clearing all of it each step (a string
+  /// store) cost more than the rest of a small group's preparation.
+  void SetSequential(std::uint32_t count) {
+    split_count = count > 0 ? 1 : 0;
+    begin[0] = 0;
+    begin[1] = count;
+    last_is_sequential = count > 0;
+  }
 };
 
 /// Greedy colouring of a large island's constraints.

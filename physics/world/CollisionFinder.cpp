@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <span>
 
+#include "physics/core/ForEachChunk.h"
 #include "physics/narrowphase/CollideShapes.h"
 
 namespace strata {
@@ -28,11 +30,13 @@ void ReserveWithSlack(std::vector<T>& buffer, std::size_t count) {
 }  // namespace
 
 void CollisionFinder::BeginStep(const Input& input, std::uint32_t job_count) {
-  // Any job may take any share of the work: size every job's buffers for all of last step's.
+  // Any job may take any share of the work: size every job's buffers for all of last step's. One job alone
+  // already holds all of it, and matching its capacities with itself is a fair share of a small world's step.
+  const bool several_jobs = job_count > 1 || jobs_.size() > 1;
   const CollisionStats last = stats();
   std::size_t most_pairs = 0, most_manifolds = kMinManifoldsPerJob, most_triangles = 0, most_epa_vertices = 0,
               most_epa_faces = 0, most_horizon = 0, most_wake_keys = 0;
-  for (const Job& job : jobs_) {
+  for (const Job& job : several_jobs ? std::span<const Job>(jobs_) : std::span<const Job>()) {
     most_pairs = std::max(most_pairs, job.pairs.capacity());
     most_manifolds = std::max(most_manifolds, job.manifolds.capacity());
     most_triangles = std::max(most_triangles, job.scratch.triangles.capacity());
@@ -67,6 +71,11 @@ void CollisionFinder::BeginStep(const Input& input, std::uint32_t job_count) {
     ReserveWithSlack(job.constraints, last.constraints);
     ReserveWithSlack(job.island_body, last.constraints);
     ReserveWithSlack(job.pairs, last.pairs);
+    job.stats = {};
+    if (!several_jobs) {
+      job.manifolds.reserve(kMinManifoldsPerJob);
+      continue;
+    }
     ReserveWithSlack(job.wake_keys, most_wake_keys);
     job.pairs.reserve(most_pairs);
     job.manifolds.reserve(most_manifolds);
@@ -74,7 +83,6 @@ void CollisionFinder::BeginStep(const Input& input, std::uint32_t job_count) {
     job.scratch.epa.vertices.reserve(most_epa_vertices);
     job.scratch.epa.faces.reserve(most_epa_faces);
     job.scratch.epa.horizon.reserve(most_horizon);
-    job.stats = {};
   }
   body_contacts_.resize(input.active.size());
 }
@@ -106,13 +114,10 @@ CollisionFinder::Side CollisionFinder::MakeSide(const Body& body) const {
   return side;
 }
 
-void CollisionFinder::RunJob(std::uint32_t job_index) {
+void CollisionFinder::RunJob(std::uint32_t job_index, std::uint32_t width) {
   Job& job = jobs_[job_index];
   const auto active_count = static_cast<std::uint32_t>(input_.active.size());
-  while (true) {
-    const std::uint32_t begin = next_body_.fetch_add(kBodyBatch, std::memory_order_relaxed);
-    if (begin >= active_count) return;
-    const std::uint32_t end = std::min(begin + kBodyBatch, active_count);
+  ForEachChunk(next_body_, active_count, kBodyBatch, width, [&](std::uint32_t begin, std::uint32_t end) {
     job.pairs.clear();
     input_.broad_phase->FindPairs(input_.active.subspan(begin, end - begin), input_.active_flags,
                                   *input_.layers, job.pairs);
@@ -130,7 +135,7 @@ void CollisionFinder::RunJob(std::uint32_t job_index) {
         CollidePair(job.pairs[next_pair++], previous, job_index);
       contacts.end = static_cast<std::uint32_t>(job.constraints.size());
     }
-  }
+  });
 }
 
 bool CollisionFinder::Jointed(std::uint32_t a, std::uint32_t b) const {
@@ -204,9 +209,8 @@ void CollisionFinder::ReplayManifolds(const CachedBodyPair& previous, const Side
     ContactArms arms[ContactManifold::kMaxPoints];
     for (std::uint32_t i = 0; i < old->point_count; ++i) {
       const CachedContactPoint& point = old->points()[i];
-      arms[i].r_a = a.rotation_matrix * point.local_a;
-      arms[i].r_b = b.rotation_matrix * point.local_b;
-      arms[i].separation = (b.center_of_mass + arms[i].r_b - a.center_of_mass - arms[i].r_a).dot(normal);
+      const Vec3 r_a = a.rotation_matrix * point.local_a, r_b = b.rotation_matrix * point.local_b;
+      arms[i] = {r_a, r_b, (b.center_of_mass + r_b - a.center_of_mass - r_a).dot(normal)};
     }
     AddConstraint(normal, std::span(arms, old->point_count), a, b, cached, job_index);
   }
@@ -241,15 +245,17 @@ bool CollisionFinder::SlideManifold(BodyPair pair, const CachedBodyPair& previou
   ContactArms arms[ContactManifold::kMaxPoints];
   for (int i = 0; i < slid.count; ++i) {
     const ContactPoint& contact = slid.points[i];
-    arms[i] = {contact.position_a - a.center_of_mass, contact.position_b - b.center_of_mass,
-               contact.separation};
+    // The arms from values in registers: read back from arms[i] right after it was stored (in pieces that
+    // straddle r_a and r_b), they stall on the stores.
+    const Vec3 r_a = contact.position_a - a.center_of_mass, r_b = contact.position_b - b.center_of_mass;
+    arms[i] = {r_a, r_b, contact.separation};
     // The same corners as last step, in the same order: each keeps its impulses and its place on its body.
     CachedContactPoint& point = cached.points()[i];
     point = old->points()[i];
     if (face.on_a)
-      point.local_a = to_a * arms[i].r_a;
+      point.local_a = to_a * r_a;
     else
-      point.local_b = to_b * arms[i].r_b;
+      point.local_b = to_b * r_b;
   }
   AddConstraint(slid.normal, std::span(arms, old->point_count), a, b, cached, job_index);
   return true;
@@ -275,11 +281,12 @@ void CollisionFinder::AddComputedManifold(const ContactManifold& manifold, const
       input_.settings->contact_match_distance * input_.settings->contact_match_distance;
   ContactArms arms[ContactManifold::kMaxPoints];
   for (int i = 0; i < manifold.count; ++i) {
-    arms[i] = {manifold.points[i].position_a - a.center_of_mass,
-               manifold.points[i].position_b - b.center_of_mass, manifold.points[i].separation};
+    const Vec3 r_a = manifold.points[i].position_a - a.center_of_mass,
+               r_b = manifold.points[i].position_b - b.center_of_mass;
+    arms[i] = {r_a, r_b, manifold.points[i].separation};
     CachedContactPoint& point = cached.points()[i];
-    point.local_a = to_a * arms[i].r_a;
-    point.local_b = to_b * arms[i].r_b;
+    point.local_a = to_a * r_a;
+    point.local_b = to_b * r_b;
     point.normal_impulse = 0.0f;
     point.friction_impulse = Vec3::Zero();
     // Warm start from last step's point at the same place on A, if any.

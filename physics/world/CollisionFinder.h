@@ -62,8 +62,8 @@ class CollisionFinder {
   /// Starts a step with `job_count` jobs (job indices [0, job_count)). Reserves every job's buffers for the
   /// whole of last step's work, so how the jobs split the next one never makes them grow.
   void BeginStep(const Input& input, std::uint32_t job_count);
-  /// Claims batches of active bodies until none is left.
-  void RunJob(std::uint32_t job);
+  /// Claims batches of active bodies until none is left; one of `width` jobs (see ForEachChunk).
+  void RunJob(std::uint32_t job, std::uint32_t width);
   /// After every job: the constraints in the order of the active body that found them (the same order for
   /// any thread count), each with its island body (active index of a body the solver moves).
   void Gather(std::vector<ContactConstraint*>& constraints, std::vector<std::uint32_t>& island_body) const;

@@ -9,6 +9,7 @@
 #include "physics/body/BodyInterface.h"
 #include "physics/body/GyroscopicTorque.h"
 #include "physics/broadphase/QuadTreeBroadPhase.h"
+#include "physics/core/ForEachChunk.h"
 #include "physics/narrowphase/ShapeCast.h"
 #include "physics/world/WorldQuery.h"
 
@@ -23,6 +24,17 @@ constexpr std::uint32_t kCastChunk = 8;
 constexpr float kLinearCastThreshold = 0.75f;
 // Casts stop this far before touching, so the next step's contacts start from a small gap.
 constexpr float kCastTolerance = 1e-3f;
+
+// `velocity` slowed to `limit`, counted in `clamps` if it had to be. Velocities are clamped before they are
+// stored in their body, while they are still in registers (re-reading one just stored a lane at a time
+// stalls on the stores).
+Vec3 ClampedVelocity(const Vec3& velocity, float limit, std::size_t& clamps) {
+  // Squares first: nearly every body is under its limits, and then no square root is taken.
+  if (velocity.squaredNorm() <= limit * limit) return velocity;
+  ++clamps;
+  // stableNorm: a velocity near float's limit squares to infinity, and 1/inf would stop the body dead.
+  return velocity * (limit / velocity.stableNorm());
+}
 
 // Releases the step's hold on every body lock however the step leaves.
 class AllBodiesLock {
@@ -53,21 +65,9 @@ template <void (PhysicsSystem::*Stage)()>
 void SerialStage(void* system, std::uint32_t, std::uint32_t) {
   (static_cast<PhysicsSystem*>(system)->*Stage)();
 }
-template <void (PhysicsSystem::*Stage)(std::uint32_t)>
-void ParallelStage(void* system, std::uint32_t job, std::uint32_t) {
-  (static_cast<PhysicsSystem*>(system)->*Stage)(job);
-}
-
-// Claims chunks of [0, count) from `next` until none is left.
-template <class Function>
-void ForEachChunk(std::atomic<std::uint32_t>& next, std::uint32_t count, std::uint32_t chunk,
-                  Function&& function) {
-  while (true) {
-    const std::uint32_t begin = next.fetch_add(chunk, std::memory_order_relaxed);
-    if (begin >= count) return;
-    const std::uint32_t end = std::min(begin + chunk, count);
-    for (std::uint32_t i = begin; i < end; ++i) function(i);
-  }
+template <void (PhysicsSystem::*Stage)(std::uint32_t, std::uint32_t)>
+void ParallelStage(void* system, std::uint32_t job, std::uint32_t width) {
+  (static_cast<PhysicsSystem*>(system)->*Stage)(job, width);
 }
 
 double MillisecondsSince(std::chrono::steady_clock::time_point start) {
@@ -379,74 +379,63 @@ void PhysicsSystem::BindConstraints() {
   std::sort(jointed_pairs_.begin(), jointed_pairs_.end());
 }
 
-void PhysicsSystem::ApplyForces(std::uint32_t job) {
+void PhysicsSystem::ApplyForces(std::uint32_t job, std::uint32_t width) {
   const float dt = step_dt_;
   const float h = dt / static_cast<float>(settings_.substeps);
   FinishCounters& counters = finish_counters_[job];
-  ForEachChunk(next_chunk_, static_cast<std::uint32_t>(active_.size()), kBodyChunk, [&](std::uint32_t i) {
-    Body& body = body_manager_.BodyAt(active_[i].index);
-    SolverBody& solver = constraint_solver_.bodies()[i + 1];
-    SolverPose& pose = constraint_solver_.poses()[i + 1];
-    SolverVelocityStep& step = constraint_solver_.velocity_steps()[i + 1];
-    pose.center_of_mass = ToVec4(body.CenterOfMass());
-    pose.rotation = body.rotation();
-    solver.delta_position.setZero();
-    solver.delta_rotation.setZero();
-    if (body.IsDynamic()) {
-      // The gyroscopic step goes with each substep's share too (its error shrinks with the substep).
-      step.gyroscopic =
-          settings_.gyroscopic_torque && body.gyroscopic_ && !body.angular_velocity_.isZero(0.0f);
-      if (step.gyroscopic) {
-        step.inertia = body.inertia_local_;  // the substeps read it only for these bodies
-        body.angular_velocity_ =
-            SpinWithoutTorque(body.inertia_local_, body.rotation(), body.angular_velocity_, h);
-      }
-      // Gravity and forces are added a substep's share at a time: the first share now (the velocity half of
-      // symplectic Euler), the others by the solver after each substep's integration.
-      const Mat3 inverse_inertia = body.InverseInertiaWorld();
-      step.linear = ToVec4(h * (settings_.gravity * body.gravity_factor_ + body.inverse_mass_ * body.force_));
-      step.angular = ToVec4(h * (inverse_inertia * body.torque_));
-      body.linear_velocity_ += ToVec3(step.linear);
-      body.angular_velocity_ += ToVec3(step.angular);
-      body.force_.setZero();
-      body.torque_.setZero();
-      body.linear_velocity_ *= std::max(0.0f, 1.0f - body.linear_damping_ * dt);
-      body.angular_velocity_ *= std::max(0.0f, 1.0f - body.angular_damping_ * dt);
-      ClampVelocities(body, counters);
-      solver.inverse_mass = body.inverse_mass_;
-      for (int column = 0; column < 3; ++column)
-        solver.inverse_inertia[column] = ToVec4(inverse_inertia.col(column));
-    } else {
-      solver.inverse_mass = 0.0f;
-      for (Vec4& column : solver.inverse_inertia) column.setZero();
-      step = {};
-    }
-    solver.linear_velocity = ToVec4(body.linear_velocity_);
-    solver.angular_velocity = ToVec4(body.angular_velocity_);
-  });
-}
-
-void PhysicsSystem::ClampVelocities(Body& body, FinishCounters& counters) {
-  // Squares first: nearly every body is under its limits, and then no square root is taken.
-  const float max_speed = body.max_linear_velocity_;
-  if (body.linear_velocity_.squaredNorm() > max_speed * max_speed) {
-    // stableNorm: a velocity near float's limit squares to infinity, and 1/inf would stop the body dead.
-    body.linear_velocity_ *= max_speed / body.linear_velocity_.stableNorm();
-    ++counters.linear_velocity_clamps;
-  }
-  const float max_spin = body.max_angular_velocity_;
-  if (body.angular_velocity_.squaredNorm() > max_spin * max_spin) {
-    body.angular_velocity_ *= max_spin / body.angular_velocity_.stableNorm();
-    ++counters.angular_velocity_clamps;
-  }
+  ForEachChunkItem(
+      next_chunk_, static_cast<std::uint32_t>(active_.size()), kBodyChunk, width, [&](std::uint32_t i) {
+        Body& body = body_manager_.BodyAt(active_[i].index);
+        SolverBody& solver = constraint_solver_.bodies()[i + 1];
+        SolverPose& pose = constraint_solver_.poses()[i + 1];
+        SolverVelocityStep& step = constraint_solver_.velocity_steps()[i + 1];
+        pose.center_of_mass = ToVec4(body.CenterOfMass());
+        pose.rotation = body.rotation();
+        solver.delta_position.setZero();
+        solver.delta_rotation.setZero();
+        if (body.IsDynamic()) {
+          // The gyroscopic step goes with each substep's share too (its error shrinks with the substep).
+          step.gyroscopic =
+              settings_.gyroscopic_torque && body.gyroscopic_ && !body.angular_velocity_.isZero(0.0f);
+          if (step.gyroscopic) {
+            step.inertia = body.inertia_local_;  // the substeps read it only for these bodies
+            body.angular_velocity_ =
+                SpinWithoutTorque(body.inertia_local_, body.rotation(), body.angular_velocity_, h);
+          }
+          // Gravity and forces are added a substep's share at a time: the first share now (the velocity half
+          // of symplectic Euler), the others by the solver after each substep's integration.
+          InverseInertiaColumns(body.rotation().toRotationMatrix(), body.inverse_inertia_local_,
+                                solver.inverse_inertia);
+          step.linear =
+              ToVec4(h * (settings_.gravity * body.gravity_factor_ + body.inverse_mass_ * body.force_));
+          step.angular = h * ColumnsTimes(solver.inverse_inertia, body.torque_);
+          Vec3 linear = body.linear_velocity_ + ToVec3(step.linear);
+          Vec3 angular = body.angular_velocity_ + ToVec3(step.angular);
+          body.force_.setZero();
+          body.torque_.setZero();
+          linear *= std::max(0.0f, 1.0f - body.linear_damping_ * dt);
+          angular *= std::max(0.0f, 1.0f - body.angular_damping_ * dt);
+          body.linear_velocity_ =
+              ClampedVelocity(linear, body.max_linear_velocity_, counters.linear_velocity_clamps);
+          body.angular_velocity_ =
+              ClampedVelocity(angular, body.max_angular_velocity_, counters.angular_velocity_clamps);
+          solver.inverse_mass = body.inverse_mass_;
+        } else {
+          solver.inverse_mass = 0.0f;
+          for (Vec4& column : solver.inverse_inertia) column.setZero();
+          step = {};
+        }
+        solver.linear_velocity = ToVec4(body.linear_velocity_);
+        solver.angular_velocity = ToVec4(body.angular_velocity_);
+      });
 }
 
 void PhysicsSystem::UpdateBroadPhase() {
   broad_phase_->Update();
 }
 
-void PhysicsSystem::FindCollisions(std::uint32_t job) {
-  collisions_.RunJob(job);
+void PhysicsSystem::FindCollisions(std::uint32_t job, std::uint32_t width) {
+  collisions_.RunJob(job, width);
 }
 
 void PhysicsSystem::FinalizeIslands() {
@@ -460,10 +449,7 @@ void PhysicsSystem::FinalizeIslands() {
     SolverBody& body = constraint_solver_.bodies()[i + 1];
     body.delta_position = body.linear_velocity * step_dt_;  // what the write-back adds to the position
     pose.center_of_mass += body.delta_position;
-    const Vec4 turn = body.angular_velocity * step_dt_;
-    const Quat delta(0.0f, 0.5f * turn.x(), 0.5f * turn.y(), 0.5f * turn.z());
-    pose.rotation.coeffs() += (delta * pose.rotation).coeffs();
-    pose.rotation.normalize();
+    TurnBy(pose.rotation, body.angular_velocity * step_dt_);
   }
   contact_user_.SetContacts(contacts_);
   joint_user_.SetJoints(step_joints_, joint_island_body_);
@@ -481,21 +467,22 @@ void PhysicsSystem::FinalizeIslands() {
   next_chunk_.store(0, std::memory_order_relaxed);
 }
 
-void PhysicsSystem::PrepareIslands(std::uint32_t job) {
-  ForEachChunk(next_chunk_, constraint_solver_.group_count(), 1,
-               [&](std::uint32_t group) { constraint_solver_.PrepareGroup(group, job); });
+void PhysicsSystem::PrepareIslands(std::uint32_t job, std::uint32_t width) {
+  ForEachChunkItem(next_chunk_, constraint_solver_.group_count(), 1, width,
+                   [&](std::uint32_t group) { constraint_solver_.PrepareGroup(group, job); });
 }
 
-void PhysicsSystem::SolveIslands(std::uint32_t job) {
-  constraint_solver_.SolveJob(job);
+void PhysicsSystem::SolveIslands(std::uint32_t job, std::uint32_t width) {
+  constraint_solver_.SolveJob(job, width);
 }
 
-void PhysicsSystem::LinearCasts(std::uint32_t job) {
+void PhysicsSystem::LinearCasts(std::uint32_t job, std::uint32_t width) {
   CastScratch& scratch = cast_scratch_[job];
-  ForEachChunk(next_cast_, static_cast<std::uint32_t>(linear_cast_bodies_.size()), kCastChunk,
-               [&](std::uint32_t k) {
-                 if (LinearCast(linear_cast_bodies_[k], scratch)) ++finish_counters_[job].linear_cast_hits;
-               });
+  ForEachChunkItem(next_cast_, static_cast<std::uint32_t>(linear_cast_bodies_.size()), kCastChunk, width,
+                   [&](std::uint32_t k) {
+                     if (LinearCast(linear_cast_bodies_[k], scratch))
+                       ++finish_counters_[job].linear_cast_hits;
+                   });
 }
 
 bool PhysicsSystem::LinearCast(std::uint32_t active_index, CastScratch& scratch) {
@@ -541,18 +528,21 @@ bool PhysicsSystem::LinearCast(std::uint32_t active_index, CastScratch& scratch)
   return true;
 }
 
-void PhysicsSystem::FinishIslands(std::uint32_t job) {
+void PhysicsSystem::FinishIslands(std::uint32_t job, std::uint32_t width) {
   const float dt = step_dt_;
-  ForEachChunk(next_chunk_, islands_.island_count(), kIslandChunk, [&](std::uint32_t island) {
+  ForEachChunkItem(next_chunk_, islands_.island_count(), kIslandChunk, width, [&](std::uint32_t island) {
     const std::span<const std::uint32_t> members = islands_.bodies(island);
     bool awake = false;
     for (const std::uint32_t i : members) {
       Body& body = body_manager_.BodyAt(active_[i].index);
       const SolverBody& solved = constraint_solver_.bodies()[i + 1];
       const SolverPose& pose = constraint_solver_.poses()[i + 1];
-      body.linear_velocity_ = ToVec3(solved.linear_velocity);
-      body.angular_velocity_ = ToVec3(solved.angular_velocity);
-      ClampVelocities(body, finish_counters_[job]);  // the substeps after the first added gravity again
+      // The substeps after the first added gravity again.
+      FinishCounters& counters = finish_counters_[job];
+      body.linear_velocity_ = ClampedVelocity(ToVec3(solved.linear_velocity), body.max_linear_velocity_,
+                                              counters.linear_velocity_clamps);
+      body.angular_velocity_ = ClampedVelocity(ToVec3(solved.angular_velocity), body.max_angular_velocity_,
+                                               counters.angular_velocity_clamps);
       // The position takes the step's motion (small, so exact in a float) rather than the solver's pose,
       // which far from the origin rounds a slow body's motion away.
       const Vec3 turned_offset = body.centered_ ? Vec3::Zero()

@@ -126,19 +126,22 @@ class PhysicsSystem {
   PhysicsSystem(const PhysicsSystemConfig& config, const PhysicsSettings& settings);
   void BuildStepGraphs();
 
-  // Stages of Step, in order. Each runs as jobs of the step's graphs (see BuildStepGraphs).
-  void PrepareStep();                      // serial: wake islands, collect active bodies
-  void WakeConstrainedBodies();            // part of PrepareStep: a joint wakes its sleeping side
-  void BindConstraints();                  // part of PrepareStep: the step's joints and their islands
-  void ApplyForces(std::uint32_t job);     // parallel over active bodies
-  void UpdateBroadPhase();                 // one job, beside FindCollisions
-  void FindCollisions(std::uint32_t job);  // parallel over active bodies
-  void FinalizeIslands();                  // serial, O(bodies + constraints)
-  void PrepareIslands(std::uint32_t job);  // parallel over islands
-  void SolveIslands(std::uint32_t job);    // parallel over islands and split batches
-  void LinearCasts(std::uint32_t job);     // parallel over fast linear-cast bodies (one empty job if none)
-  void FinishIslands(std::uint32_t job);   // parallel over islands: write back, bounds, sleep
-  void FinishStep();                       // serial: wake-ups, figures
+  // Stages of Step, in order. Each runs as jobs of the step's graphs (see BuildStepGraphs); a parallel
+  // stage's job knows how many jobs (`width`) run it.
+  void PrepareStep();            // serial: wake islands, collect active bodies
+  void WakeConstrainedBodies();  // part of PrepareStep: a joint wakes its sleeping side
+  void BindConstraints();        // part of PrepareStep: the step's joints and their islands
+  void ApplyForces(std::uint32_t job, std::uint32_t width);     // parallel over active bodies
+  void UpdateBroadPhase();                                      // one job, beside FindCollisions
+  void FindCollisions(std::uint32_t job, std::uint32_t width);  // parallel over active bodies
+  void FinalizeIslands();                                       // serial, O(bodies + constraints)
+  void PrepareIslands(std::uint32_t job, std::uint32_t width);  // parallel over islands
+  void SolveIslands(std::uint32_t job, std::uint32_t width);    // parallel over islands and split batches
+  void LinearCasts(std::uint32_t job,
+                   std::uint32_t width);  // parallel over fast linear-cast bodies (one empty job if none)
+  void FinishIslands(std::uint32_t job,
+                     std::uint32_t width);  // parallel over islands: write back, bounds, sleep
+  void FinishStep();                        // serial: wake-ups, figures
 
   // Wake-ups, shared with BodyInterface.
   void RequestWake(std::uint32_t island_key);
@@ -195,8 +198,6 @@ class PhysicsSystem {
   };
   // Sweeps one linear-cast body over its motion this step; true if it was stopped at a hit.
   bool LinearCast(std::uint32_t active_index, CastScratch& scratch);
-  // Slows a body to its velocity limits, counting each clamp.
-  static void ClampVelocities(Body& body, FinishCounters& counters);
   std::vector<FinishCounters> finish_counters_;
   std::vector<CastScratch> cast_scratch_;          // per job
   std::vector<std::uint32_t> linear_cast_bodies_;  // active indices of awake linear-cast bodies

@@ -3,6 +3,10 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdint>
+#include <set>
+#include <vector>
+
 namespace strata::test {
 namespace {
 
@@ -56,6 +60,24 @@ TEST(BlockArena, RecycleGivesBackAnOversizeBlockAndResetGivesBackAll) {
   other.Reset();
   arena.Allocate(4 * kBlockBytes);
   EXPECT_EQ(pool.bytes_reserved(), reserved);
+}
+
+TEST(BlockArena, BlocksStartAtEveryCacheLineOfAPageInTurn) {
+  // The step writes this step's blocks while it reads last step's: blocks at one page offset would share
+  // cache sets and alias in the store buffer. Each block takes the same memory whatever its offset.
+  BlockPool pool(kBlockBytes);
+  std::set<std::uintptr_t> offsets;
+  std::vector<BlockPool::Block*> blocks;
+  std::size_t per_block = 0;
+  for (std::size_t k = 0; k < BlockPool::kColours; ++k) {
+    blocks.push_back(pool.Take(kBlockBytes));
+    if (k == 0) per_block = pool.bytes_reserved();
+    offsets.insert(reinterpret_cast<std::uintptr_t>(blocks.back()->data()) % 4096);
+    EXPECT_EQ(reinterpret_cast<std::uintptr_t>(blocks.back()->data()) % BlockPool::kAlignment, 0u);
+    EXPECT_EQ(pool.bytes_reserved(), (k + 1) * per_block);
+  }
+  EXPECT_EQ(offsets.size(), BlockPool::kColours);
+  for (BlockPool::Block* block : blocks) pool.Give(block);
 }
 
 }  // namespace

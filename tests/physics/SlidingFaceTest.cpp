@@ -33,8 +33,17 @@ Placed RandomBoxOnFloor(std::mt19937& random) {
           Pose{box_centre, box_turn}};
 }
 
-PosedBody Posed(const Pose& pose) {
-  return {pose.position, pose.rotation.toRotationMatrix()};
+// A pose with its rotation as a matrix, for PosedBody to view.
+struct PoseWithMatrix {
+  explicit PoseWithMatrix(const Pose& pose)
+      : position(pose.position), rotation(pose.rotation.toRotationMatrix()) {}
+  operator PosedBody() const { return {position, rotation}; }  // NOLINT: implicit, where a PosedBody is taken
+  Vec3 position;
+  Mat3 rotation;
+};
+
+PoseWithMatrix Posed(const Pose& pose) {
+  return PoseWithMatrix(pose);
 }
 
 // The manifold of the pair in the order asked (floor as A or as B).
