@@ -59,7 +59,7 @@ struct CountedBody {
 CountedBody Inspect(const PhysicsSystem& world, const Candidate& candidate, const AABB& box,
                     const NavMeshBodyFilter& filter) {
   std::optional<BodySnapshot> snapshot = world.body_snapshots().Read(candidate.id);
-  if (!snapshot) return {};  // not in the world (yet, or any more)
+  if (!snapshot || snapshot->sensor) return {};  // not in the world (yet, or any more), or a trigger volume
   const bool exact = snapshot->motion_type == MotionType::kStatic;
   // A broad phase that reports no bounds (only AddHit) leaves the body's bounds as of its last teleport.
   const AABB bounds = exact || !candidate.has_bounds ? snapshot->bounds : SpanningBox(candidate.bounds);

@@ -23,6 +23,10 @@ void Body::Reset(const BodyCreationSettings& settings, BodyID id) {
   max_angular_velocity_ = settings.max_angular_velocity;
   allow_sleeping_ = settings.allow_sleeping;
   user_data_ = settings.user_data;
+  event_flags_ = static_cast<std::uint8_t>((settings.is_sensor ? kSensor : 0) |
+                                           (settings.sensor_detects_static ? kSensorDetectsStatic : 0) |
+                                           (settings.report_contacts ? kReportContacts : 0) |
+                                           (settings.validate_contacts ? kValidateContacts : 0));
   if (motion_type_ != MotionType::kStatic) {
     linear_velocity_ = settings.linear_velocity;
     angular_velocity_ = settings.angular_velocity;

@@ -65,6 +65,18 @@ class Body {
   float max_linear_velocity() const { return max_linear_velocity_; }
   float max_angular_velocity() const { return max_angular_velocity_; }
   bool allow_sleeping() const { return allow_sleeping_; }
+  /// A trigger volume: reports overlaps as sensor events, never collides (BodyCreationSettings::is_sensor).
+  bool is_sensor() const { return (event_flags_ & kSensor) != 0; }
+  /// A sensor that also sees static and kinematic bodies.
+  bool sensor_detects_static() const { return (event_flags_ & kSensorDetectsStatic) != 0; }
+  /// Its contacts give contact events.
+  bool reports_contacts() const { return (event_flags_ & kReportContacts) != 0; }
+  /// The world's contact validator is asked about its contacts.
+  bool validates_contacts() const { return (event_flags_ & kValidateContacts) != 0; }
+  /// The event and sensor bits above together: a pair tests both bodies' bits with one OR.
+  std::uint8_t event_flags() const { return event_flags_; }
+  static constexpr std::uint8_t kSensor = 1, kSensorDetectsStatic = 2, kReportContacts = 4,
+                                kValidateContacts = 8;
   /// Key shared by the bodies of a sleeping island (meaningful only while sleeping).
   std::uint32_t sleep_island() const { return sleep_island_; }
   /// How far any point of the body may move in `dt` at its current velocities (0 unless active).
@@ -126,6 +138,7 @@ class Body {
   MotionQuality motion_quality_ = MotionQuality::kDiscrete;
   ObjectLayer object_layer_ = layers::kNonMoving;
   bool in_world_ = false;
+  std::uint8_t event_flags_ = 0;  // kSensor | kSensorDetectsStatic | kReportContacts | kValidateContacts
   RelaxedAtomic<bool> sleeping_ = false;
   bool allow_sleeping_ = true;
   bool gyroscopic_ = false;  // the inertia is not a multiple of the identity, so spin can precess

@@ -36,6 +36,14 @@ Status BodyCreationSettings::Validate() const {
   if (!IsFinite(gravity_factor)) return Invalid("gravity factor is not finite");
   if (!(max_linear_velocity > 0.0f) || !(max_angular_velocity > 0.0f))
     return Invalid("max velocities must be positive");
+  if (is_sensor && !shape->IsConvex())
+    return Invalid("a sensor's shape must be convex (a box, sphere, capsule or hull)");
+  if (sensor_detects_static && !is_sensor)
+    return Invalid("sensor_detects_static is set on a body that is no sensor");
+  if (is_sensor && (report_contacts || validate_contacts))
+    return Invalid(
+        "a sensor has no contacts: it reports overlaps as sensor events (leave report_contacts and "
+        "validate_contacts off)");
   if (motion_type == MotionType::kDynamic && !shape->IsConvex())
     return MakeError(ErrorCode::kInvalidArgument,
                      "a triangle mesh has no volume: it can only be static or kinematic");

@@ -37,6 +37,19 @@ struct BodyCreationSettings {
   float max_linear_velocity = 500.0f;                ///< m/s
   float max_angular_velocity = 0.25f * kPi * 60.0f;  ///< rad/s
   bool allow_sleeping = true;
+  /// A sensor (trigger volume): the step reports the bodies that overlap it as sensor events and it takes no
+  /// contact response (it never pushes, wakes or stops anything). Queries skip it unless their filter asks
+  /// for sensors. Its shape must be convex. It may be static, kinematic (moved by its velocity) or dynamic.
+  bool is_sensor = false;
+  /// A sensor that also reports static and kinematic bodies (by default it sees dynamic bodies only). The
+  /// layer pair filter still applies: give a static sensor a layer that collides with the level's.
+  bool sensor_detects_static = false;
+  /// Contact begin / persist / end events for this body's contacts (PhysicsSystem::events()). Off, its
+  /// contacts cost nothing extra.
+  bool report_contacts = false;
+  /// The world's contact validator (PhysicsSystem::SetContactValidator) is asked about this body's contacts
+  /// before they are solved, and may reject them (one-way platforms).
+  bool validate_contacts = false;
   Vec3 linear_velocity = Vec3::Zero();   ///< m/s, of the centre of mass
   Vec3 angular_velocity = Vec3::Zero();  ///< rad/s, world space
   std::uint64_t user_data = 0;

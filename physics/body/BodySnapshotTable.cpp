@@ -37,8 +37,8 @@ void BodySnapshotTable::Store(std::uint32_t index, const Body* body) const {
   Slot fresh;
   if (body != nullptr) {
     fresh.present = true;
-    fresh.snapshot = {body->id(),    body->motion_type(), body->object_layer(),
-                      body->shape(), body->pose(),        body->world_bounds()};
+    fresh.snapshot = {body->id(),   body->motion_type(),  body->object_layer(), body->shape(),
+                      body->pose(), body->world_bounds(), body->is_sensor()};
   }
   {
     const std::lock_guard lock(StripeFor(index));

@@ -24,7 +24,8 @@ struct BodySnapshot {
   ObjectLayer object_layer = 0;
   ShapeRef shape;
   Pose pose;
-  AABB bounds;  ///< world bounds at `pose`
+  AABB bounds;          ///< world bounds at `pose`
+  bool sensor = false;  ///< a trigger volume: nothing stands on it or is stopped by it
 };
 
 /// Per-slot snapshots guarded by their own striped locks (never the body locks), held only to copy a slot.

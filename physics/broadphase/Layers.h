@@ -43,13 +43,16 @@ class DefaultLayerSetup final : public LayerSetup {
 };
 
 /// Which bodies a query reports: a bit per object layer (layers >= 64 always pass) and one body to skip.
+/// World queries leave sensors (trigger volumes) out unless `sensors` is set; the broad phase does not know
+/// which bodies are sensors.
 struct QueryFilter {
   std::uint64_t object_layers = ~0ull;
   std::uint32_t ignore_body_index = 0xffffffffu;
+  bool sensors = false;
 
   bool AcceptsLayer(ObjectLayer layer) const { return layer >= 64 || (object_layers >> layer) & 1u; }
   /// A filter that only passes the listed layer.
-  static QueryFilter OnlyLayer(ObjectLayer layer) { return {1ull << layer, 0xffffffffu}; }
+  static QueryFilter OnlyLayer(ObjectLayer layer) { return {1ull << layer, 0xffffffffu, false}; }
 };
 
 }  // namespace strata

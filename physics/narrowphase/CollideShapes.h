@@ -17,6 +17,8 @@ namespace strata {
 struct CollisionScratch {
   std::vector<std::uint32_t> triangles;
   EpaScratch epa;
+  std::vector<ContactManifold>
+      manifolds;  ///< for callers that collide on their way to something else (sweeps)
 };
 
 /// Contact between two convex shapes, by the form CollisionDispatch holds for the pair. Returns true and

@@ -15,8 +15,9 @@ CollisionDispatch BuildDefault() {
   table.AddConvexShape(ShapeType::kBox);
   table.AddConvexShape(ShapeType::kCapsule);
   table.AddConvexShape(ShapeType::kConvexHull);
-  table.AddTriangleShape(ShapeType::kTriangleMesh, CollideConvexWithMesh, CastOntoTriangles);
-  table.AddTriangleShape(ShapeType::kHeightField, CollideConvexWithHeightField, CastOntoTriangles);
+  table.AddTriangleShape(ShapeType::kTriangleMesh, CollideConvexWithMesh, CastOntoTriangles, SweepOntoMesh);
+  table.AddTriangleShape(ShapeType::kHeightField, CollideConvexWithHeightField, CastOntoTriangles,
+                         SweepOntoHeightField);
   // Pairs with a closed form or a separating-axis test, which beat GJK on them. A hull against a box keeps
   // its own entry: the face preferences of the polyhedron test are not symmetric.
   table.RegisterCollide(ShapeType::kSphere, ShapeType::kSphere, CollideSpherePair);
@@ -58,10 +59,11 @@ void CollisionDispatch::AddConvexShape(ShapeType type) {
     Entry(triangle_[k], type) = {triangle_collide_[k], Source::kSwapped};
   }
   cast_[Index(type)] = CastOntoConvex;
+  sweep_[Index(type)] = SweepOntoConvex;
 }
 
 void CollisionDispatch::AddTriangleShape(ShapeType type, CollideFunction collide_convex,
-                                         CastFunction cast_onto) {
+                                         CastFunction cast_onto, SweepFunction sweep_onto) {
   assert(Index(type) < kMaxShapeTypes);
   triangle_.push_back(type);
   triangle_collide_.push_back(collide_convex);
@@ -70,6 +72,7 @@ void CollisionDispatch::AddTriangleShape(ShapeType type, CollideFunction collide
     Entry(type, convex) = {collide_convex, Source::kSwapped};
   }
   cast_[Index(type)] = cast_onto;
+  sweep_[Index(type)] = sweep_onto;
 }
 
 void CollisionDispatch::RegisterCollide(ShapeType a, ShapeType b, CollideFunction collide) {
@@ -101,6 +104,16 @@ std::optional<ShapeCastHit> CollisionDispatch::Cast(const ConvexShape& shape, co
   const CastFunction cast = cast_[Index(target.type())];
   if (cast == nullptr) return std::nullopt;
   return cast(shape, start, displacement, target, target_pose, tolerance, triangles);
+}
+
+std::optional<SweepContact> CollisionDispatch::Sweep(const ConvexShape& shape, const Pose& start,
+                                                     const Vec3& displacement, const Shape& target,
+                                                     const Pose& target_pose,
+                                                     const ShapeCastSettings& settings,
+                                                     CollisionScratch& scratch) const {
+  const SweepFunction sweep = sweep_[Index(target.type())];
+  if (sweep == nullptr) return std::nullopt;
+  return sweep(shape, start, displacement, target, target_pose, settings, scratch);
 }
 
 }  // namespace strata

@@ -1,5 +1,5 @@
-// CollisionDispatch: the narrow phase's functions by shape type (collide by pair, cast by target), so a new
-// shape is its own files plus one line in BuildDefault (see physics/README.md, "Adding a shape").
+// CollisionDispatch: the narrow phase's functions by shape type (collide by pair, cast and sweep by target),
+// so a new shape is its own files plus one line in BuildDefault (see physics/README.md, "Adding a shape").
 // Built once, on first use, and read-only after that: any thread may look up without a lock.
 #pragma once
 
@@ -10,6 +10,7 @@
 
 #include "physics/narrowphase/CollideShapes.h"
 #include "physics/narrowphase/ShapeCast.h"
+#include "physics/narrowphase/ShapeSweep.h"
 
 namespace strata {
 
@@ -22,6 +23,12 @@ using CastFunction = std::optional<ShapeCastHit> (*)(const ConvexShape& shape, c
                                                      const Vec3& displacement, const Shape& target,
                                                      const Pose& target_pose, float tolerance,
                                                      std::vector<Triangle>& triangles);
+/// Where a query's `shape` swept from `start` by `displacement` meets `target` (see SweepConvexShape).
+using SweepFunction = std::optional<SweepContact> (*)(const ConvexShape& shape, const Pose& start,
+                                                      const Vec3& displacement, const Shape& target,
+                                                      const Pose& target_pose,
+                                                      const ShapeCastSettings& settings,
+                                                      CollisionScratch& scratch);
 
 /// Shape-type pair -> collide function, target type -> cast function. A shape joins by kind (convex, or made
 /// of triangles) and gets every pair at once; faster forms for a pair are registered on top.
@@ -36,8 +43,10 @@ class CollisionDispatch {
   /// with every triangle shape through that shape's function, and is a target for conservative advancement.
   void AddConvexShape(ShapeType type);
   /// A shape made of triangles (it never moves, so it never collides with another of its kind):
-  /// `collide_convex` takes a convex shape as A and this shape as B; `cast_onto` sweeps against it.
-  void AddTriangleShape(ShapeType type, CollideFunction collide_convex, CastFunction cast_onto);
+  /// `collide_convex` takes a convex shape as A and this shape as B; `cast_onto` sweeps against it for the
+  /// step's linear casts, `sweep_onto` for shape cast queries.
+  void AddTriangleShape(ShapeType type, CollideFunction collide_convex, CastFunction cast_onto,
+                        SweepFunction sweep_onto);
   /// A faster form for the pair (a, b) than the kinds give. The pair (b, a) gets it too, with the shapes
   /// swapped and the manifolds turned round, unless a form was registered for (b, a) itself.
   void RegisterCollide(ShapeType a, ShapeType b, CollideFunction collide);
@@ -50,6 +59,11 @@ class CollisionDispatch {
   std::optional<ShapeCastHit> Cast(const ConvexShape& shape, const Pose& start, const Vec3& displacement,
                                    const Shape& target, const Pose& target_pose, float tolerance,
                                    std::vector<Triangle>& triangles) const;
+
+  /// A shape cast query's contact with `target`; nothing when none, or when the target type has no sweep.
+  std::optional<SweepContact> Sweep(const ConvexShape& shape, const Pose& start, const Vec3& displacement,
+                                    const Shape& target, const Pose& target_pose,
+                                    const ShapeCastSettings& settings, CollisionScratch& scratch) const;
 
   /// Whether the pair has a collide function (in either order of the arguments it was registered in).
   bool Collides(ShapeType a, ShapeType b) const { return Entry(a, b).collide != nullptr; }
@@ -66,6 +80,7 @@ class CollisionDispatch {
 
   std::array<std::array<Slot, kMaxShapeTypes>, kMaxShapeTypes> collide_{};
   std::array<CastFunction, kMaxShapeTypes> cast_{};
+  std::array<SweepFunction, kMaxShapeTypes> sweep_{};
   std::vector<ShapeType> convex_;
   std::vector<ShapeType> triangle_;
   std::vector<CollideFunction> triangle_collide_;  // parallel to triangle_

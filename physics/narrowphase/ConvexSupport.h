@@ -32,6 +32,15 @@ class PosedConvex final : public ConvexSupport {
   bool use_core_;
 };
 
+/// A convex shape at a pose as distance queries measure it: its core and the core radius around it where
+/// that is the shape exactly (spheres, capsules: ConvexShape::CoreIsExact), else the exact shape, radius 0.
+struct MeasuredConvex {
+  MeasuredConvex(const ConvexShape& shape, const Pose& pose)
+      : support(shape, pose, shape.CoreIsExact()), radius(shape.CoreIsExact() ? shape.core_radius() : 0.0f) {}
+  PosedConvex support;
+  float radius;
+};
+
 /// One triangle in world space.
 class TriangleSupport final : public ConvexSupport {
  public:

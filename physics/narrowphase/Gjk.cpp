@@ -1,5 +1,6 @@
 #include "physics/narrowphase/Gjk.h"
 
+#include <algorithm>
 #include <utility>
 
 namespace strata {
@@ -103,12 +104,17 @@ bool ClosestPointOnSimplex(SimplexVertex* simplex, int& count, float* weights, V
       mask = ClosestOnTriangle(w[0], w[1], w[2], all);
       break;
     default: {
-      // Test each face the origin lies outside of; keep the closest result.
+      // Test each face the origin lies outside of; keep the closest result. A flat tetrahedron (the new
+      // vertex on the plane of the other three: a tie between two support points of one face) encloses
+      // nothing, but its faces' side tests cannot say so: every face is a candidate then.
       static constexpr int kFaces[4][4] = {{0, 1, 2, 3}, {0, 2, 3, 1}, {0, 3, 1, 2}, {1, 3, 2, 0}};
+      const double size = std::max({(w[1] - w[0]).norm(), (w[2] - w[0]).norm(), (w[3] - w[0]).norm()});
+      const bool flat =
+          std::abs((w[1] - w[0]).dot((w[2] - w[0]).cross(w[3] - w[0]))) <= 1e-6 * size * size * size;
       double best = 1e300;
       bool any_outside = false;
       for (const auto& f : kFaces) {
-        if (!OriginOutsideFace(w[f[0]], w[f[1]], w[f[2]], w[f[3]])) continue;
+        if (!flat && !OriginOutsideFace(w[f[0]], w[f[1]], w[f[2]], w[f[3]])) continue;
         any_outside = true;
         double face_weights[3] = {0, 0, 0};
         const int face_mask = ClosestOnTriangle(w[f[0]], w[f[1]], w[f[2]], face_weights);
@@ -163,6 +169,12 @@ GjkResult GjkClosestPoints(const ConvexSupport& a, const ConvexSupport& b, float
     for (int i = 0; i < result.simplex_count; ++i)
       duplicate |= (result.simplex[i].w - vertex.w).squaredNorm() < 1e-14f;
     if (duplicate) break;
+    // Kept to go back to: near touching, float rounding can make a new vertex pull the simplex away.
+    SimplexVertex previous[4];
+    float previous_weights[4];
+    const int previous_count = result.simplex_count;
+    std::copy_n(result.simplex, previous_count, previous);
+    std::copy_n(weights, previous_count, previous_weights);
     result.simplex[result.simplex_count++] = vertex;
     Vec3 closest;
     if (!ClosestPointOnSimplex(result.simplex, result.simplex_count, weights, closest) ||
@@ -170,10 +182,15 @@ GjkResult GjkClosestPoints(const ConvexSupport& a, const ConvexSupport& b, float
       result.overlapping = true;
       return result;
     }
-    // Guard against cycling: the distance must shrink every iteration.
-    const bool improved = closest.squaredNorm() < v_length2;
+    // Guard against cycling: the distance must shrink every iteration. One that grew ends the search at the
+    // simplex before it (its closest point is v), not at the worse one.
+    if (closest.squaredNorm() >= v_length2 && iteration > 0) {
+      std::copy_n(previous, previous_count, result.simplex);
+      std::copy_n(previous_weights, previous_count, weights);
+      result.simplex_count = previous_count;
+      break;
+    }
     v = closest;
-    if (!improved && iteration > 0) break;
   }
   result.distance = v.norm();
   result.point_a = Vec3::Zero();

@@ -29,6 +29,7 @@ class CapsuleShape final : public ConvexShape {
     return {0.0f, direction.y() < 0 ? -half_height_ : half_height_, 0.0f};
   }
   void GetSupportingFace(const Vec3& direction, SupportingFace& face) const override;
+  bool CoreIsExact() const override { return true; }
 
  protected:
   void CollectLocalTriangles(const AABB& local_box, std::vector<Triangle>& out) const override;

@@ -28,6 +28,9 @@ class ConvexShape : public Shape {
   /// Farthest point of the core along `direction`; core + CoreRadius() lies inside the exact shape.
   virtual Vec3 CoreSupport(const Vec3& direction) const = 0;
   float core_radius() const { return core_radius_; }
+  /// Whether the core swept by the core radius is the exact shape (spheres, capsules): distance queries then
+  /// measure on the core, which GJK meets exactly, instead of on a curved surface it only approaches.
+  virtual bool CoreIsExact() const { return false; }
 
   /// The face of the exact shape whose outward normal is most aligned with `direction`
   /// (one point for spheres, a segment for capsules lying flat).

@@ -23,6 +23,7 @@ class SphereShape final : public ConvexShape {
   Vec3 Support(const Vec3& direction) const override;
   Vec3 CoreSupport(const Vec3&) const override { return Vec3::Zero(); }
   void GetSupportingFace(const Vec3& direction, SupportingFace& face) const override;
+  bool CoreIsExact() const override { return true; }
 
  protected:
   void CollectLocalTriangles(const AABB& local_box, std::vector<Triangle>& out) const override;

@@ -94,10 +94,16 @@ WideFloat SafeInverse(WideFloat k) {
 
 ContactBundle* AllocateBundle(BlockArena& arena, std::span<ContactConstraint* const> constraints) {
   std::uint32_t points = 0;
-  for (const ContactConstraint* c : constraints) points = std::max<std::uint32_t>(points, c->point_count);
-  const std::size_t bytes = sizeof(ContactBundle) + points * sizeof(ContactBundleRows);
+  bool reports = false;
+  for (const ContactConstraint* c : constraints) {
+    points = std::max<std::uint32_t>(points, c->point_count);
+    reports = reports || c->reports;
+  }
+  const std::size_t bytes =
+      sizeof(ContactBundle) + points * (sizeof(ContactBundleRows) + (reports ? sizeof(WideFloat) : 0));
   auto* bundle = new (arena.Allocate(bytes, alignof(ContactBundle))) ContactBundle;
   bundle->point_count = points;
+  bundle->reports = reports;
   for (int lane = 0; lane < kLanes; ++lane) {
     const bool used = lane < static_cast<int>(constraints.size());
     ContactConstraint* c = used ? constraints[lane] : nullptr;
@@ -186,6 +192,7 @@ void SetupBundle(ContactBundle& bundle, const SolverBody* bodies, const SubstepC
     rows.tangent_impulse[0] = Dot(warm, bundle.tangent[0]);
     rows.tangent_impulse[1] = Dot(warm, bundle.tangent[1]);
     rows.max_normal_impulse = WideFloat::Zero();
+    if (bundle.reports) bundle.reported_impulses()[j] = WideFloat::Zero();
   }
 }
 
@@ -317,7 +324,27 @@ void ApplyBundleRestitution(ContactBundle& bundle, SolverBody* bodies, const Sub
   lanes.Scatter(bodies, bundle);
 }
 
-void StoreBundleImpulses(const ContactBundle& bundle) {
+namespace {
+
+// Hands row j's summed impulses to the reporting lanes' constraints.
+void StoreReportedImpulses(const ContactBundle& bundle, std::uint32_t j) {
+  alignas(alignof(WideFloat)) Lanes sums;
+  bundle.reported_impulses()[j].Store(sums);
+  for (int lane = 0; lane < kLanes; ++lane) {
+    ContactConstraint* c = bundle.constraints[lane];
+    if (c != nullptr && c->reports && j < c->point_count) c->reported_impulses()[j] = sums[lane];
+  }
+}
+
+}  // namespace
+
+void AddBundleReportedImpulses(ContactBundle& bundle) {
+  WideFloat* sums = bundle.reported_impulses();
+  for (std::uint32_t j = 0; j < bundle.point_count; ++j) sums[j] = sums[j] + bundle.rows()[j].normal_impulse;
+}
+
+void StoreBundleImpulses(ContactBundle& bundle) {
+  if (bundle.reports) AddBundleReportedImpulses(bundle);
   for (std::uint32_t j = 0; j < bundle.point_count; ++j) {
     const ContactBundleRows& p = bundle.rows()[j];
     const WideVec3 friction =
@@ -333,6 +360,7 @@ void StoreBundleImpulses(const ContactBundle& bundle) {
       cached.normal_impulse = normal[lane];
       cached.friction_impulse = Vec3(staged.x[lane], staged.y[lane], staged.z[lane]);
     }
+    if (bundle.reports) StoreReportedImpulses(bundle, j);
   }
 }
 

@@ -65,9 +65,16 @@ struct alignas(alignof(WideFloat)) ContactBundle {
   bool dynamic_a[kLanes];
   bool dynamic_b[kLanes];
   std::uint32_t point_count;  ///< most points of any lane
+  /// A lane's constraint reports contact events: the bundle sums each point's normal impulse over the step in
+  /// reported_impulses(), which follow the rows (bundles without such a lane have none).
+  bool reports;
 
   ContactBundleRows* rows() { return reinterpret_cast<ContactBundleRows*>(this + 1); }
   const ContactBundleRows* rows() const { return reinterpret_cast<const ContactBundleRows*>(this + 1); }
+  WideFloat* reported_impulses() { return reinterpret_cast<WideFloat*>(rows() + point_count); }
+  const WideFloat* reported_impulses() const {
+    return reinterpret_cast<const WideFloat*>(rows() + point_count);
+  }
 };
 
 /// Reserves a bundle for `constraints` (at most kLanes, no two moving the same body) in `arena`; SetupBundle
@@ -85,7 +92,10 @@ void SolveBundleVelocity(ContactBundle& bundle, SolverBody* bodies, const Subste
 /// After the last substep: points that approached faster than the threshold and pushed bounce back with
 /// the restitution times their approach speed.
 void ApplyBundleRestitution(ContactBundle& bundle, SolverBody* bodies, const SubstepContext& context);
-/// Leaves the accumulated impulses in each constraint's cache entry.
-void StoreBundleImpulses(const ContactBundle& bundle);
+/// Leaves the accumulated impulses in each constraint's cache entry (and, in a reporting bundle, the step's
+/// summed normal impulses in each reporting constraint).
+void StoreBundleImpulses(ContactBundle& bundle);
+/// In a reporting bundle: adds the accumulated normal impulses to the step's sums (see AddReportedImpulses).
+void AddBundleReportedImpulses(ContactBundle& bundle);
 
 }  // namespace strata

@@ -38,13 +38,20 @@ struct ContactConstraint {
   std::uint8_t point_count;
   bool dynamic_a;  ///< the solver moves A
   bool dynamic_b;
+  /// Its pair reports contact events: the solver sums each point's normal impulse over the step's substeps
+  /// into reported_impulses(), which follow the points (constraints of other pairs have none).
+  bool reports;
 
   ContactConstraintPoint* points() { return reinterpret_cast<ContactConstraintPoint*>(this + 1); }
   const ContactConstraintPoint* points() const {
     return reinterpret_cast<const ContactConstraintPoint*>(this + 1);
   }
-  static std::size_t Bytes(int points) {
-    return sizeof(ContactConstraint) + points * sizeof(ContactConstraintPoint);
+  /// Per point, the normal impulse applied over the step so far (N s); only when `reports`.
+  float* reported_impulses() { return reinterpret_cast<float*>(points() + point_count); }
+  const float* reported_impulses() const { return reinterpret_cast<const float*>(points() + point_count); }
+  static std::size_t Bytes(int points, bool reports) {
+    return sizeof(ContactConstraint) + points * sizeof(ContactConstraintPoint) +
+           (reports ? points * sizeof(float) : 0);
   }
 };
 
@@ -107,10 +114,11 @@ struct ContactSide {
 float ApproachAtImpact(float normal_velocity, float gain_per_substep, float substep, float separation);
 
 /// Builds the constraint for a manifold (unit normal A to B, its points) in `arena`, with warm-start impulses
-/// from `cache`, which holds last step's impulses for the same points in the same order.
+/// from `cache`, which holds last step's impulses for the same points in the same order. With `reports` it
+/// gets room for the step's summed impulses (see ContactConstraint::reports).
 ContactConstraint* BuildContactConstraint(BlockArena& arena, const Vec3& normal,
                                           std::span<const ContactArms> points, const ContactSide& a,
                                           const ContactSide& b, float friction, float restitution,
-                                          CachedManifold* cache);
+                                          CachedManifold* cache, bool reports = false);
 
 }  // namespace strata

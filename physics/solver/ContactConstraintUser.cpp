@@ -205,14 +205,20 @@ void ContactConstraintUser::RunSequential(Group& group, const SolverPass& pass, 
         group.direct_solvers[island]->Solve(bodies, context, use_bias, deepest);
       else
         group.direct_solvers[island]->WarmStart(bodies);
+    if (pass.kind == SolverPassKind::kWarmStart && pass.substep > 0)
+      for (const SolverContact* c : contacts)
+        if (c->reports) AddReportedImpulses(*c);
     if (pass.keeps_impulses)
       for (const SolverContact* c : contacts) StoreContactImpulses(*c);
     return;
   }
   for (SolverContact* c : contacts) {
-    if (pass.kind == SolverPassKind::kWarmStart)
+    if (pass.kind == SolverPassKind::kWarmStart) {
       WarmStartContact(*c, bodies);
-    else if (solve)
+      // What the last substep ended with is applied again now: a substep's worth of impulse (see
+      // AddReportedImpulses).
+      if (c->reports && pass.substep > 0) AddReportedImpulses(*c);
+    } else if (solve)
       SolveContactVelocity(*c, bodies, context, use_bias, pass.reverse, deepest);
     else if (pass.kind == SolverPassKind::kRestitution)
       ApplyContactRestitution(*c, bodies, context);
@@ -232,6 +238,7 @@ void ContactConstraintUser::RunBundles(Group& group, const SolverPass& pass, std
     switch (pass.kind) {
       case SolverPassKind::kWarmStart:
         WarmStartBundle(bundle, bodies);
+        if (bundle.reports && pass.substep > 0) AddBundleReportedImpulses(bundle);
         break;
       case SolverPassKind::kVelocity:
       case SolverPassKind::kRelax:

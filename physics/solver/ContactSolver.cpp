@@ -212,6 +212,7 @@ SolverContact* SetupSolverContact(BlockArena& arena, ContactConstraint& constrai
   // their zero bound.
   const bool with_friction = c->friction > 0.0f;
   c->friction_rows_pending = with_friction && !point_friction_rows;
+  c->reports = constraint.reports;
   const int axis_count = with_friction && point_friction_rows ? 3 : 1;
   for (int i = 0; i < count; ++i) {
     const ContactConstraintPoint& point = constraint.points()[i];
@@ -297,6 +298,12 @@ void StoreContactImpulses(const SolverContact& c) {
     cached[i].friction_impulse =
         ToVec3(p.tangent_impulse[0] * c.tangent[0] + p.tangent_impulse[1] * c.tangent[1]);
   }
+  if (c.reports) AddReportedImpulses(c);
+}
+
+void AddReportedImpulses(const SolverContact& c) {
+  float* sums = c.constraint->reported_impulses();
+  for (int i = 0; i < c.point_count; ++i) sums[i] += c.points()[i].normal_impulse;
 }
 
 }  // namespace strata

@@ -39,6 +39,7 @@ struct alignas(16) SolverContact {
   /// Friction > 0 but the points' friction rows not set up yet (an exact island solves friction as one
   /// patch per contact; see SetupPendingFrictionRows).
   bool friction_rows_pending;
+  bool reports;  ///< its constraint sums its impulses for contact events (ContactConstraint::reports)
 
   SolverContactPoint* points() { return reinterpret_cast<SolverContactPoint*>(this + 1); }
   const SolverContactPoint* points() const { return reinterpret_cast<const SolverContactPoint*>(this + 1); }
@@ -77,7 +78,12 @@ void SolveContactVelocity(SolverContact& contact, SolverBody* bodies, const Subs
                           bool use_bias, bool reverse, float* deepest);
 /// After the last substep: points that approached faster than the threshold and pushed bounce back.
 void ApplyContactRestitution(SolverContact& contact, SolverBody* bodies, const SubstepContext& context);
-/// Leaves the accumulated impulses in the constraint's cache entry for next step's warm start.
+/// Leaves the accumulated impulses in the constraint's cache entry for next step's warm start (and, for a
+/// reporting contact, adds them to the step's sums: the last substep's share).
 void StoreContactImpulses(const SolverContact& contact);
+/// For a reporting contact: adds the accumulated normal impulses to the step's sums. The accumulated impulse
+/// is per substep and a warm start applies it again, so the sums take it at each later substep's warm start
+/// and once more when it is stored.
+void AddReportedImpulses(const SolverContact& contact);
 
 }  // namespace strata

@@ -45,6 +45,9 @@ void CollisionFinder::BeginStep(const Input& input, std::uint32_t job_count) {
     most_horizon = std::max(most_horizon, job.scratch.epa.horizon.capacity());
     most_wake_keys += job.wake_keys.size();
   }
+  // Any job may find any reporting pair: each keeps room for all of last step's (none in a world without).
+  std::size_t last_reported = 0;
+  for (const Job& job : jobs_) last_reported += job.reported.size();
   input_ = input;
   job_count_ = job_count;
   const PhysicsSettings& settings = *input.settings;
@@ -66,6 +69,8 @@ void CollisionFinder::BeginStep(const Input& input, std::uint32_t job_count) {
     job.constraints.clear();
     job.island_body.clear();
     job.wake_keys.clear();
+    job.reported.clear();
+    ReserveWithSlack(job.reported, last_reported);
     // Counts from last step get slack; the largest capacity any job already holds is matched exactly (slack
     // on it would compound from job to job).
     ReserveWithSlack(job.constraints, last.constraints);
@@ -151,6 +156,7 @@ void CollisionFinder::CollidePair(BodyPair pair, BodyPairCache::PreviousPairs& p
   // The broad phase may briefly hold a body another thread is adding or removing.
   if (!second.in_world() || second.id() != pair.b) return;
   if (!first.IsDynamic() && !second.IsDynamic()) return;  // kinematic vs static or kinematic: no contact
+  if (((first.event_flags() | second.event_flags()) & Body::kSensor) != 0) return;  // sensors never collide
   if (!input_.jointed_pairs.empty() && Jointed(pair.a.index, pair.b.index)) return;
   ++job.stats.pairs;
   // The owner is A; the dispatch table takes either order of shapes.
@@ -306,6 +312,9 @@ void CollisionFinder::AddConstraint(const Vec3& normal, std::span<const ContactA
                                     const Side& b, CachedManifold& cached, std::uint32_t job_index) {
   Job& job = jobs_[job_index];
   const PhysicsSettings& settings = *input_.settings;
+  const std::uint8_t flags = a.body->event_flags() | b.body->event_flags();
+  if ((flags & Body::kValidateContacts) != 0 && input_.validator != nullptr && !Validate(normal, arms, a, b))
+    return;
   ++job.stats.manifolds;
   job.stats.contact_points += arms.size();
   // A sleeping body stays put (the fixed body) this step and wakes, with its island, for the next one.
@@ -315,12 +324,16 @@ void CollisionFinder::AddConstraint(const Vec3& normal, std::span<const ContactA
     if (a.body->sleeping() && b.body->IsActive()) job.wake_keys.push_back(a.body->sleep_island());
     if (b.body->sleeping() && a.body->IsActive()) job.wake_keys.push_back(b.body->sleep_island());
   }
-  if (!a.dynamic && !b.dynamic) return;
-
-  job.constraints.push_back(
+  const bool reports = (flags & Body::kReportContacts) != 0;
+  if (!a.dynamic && !b.dynamic) {
+    if (reports) Report(normal, arms, a, b, nullptr, job);
+    return;
+  }
+  ContactConstraint* constraint =
       BuildContactConstraint(job.arena, normal, arms, ContactInputSide(a), ContactInputSide(b),
                              std::sqrt(a.body->friction() * b.body->friction()),
-                             std::max(a.body->restitution(), b.body->restitution()), &cached));
+                             std::max(a.body->restitution(), b.body->restitution()), &cached, reports);
+  job.constraints.push_back(constraint);
   ++job.stats.constraints;
   // The island is that of a body the solver moves; two moving bodies join their islands.
   const std::uint32_t island_a = a.solver_index - 1, island_b = b.solver_index - 1;
@@ -329,6 +342,50 @@ void CollisionFinder::AddConstraint(const Vec3& normal, std::span<const ContactA
     job.stats.link_hops += input_.islands->Link(island_a, island_b);
     ++job.stats.links;
   }
+  if (reports) Report(normal, arms, a, b, constraint, job);
+}
+
+namespace {
+
+// Where a manifold point's two surfaces meet: midway between the point on A and the point on B.
+Vec3 MidPoint(const ContactArms& arms, const Vec3& center_of_mass_a, const Vec3& center_of_mass_b) {
+  return 0.5f * (center_of_mass_a + arms.r_a + center_of_mass_b + arms.r_b);
+}
+
+}  // namespace
+
+bool CollisionFinder::Validate(const Vec3& normal, std::span<const ContactArms> arms, const Side& a,
+                               const Side& b) const {
+  ContactCandidate candidate{*a.body, *b.body, normal, kLargeFloat, static_cast<int>(arms.size()), {}};
+  for (std::size_t i = 0; i < arms.size(); ++i) {
+    candidate.separation = std::min(candidate.separation, arms[i].separation);
+    candidate.points[i] = MidPoint(arms[i], a.center_of_mass, b.center_of_mass);
+  }
+  return (*input_.validator)(candidate);
+}
+
+void CollisionFinder::Report(const Vec3& normal, std::span<const ContactArms> arms, const Side& a,
+                             const Side& b, const ContactConstraint* constraint, Job& job) const {
+  ReportedManifold& reported = job.reported.emplace_back();
+  reported.a = a.body->id();
+  reported.b = b.body->id();
+  reported.constraint = constraint;
+  reported.normal = normal;
+  reported.separation = kLargeFloat;
+  reported.point_count = static_cast<int>(arms.size());
+  float fastest = 0.0f;
+  for (std::size_t i = 0; i < arms.size(); ++i) {
+    const Vec3 point = MidPoint(arms[i], a.center_of_mass, b.center_of_mass);
+    reported.points[i] = point;
+    reported.separation = std::min(reported.separation, arms[i].separation);
+    // The solver's approach at impact where it has the contact; else (neither side moves this step) the
+    // bodies' velocities now.
+    const float normal_velocity =
+        constraint != nullptr ? constraint->points()[i].normal_velocity
+                              : (b.body->PointVelocity(point) - a.body->PointVelocity(point)).dot(normal);
+    fastest = std::max(fastest, -normal_velocity);
+  }
+  reported.approach_speed = fastest;
 }
 
 void CollisionFinder::Gather(std::vector<ContactConstraint*>& constraints,

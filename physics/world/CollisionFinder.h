@@ -3,6 +3,9 @@
 // pair list or sort): a pair that barely moved relative to last step replays its cached manifolds, a face
 // contact that only slid carries its corners along, any other runs the shape test. Every manifold becomes a
 // ContactConstraint in the job's own arena and a body-pair cache entry, and links the two bodies' islands.
+// Pairs with a sensor are skipped (sensors never collide); a contact of a body created with validate_contacts
+// is first put to the world's validator, and one of a body created with report_contacts is also reported
+// (ReportedManifold) for the step's contact events.
 // Runs only inside the step's unlocked window, where nothing else writes bodies; BeginStep and Gather run
 // alone, RunJob from any number of jobs.
 #pragma once
@@ -19,6 +22,8 @@
 #include "physics/narrowphase/CollideShapes.h"
 #include "physics/solver/ContactConstraint.h"
 #include "physics/solver/IslandBuilder.h"
+#include "physics/world/ContactEventTracker.h"
+#include "physics/world/ContactValidator.h"
 
 namespace strata {
 
@@ -54,6 +59,8 @@ class CollisionFinder {
     IslandBuilder* islands;
     /// Body pairs joined by a joint that do not collide: (lower index << 32 | higher index), sorted.
     std::span<const std::uint64_t> jointed_pairs;
+    /// Asked about contacts of bodies created with validate_contacts; null: none is set.
+    const ContactValidator* validator = nullptr;
   };
 
   /// Constraints go into blocks from `pool`.
@@ -70,6 +77,10 @@ class CollisionFinder {
   /// Island keys of sleeping bodies an active body touched this step, appended to `out`.
   void CollectWakeKeys(std::vector<std::uint32_t>& out) const;
   CollisionStats stats() const;
+  /// The manifolds job `job` reported this step (pairs with a body created with report_contacts), in the
+  /// order it found them.
+  std::span<const ReportedManifold> reported(std::uint32_t job) const { return jobs_[job].reported; }
+  std::uint32_t job_count() const { return job_count_; }
   /// Bytes this step's constraints take in the pool's blocks.
   std::size_t arena_bytes() const;
 
@@ -87,6 +98,7 @@ class CollisionFinder {
     std::vector<ContactManifold> manifolds;
     CollisionScratch scratch;
     std::vector<std::uint32_t> wake_keys;
+    std::vector<ReportedManifold> reported;
     CollisionStats stats;
   };
   // A posed side of a pair as the narrow phase and the constraint builder need it.
@@ -113,9 +125,15 @@ class CollisionFinder {
   /// Takes a freshly computed manifold, warm-started from last step's manifold of the same sub-shape.
   void AddComputedManifold(const ContactManifold& manifold, const Side& a, const Side& b,
                            CachedBodyPair& entry, const CachedManifold* previous, std::uint32_t job_index);
-  /// Wakes the sleepers it touches, then builds the constraint and links the islands.
+  /// Asks the validator (bodies with validate_contacts), wakes the sleepers it touches, then builds the
+  /// constraint, links the islands and reports the manifold (bodies with report_contacts).
   void AddConstraint(const Vec3& normal, std::span<const ContactArms> arms, const Side& a, const Side& b,
                      CachedManifold& cached, std::uint32_t job_index);
+  /// Whether the validator lets the manifold be solved.
+  bool Validate(const Vec3& normal, std::span<const ContactArms> arms, const Side& a, const Side& b) const;
+  /// Appends the manifold to the job's reported ones.
+  void Report(const Vec3& normal, std::span<const ContactArms> arms, const Side& a, const Side& b,
+              const ContactConstraint* constraint, Job& job) const;
   Side MakeSide(const Body& body) const;
   ContactSide ContactInputSide(const Side& side) const;
 

@@ -120,7 +120,9 @@ PhysicsSystem::PhysicsSystem(const PhysicsSystemConfig& config, const PhysicsSet
   finish_counters_.resize(job_count_);
   cast_scratch_.resize(job_count_);
   BuildStepGraphs();
-  for (JobGraph* graph : {&start_graph_, &middle_graph_, &end_graph_}) graph->set_timed(config.stage_timings);
+  reported_.resize(job_count_);
+  for (JobGraph* graph : {&start_graph_, &middle_graph_, &end_graph_, &events_graph_})
+    graph->set_timed(config.stage_timings);
 }
 
 PhysicsSystem::~PhysicsSystem() = default;
@@ -153,6 +155,12 @@ void PhysicsSystem::BuildStepGraphs() {
   const JobGraph::StageId finish =
       end_graph_.Add("finish islands", &ParallelStage<&PhysicsSystem::FinishIslands>, this);
   end_graph_.SetWidth(finish, job_count_);
+  // Beside the write-back (it reads no pose): whether a body of a pair that touched is still in the world
+  // is safe to read only while the step holds every body lock.
+  end_graph_.Add("contact events", &SerialStage<&PhysicsSystem::ReportContacts>, this);
+
+  // Sensors test the bodies where the step left them.
+  sensors_stage_ = events_graph_.Add("sensors", &ParallelStage<&PhysicsSystem::TestSensors>, this);
 }
 
 Status PhysicsSystem::SetSettings(const PhysicsSettings& settings) {
@@ -163,6 +171,16 @@ Status PhysicsSystem::SetSettings(const PhysicsSettings& settings) {
   settings_ = settings;
   speculative_distance_.store(settings.speculative_distance, std::memory_order_relaxed);
   return Status::Ok();
+}
+
+void PhysicsSystem::CopyEvents(StepEvents& out) const {
+  std::lock_guard lock(events_mutex_);
+  out = events_;
+}
+
+void PhysicsSystem::SetContactValidator(ContactValidator validator) {
+  std::lock_guard step(step_mutex_);
+  validator_ = std::move(validator);
 }
 
 std::vector<BodyID> PhysicsSystem::BodiesInWorld() const {
@@ -238,6 +256,7 @@ Status PhysicsSystem::Step(float dt) {
     next_chunk_.store(0, std::memory_order_relaxed);
     run(end_graph_);
   }
+  if (!sensors_.idle()) run(events_graph_);
   FinishStep();
   profile_.total_ms = timed ? MillisecondsSince(start) : 0.0;
   return Status::Ok();
@@ -264,6 +283,8 @@ void PhysicsSystem::PrepareStep() {
   }
   active_.clear();
   linear_cast_bodies_.clear();
+  sensor_bodies_.clear();
+  next_events_.clear();
   // Index order: the same bodies give the same order, whatever order threads added them in. Only the slots
   // LockAll guarded: a later one is outside the world and may be filled in by its creator right now.
   const std::uint32_t limit = body_manager_.locked_slot_limit();
@@ -274,8 +295,9 @@ void PhysicsSystem::PrepareStep() {
       body.sleeping_ = false;
       body.sleep_timer_ = 0.0f;
     }
+    if (body.is_sensor() && body.in_world()) sensor_bodies_.push_back(body.id());
     if (!body.IsActive()) continue;
-    if (body.IsDynamic() && body.motion_quality_ == MotionQuality::kLinearCast)
+    if (body.IsDynamic() && body.motion_quality_ == MotionQuality::kLinearCast && !body.is_sensor())
       linear_cast_bodies_.push_back(static_cast<std::uint32_t>(active_.size()));
     active_.push_back(body.id());
     active_flags_[index] = 1;
@@ -313,7 +335,18 @@ void PhysicsSystem::PrepareStep() {
   input.cache = &pair_cache_;
   input.islands = &islands_;
   input.jointed_pairs = jointed_pairs_;
+  input.validator = validator_ ? &validator_ : nullptr;
   collisions_.BeginStep(input, job_count_);
+  SensorTracker::Input sensor_input;
+  sensor_input.bodies = &body_manager_;
+  sensor_input.broad_phase = broad_phase_.get();
+  sensor_input.layers = layers_.get();
+  sensor_input.active_flags = active_flags_;
+  sensors_.BeginStep(sensor_input, sensor_bodies_, job_count_);
+  const auto sensor_count = static_cast<std::uint32_t>(sensor_bodies_.size());
+  events_graph_.SetWidth(sensors_stage_,
+                         std::min(job_count_, (sensor_count + SensorTracker::kSensorsPerBatch - 1) /
+                                                  SensorTracker::kSensorsPerBatch));
   next_chunk_.store(0, std::memory_order_relaxed);
 }
 
@@ -505,7 +538,7 @@ bool PhysicsSystem::LinearCast(std::uint32_t active_index, CastScratch& scratch)
   for (const BroadPhaseRayHit& candidate : scratch.hits) {
     if (candidate.id == body.id()) continue;
     const Body& target = body_manager_.BodyAt(candidate.id.index);
-    if (!target.in_world() || target.id() != candidate.id) continue;
+    if (!target.in_world() || target.id() != candidate.id || target.is_sensor()) continue;
     if (!layers_->ShouldCollide(body.object_layer(), target.object_layer())) continue;
     const std::optional<ShapeCastHit> hit = CastConvexShape(shape, start, displacement, *target.shape(),
                                                             target.pose(), kCastTolerance, scratch.triangles);
@@ -575,7 +608,29 @@ void PhysicsSystem::FinishIslands(std::uint32_t job, std::uint32_t width) {
   });
 }
 
+void PhysicsSystem::ReportContacts() {
+  bool reported = false;
+  for (std::uint32_t job = 0; job < collisions_.job_count(); ++job) {
+    reported_[job] = collisions_.reported(job);
+    reported = reported || !reported_[job].empty();
+  }
+  if (!reported && contact_events_.idle()) return;
+  contact_events_.Update(std::span(reported_).first(collisions_.job_count()), active_flags_, body_manager_,
+                         next_events_);
+}
+
+void PhysicsSystem::TestSensors(std::uint32_t job, std::uint32_t width) {
+  sensors_.RunJob(job, width);
+}
+
 void PhysicsSystem::FinishStep() {
+  if (!sensors_.idle()) sensors_.EndStep(next_events_);
+  // Published whole: a reader copying them never sees half of a step's events. A world without events takes
+  // no lock.
+  if (!next_events_.empty() || !events_.empty()) {
+    std::lock_guard lock(events_mutex_);
+    std::swap(events_, next_events_);
+  }
   wake_keys_.clear();
   collisions_.CollectWakeKeys(wake_keys_);
   if (!wake_keys_.empty()) {

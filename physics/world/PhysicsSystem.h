@@ -4,7 +4,8 @@
 // impulses, integration, position passes) -> write back and sleep. One Step at a time. BodyInterface calls
 // and WorldQuery queries from any number of threads run at once (sharded body locks, lock-free broad phase);
 // while a step runs, queries and reads go on (they pause only for its short LockAll windows at the start and
-// end) and body writes wait for the step to end.
+// end) and body writes wait for the step to end. After the bodies have moved the step reports contact and
+// sensor events (StepEvents), read between steps on the stepping thread or copied from any thread.
 #pragma once
 
 #include <atomic>
@@ -25,7 +26,11 @@
 #include "physics/solver/ContactConstraintUser.h"
 #include "physics/solver/IslandBuilder.h"
 #include "physics/world/CollisionFinder.h"
+#include "physics/world/ContactEventTracker.h"
+#include "physics/world/ContactValidator.h"
 #include "physics/world/PhysicsSettings.h"
+#include "physics/world/SensorTracker.h"
+#include "physics/world/StepEvents.h"
 
 namespace strata {
 
@@ -103,6 +108,17 @@ class PhysicsSystem {
   const PhysicsSettings& settings() const { return settings_; }
   /// Replaces the settings between steps; fails (settings unchanged) if they do not validate.
   Status SetSettings(const PhysicsSettings& settings);
+  /// The last step's contact and sensor events, valid until the next Step: read them on the thread that
+  /// steps, between steps. Other threads use CopyEvents.
+  const StepEvents& events() const { return events_; }
+  /// Copies the last finished step's events into `out` (reusing its capacity); from any thread at any time,
+  /// also while a step runs (it publishes its events as it ends).
+  void CopyEvents(StepEvents& out) const;
+  /// The callback asked, from the narrow-phase jobs, about every contact of a body created with
+  /// validate_contacts (see ContactValidator for what it may do); empty: none, contacts are solved. Waits for
+  /// a running step.
+  void SetContactValidator(ContactValidator validator);
+
   const StepStats& last_step_stats() const { return stats_; }
   const StepProfile& last_step_profile() const { return profile_; }
   const LayerSetup& layers() const { return *layers_; }
@@ -141,7 +157,9 @@ class PhysicsSystem {
                    std::uint32_t width);  // parallel over fast linear-cast bodies (one empty job if none)
   void FinishIslands(std::uint32_t job,
                      std::uint32_t width);  // parallel over islands: write back, bounds, sleep
-  void FinishStep();                        // serial: wake-ups, figures
+  void ReportContacts();  // one job beside FinishIslands: contact events (returns at once without any)
+  void TestSensors(std::uint32_t job, std::uint32_t width);  // parallel over sensors, after the end window
+  void FinishStep();                                         // serial: wake-ups, figures, events
 
   // Wake-ups, shared with BodyInterface.
   void RequestWake(std::uint32_t island_key);
@@ -172,6 +190,8 @@ class PhysicsSystem {
   JobGraph start_graph_;   // runs while the step holds every body lock
   JobGraph middle_graph_;  // runs unlocked
   JobGraph end_graph_;     // runs while the step holds every body lock
+  JobGraph events_graph_;  // runs unlocked after end_graph_, only in a world with sensors
+  JobGraph::StageId sensors_stage_ = 0;
   JobGraph::StageId prepare_islands_stage_ = 0;
   std::uint32_t job_count_ = 1;
   float step_dt_ = 0.0f;
@@ -211,6 +231,15 @@ class PhysicsSystem {
   ContactConstraintUser contact_user_;
   JointConstraintUser joint_user_;
   ConstraintSolver constraint_solver_;
+  // Events: built by the step into next_events_ and swapped into events_ (under events_mutex_) as it ends.
+  ContactValidator validator_;  // changed only under step_mutex_
+  ContactEventTracker contact_events_;
+  std::vector<std::span<const ReportedManifold>> reported_;  // per job, for contact_events_
+  SensorTracker sensors_;
+  std::vector<BodyID> sensor_bodies_;  // the sensors in the world this step, by index
+  StepEvents next_events_;
+  StepEvents events_;
+  mutable std::mutex events_mutex_;
   StepStats stats_;
   StepProfile profile_;
 };
