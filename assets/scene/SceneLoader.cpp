@@ -285,10 +285,27 @@ Result<ShapeRef> ParseShape(const Reader& reader, const Json& shape, const std::
 
 Result<SceneBody> ParseBody(const Reader& reader, const Json& body, const std::filesystem::path& base) {
   if (!body.is_object()) return reader.Fail("", "must be an object");
-  STRATA_TRY(reader.OnlyKeys(
-      body, {"name", "shape", "position", "rotation", "motion", "mass", "density", "friction", "restitution",
-             "linear_velocity", "angular_velocity", "linear_damping", "angular_damping", "gravity_factor",
-             "allow_sleeping", "max_linear_velocity", "max_angular_velocity", "motion_quality"}));
+  STRATA_TRY(reader.OnlyKeys(body, {"name",
+                                    "shape",
+                                    "position",
+                                    "rotation",
+                                    "motion",
+                                    "mass",
+                                    "density",
+                                    "friction",
+                                    "restitution",
+                                    "linear_velocity",
+                                    "angular_velocity",
+                                    "linear_damping",
+                                    "angular_damping",
+                                    "gravity_factor",
+                                    "allow_sleeping",
+                                    "max_linear_velocity",
+                                    "max_angular_velocity",
+                                    "motion_quality",
+                                    "sensor",
+                                    "sensor_detects_static",
+                                    "report_contacts"}));
   SceneBody out;
   STRATA_TRY(reader.String(body, "name", out.name));
   if (!body.contains("shape")) return reader.Fail("shape", "is required");
@@ -338,12 +355,20 @@ Result<SceneBody> ParseBody(const Reader& reader, const Json& body, const std::f
   STRATA_TRY(reader.Boolean(body, "allow_sleeping", settings.allow_sleeping));
   STRATA_TRY(reader.Number(body, "max_linear_velocity", settings.max_linear_velocity));
   STRATA_TRY(reader.Number(body, "max_angular_velocity", settings.max_angular_velocity));
+  STRATA_TRY(reader.Boolean(body, "sensor", settings.is_sensor));
+  STRATA_TRY(reader.Boolean(body, "sensor_detects_static", settings.sensor_detects_static));
+  STRATA_TRY(reader.Boolean(body, "report_contacts", settings.report_contacts));
+  // A sensor goes on the moving layer whatever its motion: the default layers never pair two static ones,
+  // and a static trigger that sees static bodies must be paired with them.
+  if (settings.is_sensor) settings.object_layer = layers::kMoving;
   if (Status valid = settings.Validate(); !valid) {
     // Point at the value to change: the mass (or the density it came from), or the shape's size.
     const std::string& message = valid.message();
     std::string key;
     if (message.find("mass must be in") != std::string::npos) key = settings.mass ? "mass" : "density";
     if (message.find("mm across") != std::string::npos) key = "shape";
+    if (message.find("sensor") != std::string::npos)
+      key = settings.is_sensor ? "sensor" : "sensor_detects_static";
     return reader.Fail(key, message);
   }
   return out;

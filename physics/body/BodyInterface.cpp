@@ -201,6 +201,10 @@ Result<MotionType> BodyInterface::GetMotionType(BodyID id) const {
   return Read(id, [](const Body& b) { return b.motion_type(); });
 }
 
+Result<bool> BodyInterface::IsSensor(BodyID id) const {
+  return Read(id, [](const Body& b) { return b.is_sensor(); });
+}
+
 Status BodyInterface::Teleport(BodyID id, const std::optional<Vec3>& position,
                                const std::optional<Quat>& rotation) {
   AABB vacated;

@@ -69,6 +69,8 @@ class BodyInterface {
   Result<AABB> GetWorldBounds(BodyID id) const;
   Result<ShapeRef> GetShape(BodyID id) const;
   Result<MotionType> GetMotionType(BodyID id) const;
+  /// Whether the body is a sensor (a trigger volume).
+  Result<bool> IsSensor(BodyID id) const;
 
   /// Teleports the body (waking it when in the world).
   Status SetPosition(BodyID id, const Vec3& position);

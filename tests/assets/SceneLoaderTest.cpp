@@ -107,7 +107,9 @@ TEST(SceneLoader, FieldsAreRead) {
                   "max_angular_velocity": 9},
                  {"name": "b", "shape": {"type": "mesh", "vertices": [[0,0,0],[1,0,0],[0,0,1]], "indices": [0, 2, 1]},
                   "motion": "static"},
-                 {"shape": {"type": "sphere", "radius": 1}, "mass": 3}]})",
+                 {"shape": {"type": "sphere", "radius": 1}, "mass": 3, "report_contacts": true},
+                 {"name": "trigger", "shape": {"type": "box", "half_extents": [1, 1, 1]}, "motion": "static",
+                  "sensor": true, "sensor_detects_static": true}]})",
                  "inline", kScenes);
   ASSERT_TRUE(scene.ok()) << scene.error().message;
   EXPECT_FLOAT_EQ(scene->physics.gravity.y(), -5.0f);
@@ -119,7 +121,7 @@ TEST(SceneLoader, FieldsAreRead) {
   EXPECT_FALSE(scene->physics.gyroscopic_torque);
   EXPECT_FALSE(scene->physics.allow_sleeping);
   EXPECT_FALSE(scene->physics.direct_small_islands);
-  ASSERT_EQ(scene->bodies.size(), 3u);
+  ASSERT_EQ(scene->bodies.size(), 4u);
   const BodyCreationSettings& a = scene->bodies[0].settings;
   EXPECT_EQ(a.motion_type, MotionType::kKinematic);
   EXPECT_EQ(a.shape->type(), ShapeType::kCapsule);
@@ -131,6 +133,27 @@ TEST(SceneLoader, FieldsAreRead) {
   EXPECT_EQ(scene->bodies[1].settings.shape->type(), ShapeType::kTriangleMesh);
   EXPECT_EQ(scene->bodies[2].name, "body2");
   EXPECT_FLOAT_EQ(*scene->bodies[2].settings.mass, 3.0f);
+  EXPECT_TRUE(scene->bodies[2].settings.report_contacts);
+  EXPECT_FALSE(a.report_contacts);
+  const BodyCreationSettings& trigger = scene->bodies[3].settings;
+  EXPECT_TRUE(trigger.is_sensor);
+  EXPECT_TRUE(trigger.sensor_detects_static);
+  EXPECT_EQ(trigger.object_layer, layers::kMoving);  // so that it can pair with the static level
+  EXPECT_FALSE(a.is_sensor);
+}
+
+TEST(SceneLoader, BadSensorsNameTheirKey) {
+  EXPECT_NE(ParseError(R"({"bodies": [{"shape": {"type": "mesh", "vertices": [[0,0,0],[1,0,0],[0,0,1]],
+                          "indices": [0, 2, 1]}, "motion": "static", "sensor": true}]})")
+                .find("/bodies/0/sensor: a sensor's shape must be convex"),
+            std::string::npos);
+  EXPECT_NE(
+      ParseError(R"({"bodies": [{"shape": {"type": "sphere", "radius": 1}, "sensor_detects_static": true}]})")
+          .find("/bodies/0/sensor_detects_static"),
+      std::string::npos);
+  EXPECT_NE(ParseError(R"({"bodies": [{"shape": {"type": "sphere", "radius": 1}, "sensor": 1}]})")
+                .find("/bodies/0/sensor: must be true or false"),
+            std::string::npos);
 }
 
 TEST(SceneLoader, ErrorsNameTheFileAndJsonPath) {

@@ -1,6 +1,7 @@
 // A warmed-up world steps without touching the heap: every global operator new is counted while a scene
 // with every kind of work the step does (a large split island, runs of small islands, convex vs mesh,
-// replayed and freshly computed pairs, a kinematic body) steps, on each job system Strata ships. Its own
+// replayed and freshly computed pairs, a kinematic body, contact events, a sensor) steps, on each job system
+// Strata ships. Its own
 // executable, because it replaces the global allocation functions. (oneTBB takes its task memory from its
 // own pools, not from operator new; every allocation of Strata's own goes through operator new.)
 #include <gtest/gtest.h>
@@ -75,12 +76,13 @@ namespace strata {
 namespace {
 
 BodyID Add(PhysicsSystem& world, ShapeRef shape, const Vec3& position, MotionType motion,
-           const Quat& rotation = Quat::Identity()) {
+           const Quat& rotation = Quat::Identity(), bool report_contacts = false) {
   BodyCreationSettings settings;
   settings.shape = std::move(shape);
   settings.position = position;
   settings.rotation = rotation;
   settings.motion_type = motion;
+  settings.report_contacts = report_contacts;
   settings.object_layer = motion == MotionType::kStatic ? layers::kNonMoving : layers::kMoving;
   return *world.bodies().CreateAndAddBody(settings);
 }
@@ -92,14 +94,21 @@ std::unique_ptr<PhysicsSystem> MakeScene(std::shared_ptr<JobSystem> jobs) {
   PhysicsSettings settings;
   settings.allow_sleeping = false;  // keep every body in the step
   auto world = std::move(*PhysicsSystem::Create(config, settings));
-  // A pyramid of boxes on a floor: one large island, split and solved in bundles.
+  // A pyramid of boxes on a floor: one large island, split and solved in bundles; its boxes report contact
+  // events, and a sensor holds its lower levels.
   Add(*world, *BoxShape::Create(Vec3(30, 1, 30)), Vec3(0, -1, 0), MotionType::kStatic);
   const ShapeRef box = *BoxShape::Create(Vec3(0.5f, 0.5f, 0.5f));
   for (int level = 0; level < 6; ++level)
     for (int x = 0; x < 6 - level; ++x)
       for (int z = 0; z < 6 - level; ++z)
         Add(*world, box, Vec3(-3.0f + x + 0.5f * level, 0.5f + level, -3.0f + z + 0.5f * level),
-            MotionType::kDynamic);
+            MotionType::kDynamic, Quat::Identity(), true);
+  BodyCreationSettings sensor;
+  sensor.shape = *BoxShape::Create(Vec3(3, 1, 3));
+  sensor.position = Vec3(0, 1, 0);
+  sensor.motion_type = MotionType::kStatic;
+  sensor.is_sensor = true;
+  (void)world->bodies().CreateAndAddBody(sensor);
   // A wavy mesh with each convex kind resting on it: small islands, convex vs triangles.
   std::vector<Vec3> vertices;
   std::vector<TriangleMeshShape::Indices> triangles;
@@ -172,6 +181,7 @@ std::size_t AllocationsWhileStepping(std::shared_ptr<JobSystem> jobs) {
   EXPECT_EQ(world->last_step_stats().constraints, 12u);
   EXPECT_GT(world->last_step_stats().pairs_replayed, 0u);
   EXPECT_LT(world->last_step_stats().pairs_replayed, world->last_step_stats().pairs);
+  EXPECT_GT(world->events().contact_persist.size(), 100u);
   allocations.store(0);
   counting.store(true);
   for (int i = 0; i < 60; ++i) EXPECT_TRUE(world->Step(1.0f / 60.0f).ok());

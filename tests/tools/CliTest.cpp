@@ -150,6 +150,53 @@ TEST(Cli, SimulateWritesOneLinePerRecordedStep) {
   std::filesystem::remove(out);
 }
 
+TEST(Cli, SimulateWritesContactAndSensorEventsAsJsonLines) {
+  const auto events = TempFile("events.jsonl");
+  ASSERT_EQ(RunCli("simulate " + (kScenes / "playground.json").string() + " --steps 600 --events " +
+                   events.string()),
+            0);
+  std::ifstream file(events);
+  std::string line;
+  std::map<std::string, int> kinds;
+  std::map<std::string, int> touching;  // begins less ends, per pair
+  int previous_step = 0;
+  while (std::getline(file, line)) {
+    const auto json = nlohmann::json::parse(line);
+    const std::string kind = json["event"].get<std::string>();
+    ++kinds[kind];
+    EXPECT_GE(json["step"].get<int>(), previous_step);
+    previous_step = json["step"].get<int>();
+    if (kind.rfind("sensor", 0) == 0) {
+      // The boulder rolls through the gate once.
+      EXPECT_EQ(json["sensor"], "gate");
+      EXPECT_EQ(json["visitor"], "boulder");
+      continue;
+    }
+    // Only the balls ask for contact events; each pair begins, persists and ends in that order.
+    EXPECT_EQ(json["body_b"].get<std::string>().rfind("ball", 0), 0u) << line;
+    const std::string pair = json["body_a"].get<std::string>() + "/" + json["body_b"].get<std::string>();
+    if (kind == "contact_end") {
+      EXPECT_EQ(--touching[pair], 0) << line;
+      continue;
+    }
+    EXPECT_EQ(json["normal"].size(), 3u);
+    EXPECT_GE(json["points"].size(), 1u);
+    EXPECT_LE(json["points"].size(), 4u);
+    EXPECT_GE(json["normal_impulse"].get<double>(), 0.0);
+    const int touches = kind == "contact_begin" ? ++touching[pair] : touching[pair];
+    EXPECT_EQ(touches, 1) << line;
+  }
+  EXPECT_EQ(kinds["sensor_begin"], 1);
+  EXPECT_EQ(kinds["sensor_end"], 1);
+  EXPECT_GE(kinds["contact_begin"], 4);  // every ball lands, most bounce
+  EXPECT_GT(kinds["contact_end"], 0);
+  // The same file as --out is refused before anything runs.
+  EXPECT_EQ(RunCli("simulate " + (kScenes / "playground.json").string() + " --steps 10 --events " +
+                   events.string() + " --out " + events.string()),
+            2);
+  std::filesystem::remove(events);
+}
+
 TEST(Cli, SimulateWritesConstraintForcesWhenAsked) {
   const auto out = TempFile("joints.jsonl");
   ASSERT_EQ(RunCli("simulate " + (kScenes / "joints.json").string() +
@@ -383,6 +430,29 @@ TEST(Cli, DemoBuildsTilesWhileSteppingAndWritesPictures) {
   EXPECT_EQ(static_cast<int>(colours.size()), islands) << "a colour per island";
   EXPECT_EQ(meshes["paths"]->mPrimitiveTypes, static_cast<unsigned>(aiPrimitiveType_LINE));
   EXPECT_GT(meshes["paths"]->mNumFaces, 0u);
+}
+
+TEST(Cli, DemoPlayerWalksTheCourtyardTourUpTheStairsAndOverTheBridge) {
+  const auto out = TempFile("demo_player");
+  std::string output;
+  ASSERT_EQ(RunCliCapture("demo --out-dir " + out.string(), output), 0) << output;
+  const auto at = output.find("player: reached ");
+  ASSERT_NE(at, std::string::npos) << output;
+  int reached = 0, waypoints = 0;
+  float x = 0, y = 0, z = 0, walked = 0, highest = 0;
+  ASSERT_EQ(
+      std::sscanf(output.c_str() + at,
+                  "player: reached %d of %d waypoints (the last at %*f s), ended at (%f, %f, %f) after %f m, "
+                  "up to %f m",
+                  &reached, &waypoints, &x, &y, &z, &walked, &highest),
+      7)
+      << output.substr(at, 300);
+  EXPECT_EQ(reached, waypoints);
+  EXPECT_NEAR(highest, 3.0f, 0.05f);  // on the platform, up the stairs
+  EXPECT_GT(x, 50.0f);                // across the trench, over the bridge (x 38-50)
+  EXPECT_NEAR(y, 0.0f, 0.05f);
+  EXPECT_GT(walked, 60.0f);
+  std::filesystem::remove_all(out);
 }
 
 TEST(Cli, DemoOnTheSmallArenaGivesEveryAgentANavmesh) {

@@ -142,6 +142,13 @@ TEST(View, ARecordedDemoOpensInHeadlessChromiumWithItsLevelNavmeshAndPaths) {
             3 + recording["bodies"].size() + 2 * recording["agents"].size());
   EXPECT_GT(stats["drawn_triangles"].get<int>(), 0);
   ASSERT_FALSE(stats["navmesh_colours"].empty());
+  // The player: one capsule, standing where the last frame puts its feet.
+  ASSERT_EQ(recording["characters"].size(), 1u);
+  ASSERT_EQ(stats["characters"].get<std::size_t>(), 1u);
+  const nlohmann::json& feet = recording["frames"].back()["characters"];
+  for (int k = 0; k < 3; ++k)
+    EXPECT_NEAR(stats["character_feet"][0][k].get<double>(),
+                feet[k].get<double>() - stats["origin"][k].get<double>(), 1e-3);
 
   // The screenshot: not blank, the navmesh's island colours and the white paths on screen.
   const std::filesystem::path shot = TempPath("shot.png");

@@ -1,8 +1,9 @@
 // `strata demo [LEVEL]`: the main job. Imports a level (the bundled courtyard by default), fills it with
-// falling crates and rolling boulders, spawns agents that request navmesh tiles around themselves, and
-// steps the world while the tiles build in the background. Prints per-tile build figures, the agents'
-// paths and the longest foreground stall, and writes the navmesh as OBJ, a top-down PNG, and the level,
-// navmesh (coloured by island) and paths as one glTF binary.
+// falling crates and rolling boulders, spawns agents that request navmesh tiles around themselves and a
+// player character that walks a route (the courtyard's: up the stairs and over the bridge), and steps the
+// world while the tiles build in the background. Prints per-tile build figures, the agents' paths, the
+// player's walk and the longest foreground stall, and writes the navmesh as OBJ, a top-down PNG, and the
+// level, navmesh (coloured by island) and paths as one glTF binary.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -26,6 +27,7 @@
 #include "tools/cli/Commands.h"
 #include "tools/cli/NavMeshOptions.h"
 #include "tools/cli/Validators.h"
+#include "tools/demo/ScriptedWalk.h"
 #include "tools/demo/TopDownImage.h"
 #include "tools/view/Recording.h"
 #include "tools/view/ViewerFolder.h"
@@ -40,7 +42,7 @@ struct DemoOptions {
   std::string level = DefaultLevelPath();
   LevelLoadOptions level_options;
   navmesh::NavMeshSettings settings;
-  int steps = 600;
+  int steps = 1500;
   int crates = 300;
   int boulders = 6;
   int agents = 8;
@@ -51,6 +53,9 @@ struct DemoOptions {
   unsigned seed = 1;
   std::string record;    ///< a recording for `strata view` (empty: none)
   int record_every = 6;  ///< steps between recorded frames
+  bool player = true;
+  std::vector<float> player_route;  ///< x, z pairs; empty: the courtyard's tour on it, else random floors
+  float player_speed = 5.0f;        ///< m/s
 };
 
 // Option ranges: beyond them a run would take hours or the world's body table would be enormous.
@@ -170,6 +175,30 @@ std::vector<Agent> SpawnAgents(const PhysicsSystem& world, const AABB& level, co
   return agents;
 }
 
+/// The player's route: the one asked for, the tour of the bundled courtyard, or four random floor points.
+std::vector<Vec3> PlayerRoute(const DemoOptions& options, const FloorSampler& floors, std::mt19937& random) {
+  std::vector<Vec3> route;
+  for (std::size_t i = 0; i + 1 < options.player_route.size(); i += 2)
+    route.emplace_back(options.player_route[i], 0.0f, options.player_route[i + 1]);
+  if (!route.empty()) return route;
+  if (std::filesystem::path(options.level).stem() == "courtyard") return demo::CourtyardRoute();
+  for (int i = 0; i < 4 && !floors.empty(); ++i) route.push_back(floors.Sample(random));
+  return route;
+}
+
+void PrintWalk(const demo::ScriptedWalk& walk) {
+  const demo::WalkReport report = walk.report();
+  const Vec3& feet = walk.character().feet();
+  std::printf("\nplayer: reached %zu of %zu waypoints", report.reached, report.waypoints);
+  if (report.finished_at >= 0.0f) std::printf(" (the last at %.1f s)", report.finished_at);
+  std::printf(
+      ", ended at (%.1f, %.1f, %.1f) after %.1f m, up to %.1f m above its start, on walkable ground after "
+      "%.0f%% "
+      "of its updates, walked around what blocked it %d times; Character::Update %.1f us mean, %.1f us max\n",
+      feet.x(), feet.y(), feet.z(), report.distance, report.highest, 100.0f * report.grounded,
+      report.sidesteps, report.mean_update_us, report.max_update_us);
+}
+
 void PrintTileTable(const navmesh::NavMeshService& service) {
   std::map<navmesh::TileCoord, std::vector<navmesh::TileBuildRecord>> by_tile;
   for (const auto& record : service.build_log()) by_tile[record.coord].push_back(record);
@@ -197,7 +226,7 @@ std::vector<Triangle> LevelTriangles(PhysicsSystem& world, const LoadedLevel& le
 
 Status DrawPicture(PhysicsSystem& world, const LoadedLevel& level, const navmesh::NavMeshService& service,
                    const std::vector<Agent>& agents, const std::vector<navmesh::PathResult>& paths,
-                   const std::filesystem::path& path) {
+                   const std::vector<Vec3>& player_trail, const std::filesystem::path& path) {
   demo::TopDownImage image(level.bounds.Expanded(Vec3(2.0f, 0.0f, 2.0f)), 8.0f);
   // Level: grey by height, lower surfaces first.
   struct Face {
@@ -253,6 +282,8 @@ Status DrawPicture(PhysicsSystem& world, const LoadedLevel& level, const navmesh
     image.DrawDot(agents[i].position, 4, {20, 170, 40});
     image.DrawDot(agents[i].target, 3, {200, 30, 200});
   }
+  for (std::size_t k = 1; k < player_trail.size(); ++k)
+    image.DrawLine(player_trail[k - 1], player_trail[k], {40, 210, 230});
   return image.SavePng(path);
 }
 
@@ -275,6 +306,11 @@ int RunDemo(const DemoOptions& options) {
   config.worker_threads = options.navmesh_threads;
   if (Status status = config.Validate(); !status.ok()) {
     std::cerr << "strata demo: " << status.message() << "\n";
+    return 2;
+  }
+  if (options.player_route.size() % 2 != 0) {
+    std::cerr << "strata demo: --player-route takes x,z pairs (got " << options.player_route.size()
+              << " numbers)\n";
     return 2;
   }
   // Before the run, not after it: a minute of simulation must not end in "cannot write".
@@ -329,11 +365,24 @@ int RunDemo(const DemoOptions& options) {
     std::cerr << "strata demo: " << service.error().message << "\n";
     return 2;
   }
+  std::unique_ptr<demo::ScriptedWalk> player;
+  if (options.player) {
+    auto walk = demo::ScriptedWalk::Create(world, **service, PlayerRoute(options, floors, random),
+                                           level->bounds.max.y() + 1.0f, level->bounds.min.y() - 1.0f,
+                                           options.player_speed);
+    // A route asked for must work; one made up for a level without floors to walk is left out.
+    if (!walk)
+      std::cerr << "strata demo: " << (options.player_route.empty() ? "warning: no player: " : "")
+                << "the player's route: " << walk.error().message << "\n";
+    if (!walk && !options.player_route.empty()) return 2;
+    if (walk) player = std::move(*walk);
+  }
   std::optional<view::Recorder> recorder;
   if (!options.record.empty()) {
     recorder.emplace(world, "demo",
                      "strata demo: " + std::filesystem::path(options.level).filename().string());
     recorder->TrackTiles(**service, level->bounds);
+    if (player) recorder->TrackCharacter(player->character(), "player", player->route());
     recorder->Capture(0, 0.0f);
   }
   std::printf("%zu bodies, %zu agents; %d physics thread(s), %d navmesh thread(s)\n",
@@ -364,6 +413,12 @@ int RunDemo(const DemoOptions& options) {
     }
     const double step_ms = Milliseconds(Clock::now() - step_start);
     step_ms_total += step_ms;
+    if (player) {
+      if (Status walked = player->Update(1.0f / 60.0f, static_cast<float>(step + 1) / 60.0f); !walked) {
+        std::cerr << "strata demo: the player: " << walked.message() << "\n";
+        return 1;
+      }
+    }
     longest_step_ms = std::max(longest_step_ms, step_ms);
     steps_with_jobs += before.building > 0 || before.queued > 0;
     longest_frame_ms = std::max(longest_frame_ms, Milliseconds(Clock::now() - frame_start));
@@ -397,6 +452,7 @@ int RunDemo(const DemoOptions& options) {
                 path.ok() ? "" : "  (no navmesh at start)");
   }
 
+  if (player) PrintWalk(*player);
   const navmesh::NavMesh& navmesh = (*service)->navmesh();
   std::printf("\nnavmesh: %d tiles, %d polygons, %.1f m^2 walkable, %d islands\n", navmesh.tile_count(),
               navmesh.polygon_count(), navmesh.WalkableArea(), navmesh::CountIslands(navmesh));
@@ -410,9 +466,10 @@ int RunDemo(const DemoOptions& options) {
   const std::filesystem::path obj = std::filesystem::path(options.out_dir) / "navmesh.obj";
   const std::filesystem::path png = std::filesystem::path(options.out_dir) / "navmesh.png";
   const std::filesystem::path glb = std::filesystem::path(options.out_dir) / "scene.glb";
-  for (const Status& written :
-       {navmesh.WriteObj(obj), DrawPicture(world, *level, **service, agents, paths, png),
-        WriteGltf(world, *level, navmesh, paths, glb)})
+  for (const Status& written : {navmesh.WriteObj(obj),
+                                DrawPicture(world, *level, **service, agents, paths,
+                                            player ? player->trail() : std::vector<Vec3>{}, png),
+                                WriteGltf(world, *level, navmesh, paths, glb)})
     if (!written) {
       std::cerr << "strata demo: " << written.message() << "\n";
       return 2;
@@ -475,6 +532,15 @@ std::function<int()> AddDemoCommand(CLI::App& app) {
   demo->add_option("--record", options->record, "also write a recording of the run for `strata view`");
   demo->add_option("--record-every", options->record_every, "steps between recorded frames")
       ->check(CLI::Range(1, kMaxSteps))
+      ->capture_default_str();
+  demo->add_flag("!--no-player", options->player, "leave out the player character");
+  demo->add_option(
+          "--player-route", options->player_route,
+          "the player's waypoints as x,z pairs (default: the courtyard's tour on it, else random floors)")
+      ->delimiter(',')
+      ->check(FiniteIn(-1.0e7, 1.0e7));
+  demo->add_option("--player-speed", options->player_speed, "the player's walking speed (m/s)")
+      ->check(FiniteIn(0.0, 50.0))
       ->capture_default_str();
   AddNavMeshSettingsOptions(*demo, options->settings);
   AddLevelOptions(*demo, options->level_options);

@@ -1,10 +1,12 @@
-// `strata simulate SCENE.json --steps N [--out states.jsonl] [--every K]`: runs a scene and writes one JSON
-// line per recorded step (with --constraint-forces, each joint's force and torque too). A bad scene exits
-// with code 2 before anything is written.
+// `strata simulate SCENE.json --steps N [--out states.jsonl] [--every K] [--events events.jsonl]`: runs a
+// scene and writes one JSON line per recorded step (with --constraint-forces, each joint's force and torque
+// too), and with --events one JSON line per contact or sensor event. A bad scene exits with code 2 before
+// anything is written.
 #include <unistd.h>
 
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <nlohmann/json.hpp>
@@ -29,7 +31,60 @@ struct SimulateOptions {
   int threads = 0;
   bool constraint_forces = false;
   std::string record;  ///< a recording for `strata view` (empty: none)
+  std::string events;  ///< contact and sensor events as JSON lines (empty: none)
 };
+
+nlohmann::json VectorJson(const Vec3& v) {
+  return {v.x(), v.y(), v.z()};
+}
+
+// One line per event of the step, bodies by their scene names.
+int WriteEvents(const StepEvents& events, const std::vector<std::string>& names, int step, float time,
+                std::ostream& out) {
+  const auto name = [&](BodyID id) { return id.index < names.size() ? names[id.index] : std::string("?"); };
+  int lines = 0;
+  const auto contact = [&](const char* kind, const ContactEvent& event) {
+    nlohmann::json points = nlohmann::json::array();
+    for (int i = 0; i < event.point_count; ++i) points.push_back(VectorJson(event.points[i]));
+    out << nlohmann::json{{"step", step},
+                          {"time", time},
+                          {"event", kind},
+                          {"body_a", name(event.body_a)},
+                          {"body_b", name(event.body_b)},
+                          {"normal", VectorJson(event.normal)},
+                          {"points", std::move(points)},
+                          {"approach_speed", event.approach_speed},
+                          {"normal_impulse", event.normal_impulse}}
+               .dump()
+        << "\n";
+    ++lines;
+  };
+  for (const ContactEvent& event : events.contact_begin) contact("contact_begin", event);
+  for (const ContactEvent& event : events.contact_persist) contact("contact_persist", event);
+  for (const ContactEndEvent& event : events.contact_end) {
+    out << nlohmann::json{{"step", step},
+                          {"time", time},
+                          {"event", "contact_end"},
+                          {"body_a", name(event.body_a)},
+                          {"body_b", name(event.body_b)}}
+               .dump()
+        << "\n";
+    ++lines;
+  }
+  const auto sensor = [&](const char* kind, const SensorEvent& event) {
+    out << nlohmann::json{{"step", step},
+                          {"time", time},
+                          {"event", kind},
+                          {"sensor", name(event.sensor)},
+                          {"visitor", name(event.visitor)}}
+               .dump()
+        << "\n";
+    ++lines;
+  };
+  for (const SensorEvent& event : events.sensor_begin) sensor("sensor_begin", event);
+  for (const SensorEvent& event : events.sensor_end) sensor("sensor_end", event);
+  return lines;
+}
 
 nlohmann::json StateLine(const Scene& scene, SceneWorld& world, int step, float time,
                          bool constraint_forces) {
@@ -108,6 +163,28 @@ int RunSimulate(const SimulateOptions& options) {
       return 2;
     }
   }
+  std::optional<OutputFile> events_file;
+  std::vector<std::string> names;  // by body index
+  if (!options.events.empty()) {
+    // One file written twice would end as whichever was renamed over it last.
+    const auto same = [](const std::string& a, const std::string& b) {
+      return !b.empty() && std::filesystem::absolute(a).lexically_normal() ==
+                               std::filesystem::absolute(b).lexically_normal();
+    };
+    if (same(options.events, options.out) || same(options.events, options.record)) {
+      std::cerr << "strata simulate: --events names the same file as --out or --record\n";
+      return 2;
+    }
+    events_file.emplace(options.events);
+    if (!events_file->status()) {
+      std::cerr << "strata simulate: " << events_file->status().message() << "\n";
+      return 2;
+    }
+    for (std::size_t i = 0; i < world->ids.size(); ++i) {
+      if (names.size() <= world->ids[i].index) names.resize(world->ids[i].index + 1);
+      names[world->ids[i].index] = scene->bodies[i].name;
+    }
+  }
   std::optional<view::Recorder> recorder;
   if (!options.record.empty()) {
     recorder.emplace(*world->system, "simulate",
@@ -118,7 +195,7 @@ int RunSimulate(const SimulateOptions& options) {
   const int record_every = std::max(1, static_cast<int>(std::lround(1.0f / (30.0f * scene->dt))));
   std::ostream& out = file ? file->stream() : std::cout;
   double slowest_ms = 0.0, total_ms = 0.0;
-  int lines = 0;
+  int lines = 0, event_lines = 0;
   std::size_t linear_clamps = 0, angular_clamps = 0;
   // State lines going to the terminal are progress enough; a bar would break them up.
   bench::Progress progress("strata simulate", "steps", stderr, file && isatty(STDERR_FILENO));
@@ -135,6 +212,9 @@ int RunSimulate(const SimulateOptions& options) {
     total_ms += ms;
     if (recorder && (step % record_every == 0 || step == options.steps))
       recorder->Capture(step, static_cast<float>(step) * scene->dt);
+    if (events_file)
+      event_lines += WriteEvents(world->system->events(), names, step, static_cast<float>(step) * scene->dt,
+                                 events_file->stream());
     linear_clamps += world->system->last_step_stats().linear_velocity_clamps;
     angular_clamps += world->system->last_step_stats().angular_velocity_clamps;
     if (step % options.every == 0 || step == options.steps) {
@@ -153,6 +233,12 @@ int RunSimulate(const SimulateOptions& options) {
     std::cerr << "strata simulate: " << written.message() << "\n";
     return 2;
   }
+  if (events_file) {
+    if (Status committed = events_file->Commit(); !committed) {
+      std::cerr << "strata simulate: " << committed.message() << "\n";
+      return 2;
+    }
+  }
   if (recorder) {
     recorder->Finish(nullptr, {});
     if (Status recorded = recorder->Write(options.record); !recorded) {
@@ -161,6 +247,7 @@ int RunSimulate(const SimulateOptions& options) {
     }
   }
   progress.Finish(std::to_string(options.steps) + " steps, " + std::to_string(lines) + " state lines" +
+                  (events_file ? ", " + std::to_string(event_lines) + " event lines" : "") +
                   (recorder ? ", " + std::to_string(recorder->frame_count()) + " frames recorded" : ""));
   if (!options.out.empty()) PrintSummary(*scene, *world, options, lines, total_ms, slowest_ms);
   // Limits are never silent: a body that hit its max_linear_velocity or max_angular_velocity is reported.
@@ -187,6 +274,9 @@ std::function<int()> AddSimulateCommand(CLI::App& app) {
   command->add_option("--threads", options->threads, "Worker threads (0 = all cores)")
       ->check(CLI::NonNegativeNumber);
   command->add_option("--record", options->record, "Also write a recording of the run for `strata view`");
+  command->add_option("--events", options->events,
+                      "Write the contact and sensor events of bodies that ask for them (scene keys "
+                      "report_contacts, sensor) as JSON lines, one an event");
   return [options] { return RunSimulate(*options); };
 }
 

@@ -54,7 +54,9 @@ std::vector<Triangle> ShapeTriangles(const Shape& shape, const Pose& pose) {
 }
 
 const char* MotionName(MotionType motion) {
-  return motion == MotionType::kKinematic ? "kinematic" : "dynamic";
+  return motion == MotionType::kStatic      ? "static"
+         : motion == MotionType::kKinematic ? "kinematic"
+                                            : "dynamic";
 }
 
 int StateCode(navmesh::TileState state) {
@@ -73,15 +75,18 @@ Recorder::Recorder(PhysicsSystem& world, std::string source, std::string title) 
     const Result<ShapeRef> shape = bodies.GetShape(id);
     const Result<Vec3> position = bodies.GetPosition(id);
     const Result<Quat> rotation = bodies.GetRotation(id);
-    if (!motion || !shape || !position || !rotation) continue;  // removed meanwhile
-    if (*motion == MotionType::kStatic) {
+    const Result<bool> sensor = bodies.IsSensor(id);
+    if (!motion || !shape || !position || !rotation || !sensor) continue;  // removed meanwhile
+    if (*motion == MotionType::kStatic && !*sensor) {
       const std::vector<Triangle> placed = ShapeTriangles(**shape, Pose{*position, *rotation});
       static_triangles.insert(static_triangles.end(), placed.begin(), placed.end());
       continue;
     }
     const auto [it, added] = shape_index.try_emplace(shape->get(), static_cast<int>(shapes.size()));
     if (added) shapes.push_back(MeshJson(ShapeTriangles(**shape, Pose{})));
-    moving.push_back({{"shape", it->second}, {"motion", MotionName(*motion)}});
+    nlohmann::json entry = {{"shape", it->second}, {"motion", MotionName(*motion)}};
+    if (*sensor) entry["sensor"] = true;
+    moving.push_back(std::move(entry));
     moving_.push_back(id);
     for (const float value : {position->x(), position->y(), position->z(), rotation->w(), rotation->x(),
                               rotation->y(), rotation->z()})
@@ -105,6 +110,18 @@ void Recorder::TrackTiles(const navmesh::NavMeshService& service, const AABB& bo
       {"size", grid.tile_size()}, {"y", Rounded(box.min.y())}, {"coords", std::move(coords)}};
 }
 
+void Recorder::TrackCharacter(const Character& character, const std::string& name,
+                              const std::vector<Vec3>& route) {
+  characters_.push_back(&character);
+  nlohmann::json points = nlohmann::json::array();
+  for (const Vec3& point : route) points.push_back(PointJson(point));
+  if (!document_.contains("characters")) document_["characters"] = nlohmann::json::array();
+  document_["characters"].push_back({{"name", name},
+                                     {"radius", Rounded(character.settings().radius)},
+                                     {"height", Rounded(character.settings().height)},
+                                     {"route", std::move(points)}});
+}
+
 void Recorder::Capture(int step, float time) {
   const BodyInterface& bodies = world_.bodies();
   nlohmann::json poses = nlohmann::json::array();
@@ -120,6 +137,11 @@ void Recorder::Capture(int step, float time) {
     for (int k = 0; k < 7; ++k) poses.push_back(Rounded(last_poses_[7 * i + static_cast<std::size_t>(k)]));
   }
   nlohmann::json frame = {{"step", step}, {"time", Rounded(time)}, {"poses", std::move(poses)}};
+  if (!characters_.empty()) {
+    nlohmann::json feet = nlohmann::json::array();
+    for (const Character* character : characters_) AppendPoint(feet, character->feet());
+    frame["characters"] = std::move(feet);
+  }
   if (service_) {
     nlohmann::json states = nlohmann::json::array();
     for (const navmesh::TileCoord tile : tiles_) states.push_back(StateCode(service_->GetTileState(tile)));
@@ -219,6 +241,8 @@ Status CheckRecording(const nlohmann::json& document, const RecordingChecker& ch
     const nlohmann::json& shape = Member(bodies[i], "shape");
     if (!shape.is_number_unsigned() || shape.get<std::uint64_t>() >= shapes.size())
       return check.Fail("bodies[" + std::to_string(i) + "].shape", "must be the index of a shape");
+    if (bodies[i].contains("sensor") && !bodies[i]["sensor"].is_boolean())
+      return check.Fail("bodies[" + std::to_string(i) + "].sensor", "must be true or false");
   }
   std::size_t tile_count = 0;
   if (document.contains("tiles")) {
@@ -233,6 +257,22 @@ Status CheckRecording(const nlohmann::json& document, const RecordingChecker& ch
         return check.Fail("tiles.coords", "must be [x, z] pairs of whole numbers");
     tile_count = tiles["coords"].size();
   }
+  const nlohmann::json& characters = Member(document, "characters", Missing::kEmptyArray);
+  if (!characters.is_array()) return check.Fail("characters", "must be an array");
+  for (std::size_t i = 0; i < characters.size(); ++i) {
+    const std::string field = "characters[" + std::to_string(i) + "]";
+    const nlohmann::json& radius = Member(characters[i], "radius");
+    const nlohmann::json& height = Member(characters[i], "height");
+    if (!radius.is_number() || !height.is_number() || !(radius.get<double>() > 0.0) ||
+        !(height.get<double>() >= 2.0 * radius.get<double>()) || !std::isfinite(height.get<double>()))
+      return check.Fail(field, "must have a positive radius and a finite height of at least two radii");
+    if (!Member(characters[i], "name").is_string()) return check.Fail(field + ".name", "must be a string");
+    const nlohmann::json& route = Member(characters[i], "route", Missing::kEmptyArray);
+    if (!route.is_array()) return check.Fail(field + ".route", "must be an array of points");
+    for (const nlohmann::json& point : route)
+      if (Status status = check.Numbers(point, field + ".route", 3); !status || point.size() != 3)
+        return check.Fail(field + ".route", "must be an array of x, y, z points");
+  }
   const nlohmann::json& frames = Member(document, "frames");
   if (!frames.is_array()) return check.Fail("frames", "must be an array");
   for (std::size_t i = 0; i < frames.size(); ++i) {
@@ -244,6 +284,12 @@ Status CheckRecording(const nlohmann::json& document, const RecordingChecker& ch
     const nlohmann::json& poses = Member(frame, "poses");
     if (Status status = check.Numbers(poses, field + ".poses", 7); !status) return status;
     if (poses.size() != 7 * bodies.size()) return check.Fail(field + ".poses", "must hold 7 numbers a body");
+    if (!characters.empty()) {
+      const nlohmann::json& feet = Member(frame, "characters");
+      if (Status status = check.Numbers(feet, field + ".characters", 3); !status) return status;
+      if (feet.size() != 3 * characters.size())
+        return check.Fail(field + ".characters", "must hold 3 numbers a character");
+    }
     if (tile_count > 0) {
       const nlohmann::json& states = Member(frame, "tiles");
       if (!states.is_array() || states.size() != tile_count)

@@ -1,6 +1,7 @@
 // Recording: what a demo or simulate run leaves for `strata view` (`--record FILE`): the static bodies'
-// triangles once, each moving body's shape once, sampled frames of the moving bodies' poses and the navmesh
-// tiles' states, and at the end the navmesh surface by island and the agents with their paths. A JSON file
+// triangles once, each moving body's (and sensor's) shape once, sampled frames of their poses, of the
+// characters' positions and of the navmesh tiles' states, and at the end the navmesh surface by island and
+// the agents with their paths. A JSON file
 // (format "strata-recording", version 1; tools/README.md lists its fields). Call a Recorder from the thread
 // that steps the world, between steps; ReadRecording from any thread.
 #pragma once
@@ -11,6 +12,7 @@
 #include <vector>
 
 #include "navmesh/NavMeshService.h"
+#include "physics/character/Character.h"
 #include "physics/core/Result.h"
 #include "physics/world/PhysicsSystem.h"
 
@@ -25,13 +27,18 @@ struct RecordedAgent {
 
 class Recorder {
  public:
-  /// Takes the bodies in `world` now: static ones as world triangles, moving ones (dynamic, kinematic) as
-  /// their shape's triangles. Bodies added later are not recorded; one removed later keeps its last pose.
-  /// Reads the world through its BodyInterface (each body's read lock); `world` must outlive the recorder.
+  /// Takes the bodies in `world` now: static ones as world triangles, moving ones (dynamic, kinematic) and
+  /// sensors as their shape's triangles. Bodies added later are not recorded; one removed later keeps its
+  /// last pose. Reads the world through its BodyInterface (each body's read lock); `world` must outlive the
+  /// recorder.
   Recorder(PhysicsSystem& world, std::string source, std::string title);
 
   /// Records the navmesh tiles over `box` from now on (their states in every frame).
   void TrackTiles(const navmesh::NavMeshService& service, const AABB& box);
+  /// Records `character` (its capsule, and its feet in every frame) under `name`; it must outlive the
+  /// recorder. `route`: the points it was sent along, if any, drawn as a line.
+  void TrackCharacter(const Character& character, const std::string& name,
+                      const std::vector<Vec3>& route = {});
   /// One frame: the moving bodies' poses and, when tracked, the tiles' states.
   void Capture(int step, float time);
   /// The navmesh surface (by island) and the agents, at the end of the run.
@@ -47,6 +54,7 @@ class Recorder {
   std::vector<float> last_poses_;
   const navmesh::NavMeshService* service_ = nullptr;
   std::vector<navmesh::TileCoord> tiles_;
+  std::vector<const Character*> characters_;
   nlohmann::json frames_ = nlohmann::json::array();
   nlohmann::json document_;  // all but the frames
 };

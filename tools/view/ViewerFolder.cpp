@@ -110,20 +110,34 @@ nlohmann::json PageData(const nlohmann::json& recording, const Vec3d& origin,
                           point[2].get<double>() - origin.z()};
   };
   nlohmann::json frames = recording["frames"];
-  for (nlohmann::json& frame : frames)
+  for (nlohmann::json& frame : frames) {
     for (std::size_t i = 0; i + 7 <= frame["poses"].size(); i += 7)
       for (std::size_t k = 0; k < 3; ++k)
         frame["poses"][i + k] = frame["poses"][i + k].get<double>() - origin[static_cast<Eigen::Index>(k)];
+    if (!frame.contains("characters")) continue;
+    for (std::size_t i = 0; i < frame["characters"].size(); ++i)
+      frame["characters"][i] =
+          frame["characters"][i].get<double>() - origin[static_cast<Eigen::Index>(i % 3)];
+  }
+  nlohmann::json characters = nlohmann::json::array();
+  if (recording.contains("characters"))
+    for (const nlohmann::json& character : recording["characters"]) {
+      nlohmann::json route = nlohmann::json::array();
+      if (character.contains("route"))
+        for (const nlohmann::json& point : character["route"]) route.push_back(shifted(point));
+      characters.push_back({{"name", character["name"]},
+                            {"radius", character["radius"]},
+                            {"height", character["height"]},
+                            {"route", std::move(route)}});
+    }
   nlohmann::json agents = nlohmann::json::array();
   for (const nlohmann::json& agent : recording["agents"])
     agents.push_back({{"position", shifted(agent["position"])}, {"target", shifted(agent["target"])}});
-  nlohmann::json data = {{"title", recording["title"]},
-                         {"origin", {origin.x(), origin.y(), origin.z()}},
-                         {"shapes", recording["shapes"]},
-                         {"bodies", recording["bodies"]},
-                         {"frames", std::move(frames)},
-                         {"agents", std::move(agents)},
-                         {"navmesh_colours", summary.navmesh_colours}};
+  nlohmann::json data = {
+      {"title", recording["title"]},         {"origin", {origin.x(), origin.y(), origin.z()}},
+      {"shapes", recording["shapes"]},       {"bodies", recording["bodies"]},
+      {"frames", std::move(frames)},         {"agents", std::move(agents)},
+      {"characters", std::move(characters)}, {"navmesh_colours", summary.navmesh_colours}};
   if (recording.contains("tiles")) data["tiles"] = recording["tiles"];
   return data;
 }

@@ -1,5 +1,6 @@
 // The page `strata view` writes: the level, the navmesh (by island or by tile), tile borders coloured by
-// their state, bodies, agents and their paths, over the frames of a recorded demo or simulate run.
+// their state, bodies (sensors see-through), agents and their paths, and characters walking their routes,
+// over the frames of a recorded demo or simulate run.
 // data.js sets window.STRATA_VIEW (the recording, prepared by ViewerFolder) and window.STRATA_GLB (scene.glb
 // as base64), so the page also works opened straight from disk, where a browser refuses to fetch files.
 import * as THREE from 'three';
@@ -80,6 +81,7 @@ class Viewer {
     this.addTileBorders();
     this.addBodies();
     this.addAgents();
+    this.addCharacters();
     this.frameCamera();
     this.setupControls();
     this.showFrame(this.view.frames.length > 0 ? this.view.frames.length - 1 : 0);
@@ -204,9 +206,11 @@ class Viewer {
     const materials = {
       dynamic: new THREE.MeshLambertMaterial({ color: 0xc07a30 }),
       kinematic: new THREE.MeshLambertMaterial({ color: 0x4a7fd0 }),
+      sensor: new THREE.MeshBasicMaterial({ color: 0xf0d040, transparent: true, opacity: 0.25, depthWrite: false }),
     };
     this.bodies = this.view.bodies.map((body) => {
-      const mesh = new THREE.Mesh(geometries[body.shape], materials[body.motion] || materials.dynamic);
+      const material = body.sensor ? materials.sensor : materials[body.motion] || materials.dynamic;
+      const mesh = new THREE.Mesh(geometries[body.shape], material);
       mesh.name = body.name || 'body';
       this.scene.add(mesh);
       return mesh;
@@ -232,6 +236,29 @@ class Viewer {
       this.scene.add(body, target);
       this.agents.push(body);
       this.layers.agents.push(body, target);
+    }
+  }
+
+  // Each character as its capsule at its feet of the frame, and the route it was sent along as a line.
+  addCharacters() {
+    const material = new THREE.MeshLambertMaterial({ color: 0x30d8e8 });
+    this.characters = [];
+    this.layers.characters = [];
+    for (const character of this.view.characters || []) {
+      const capsule = new THREE.CapsuleGeometry(character.radius, character.height - 2 * character.radius, 6, 16);
+      capsule.translate(0, character.height / 2, 0);
+      const mesh = new THREE.Mesh(capsule, material);
+      mesh.name = character.name;
+      this.scene.add(mesh);
+      this.characters.push(mesh);
+      this.layers.characters.push(mesh);
+      if (character.route.length < 2) continue;
+      const route = new THREE.Line(
+        new THREE.BufferGeometry().setFromPoints(character.route.map((p) => new THREE.Vector3(p[0], p[1] + 0.1, p[2]))),
+        new THREE.LineBasicMaterial({ color: 0x30d8e8, depthTest: false }));
+      route.renderOrder = 8;
+      this.scene.add(route);
+      this.layers.characters.push(route);
     }
   }
 
@@ -330,6 +357,10 @@ class Viewer {
       mesh.position.set(poses[7 * i], poses[7 * i + 1], poses[7 * i + 2]);
       mesh.quaternion.set(poses[7 * i + 4], poses[7 * i + 5], poses[7 * i + 6], poses[7 * i + 3]);
     });
+    const feet = frame.characters || [];
+    this.characters.forEach((mesh, i) => {
+      if (3 * i + 2 < feet.length) mesh.position.set(feet[3 * i], feet[3 * i + 1], feet[3 * i + 2]);
+    });
     const borders = this.layers.tiles && this.layers.tiles[0];
     if (borders && frame.tiles) {
       const colours = borders.geometry.getAttribute('color');
@@ -379,6 +410,8 @@ class Viewer {
       path_objects: (this.layers.paths || []).length,
       bodies: this.bodies.length,
       agents: this.agents.length,
+      characters: this.characters.length,
+      character_feet: this.characters.map((mesh) => [mesh.position.x, mesh.position.y, mesh.position.z]),
       tiles: this.view.tiles ? this.view.tiles.coords.length : 0,
       frames: this.view.frames.length,
       drawn_triangles: this.renderer.info.render.triangles,
