@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include <algorithm>
+#include <cstring>
 #include <new>
 
 namespace strata {
@@ -39,8 +40,9 @@ float ApproachAtImpact(float normal_velocity, float gain_per_substep, float subs
 ContactConstraint* BuildContactConstraint(BlockArena& arena, const Vec3& normal,
                                           std::span<const ContactArms> points, const ContactSide& a,
                                           const ContactSide& b, float friction, float restitution,
-                                          CachedManifold* cache, bool reports) {
+                                          CachedManifold* cache, float* reported_impulses) {
   const auto count = static_cast<int>(points.size());
+  const bool reports = reported_impulses != nullptr;
   void* memory = arena.Allocate(ContactConstraint::Bytes(count, reports), alignof(ContactConstraint));
   auto* c = new (memory) ContactConstraint;
   c->normal = normal;
@@ -68,7 +70,10 @@ ContactConstraint* BuildContactConstraint(BlockArena& arena, const Vec3& normal,
         ApproachAtImpact((velocity_b + spin_b.cross(p.r_b) - velocity_a - spin_a.cross(p.r_a)).dot(normal),
                          (b.velocity_gain - a.velocity_gain).dot(normal), a.substep, p.separation);
   }
-  if (reports) std::fill_n(c->reported_impulses(), count, 0.0f);
+  if (reports) {
+    std::fill_n(reported_impulses, count, 0.0f);
+    std::memcpy(static_cast<void*>(c->points() + count), &reported_impulses, sizeof(reported_impulses));
+  }
   return c;
 }
 

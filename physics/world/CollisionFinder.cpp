@@ -62,10 +62,14 @@ void CollisionFinder::BeginStep(const Input& input, std::uint32_t job_count) {
   next_body_.store(0, std::memory_order_relaxed);
   if (jobs_.size() < job_count) {
     jobs_.resize(job_count);
-    for (Job& job : jobs_) job.arena.SetPool(pool_);
+    for (Job& job : jobs_) {
+      job.arena.SetPool(pool_);
+      job.report_arena.SetPool(pool_);
+    }
   }
   for (Job& job : jobs_) {
     job.arena.Recycle();
+    job.report_arena.Recycle();
     job.constraints.clear();
     job.island_body.clear();
     job.wake_keys.clear();
@@ -324,15 +328,20 @@ void CollisionFinder::AddConstraint(const Vec3& normal, std::span<const ContactA
     if (a.body->sleeping() && b.body->IsActive()) job.wake_keys.push_back(a.body->sleep_island());
     if (b.body->sleeping() && a.body->IsActive()) job.wake_keys.push_back(b.body->sleep_island());
   }
-  const bool reports = (flags & Body::kReportContacts) != 0;
+  ReportedManifold* reported = nullptr;
+  if ((flags & Body::kReportContacts) != 0) {
+    reported = job.report_arena.AllocateArray<ReportedManifold>(1);
+    job.reported.push_back(reported);
+  }
   if (!a.dynamic && !b.dynamic) {
-    if (reports) Report(normal, arms, a, b, nullptr, job);
+    if (reported != nullptr) Report(normal, arms, a, b, nullptr, *reported);
     return;
   }
   ContactConstraint* constraint =
       BuildContactConstraint(job.arena, normal, arms, ContactInputSide(a), ContactInputSide(b),
                              std::sqrt(a.body->friction() * b.body->friction()),
-                             std::max(a.body->restitution(), b.body->restitution()), &cached, reports);
+                             std::max(a.body->restitution(), b.body->restitution()), &cached,
+                             reported != nullptr ? reported->impulses : nullptr);
   job.constraints.push_back(constraint);
   ++job.stats.constraints;
   // The island is that of a body the solver moves; two moving bodies join their islands.
@@ -342,7 +351,7 @@ void CollisionFinder::AddConstraint(const Vec3& normal, std::span<const ContactA
     job.stats.link_hops += input_.islands->Link(island_a, island_b);
     ++job.stats.links;
   }
-  if (reports) Report(normal, arms, a, b, constraint, job);
+  if (reported != nullptr) Report(normal, arms, a, b, constraint, *reported);
 }
 
 namespace {
@@ -365,11 +374,12 @@ bool CollisionFinder::Validate(const Vec3& normal, std::span<const ContactArms> 
 }
 
 void CollisionFinder::Report(const Vec3& normal, std::span<const ContactArms> arms, const Side& a,
-                             const Side& b, const ContactConstraint* constraint, Job& job) const {
-  ReportedManifold& reported = job.reported.emplace_back();
+                             const Side& b, const ContactConstraint* constraint,
+                             ReportedManifold& reported) const {
   reported.a = a.body->id();
   reported.b = b.body->id();
-  reported.constraint = constraint;
+  reported.solved = constraint != nullptr;
+  if (constraint == nullptr) std::fill_n(reported.impulses, arms.size(), 0.0f);
   reported.normal = normal;
   reported.separation = kLargeFloat;
   reported.point_count = static_cast<int>(arms.size());
@@ -408,7 +418,7 @@ void CollisionFinder::CollectWakeKeys(std::vector<std::uint32_t>& out) const {
 
 std::size_t CollisionFinder::arena_bytes() const {
   std::size_t total = 0;
-  for (const Job& job : jobs_) total += job.arena.bytes_in_use();
+  for (const Job& job : jobs_) total += job.arena.bytes_in_use() + job.report_arena.bytes_in_use();
   return total;
 }
 

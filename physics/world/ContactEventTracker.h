@@ -7,27 +7,27 @@
 
 #include <cstdint>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "physics/body/BodyManager.h"
-#include "physics/solver/ContactConstraint.h"
+#include "physics/math/Math.h"
 #include "physics/world/StepEvents.h"
 
 namespace strata {
 
-/// One manifold of a reporting pair, as a narrow-phase job found it.
+/// One manifold of a reporting pair, as a narrow-phase job found it (in the job's arena, so that the solver
+/// can sum its impulses into it).
 struct ReportedManifold {
   BodyID a;  ///< the pair as the narrow phase ordered it (A found it)
   BodyID b;
-  /// Where the solver leaves the manifold's impulses; null when neither side moves this step (a kinematic
-  /// body touching a sleeping one).
-  const ContactConstraint* constraint = nullptr;
-  Vec3 normal;  ///< A to B
-  float separation = 0.0f;
-  float approach_speed = 0.0f;
-  int point_count = 0;
-  Vec3 points[ContactEvent::kMaxPoints] = {Vec3::Zero(), Vec3::Zero(), Vec3::Zero(),
-                                           Vec3::Zero()};  ///< world, midway between the surfaces
+  bool solved;  ///< the solver sums its impulses into `impulses` (false when neither side moves this step)
+  int point_count;
+  float separation;
+  float approach_speed;
+  Vec3 normal;                               ///< A to B
+  float impulses[ContactEvent::kMaxPoints];  ///< normal impulse over the step, per point (N s)
+  Vec3 points[ContactEvent::kMaxPoints];     ///< world, midway between the surfaces
 };
 
 /// Last step's touching pairs and the diff that makes this step's events.
@@ -40,7 +40,7 @@ class ContactEventTracker {
   /// This step's events from every job's reported manifolds (each job's in the order it found them).
   /// `active_flags` (by body index) says which bodies' pairs the step looked at; `bodies` tells whether a
   /// body of a pair that touched last step is still in the world.
-  void Update(std::span<const std::span<const ReportedManifold>> jobs,
+  void Update(std::span<const std::span<const ReportedManifold* const>> jobs,
               std::span<const std::uint8_t> active_flags, const BodyManager& bodies, StepEvents& events);
 
  private:
@@ -49,17 +49,23 @@ class ContactEventTracker {
     BodyID a;           // the lower index
     BodyID b;
   };
+  // A pair's manifolds summed up; its event is made from them only when it is reported.
   struct Pair {
     std::uint64_t key;
+    const ReportedManifold* deepest;  // the manifold the event takes its normal and points from
+    float approach_speed;
+    float normal_impulse;
     bool touching;
-    float deepest;
-    ContactEvent event;
   };
 
-  void Summarize(std::span<const std::span<const ReportedManifold>> jobs);
+  void Summarize(std::span<const std::span<const ReportedManifold* const>> jobs);
   static void Merge(const ReportedManifold& manifold, Pair& pair);
+  static ContactEvent EventOf(const Pair& pair);
 
-  std::vector<Pair> pairs_;  // this step's reporting pairs, by key
+  std::vector<Pair> pairs_;                                     // this step's reporting pairs
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> order_;  // their keys and indices, by key
+  std::vector<std::uint64_t> found_keys_;                       // their keys as found, for the next step
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> sort_scratch_;
   std::vector<Touching> touching_;
   std::vector<Touching> next_touching_;
 };

@@ -137,6 +137,7 @@ std::optional<StrataScene> BuildStrataScene(const BenchScene& scene, PhysicsSyst
     create.object_layer = body.dynamic ? layers::kMoving : layers::kNonMoving;
     create.friction = body.friction;
     create.restitution = body.restitution;
+    create.report_contacts = scene.report_contacts && body.dynamic;
     if (body.mass > 0.0f) create.mass = body.mass;
     auto id = world.bodies().CreateBody(create);
     if (!id) return std::nullopt;
@@ -189,11 +190,14 @@ EngineResult RunStrata(const BenchScene& scene, int threads, JobSystemKind job_s
   const std::vector<BodyID>& dynamic_ids = built->dynamic_bodies;
   std::vector<double> times;
   times.reserve(scene.steps);
-  std::size_t pairs = 0, replayed = 0;
+  std::size_t pairs = 0, replayed = 0, events = 0;
   for (int step = 0; step < scene.steps; ++step) {
     const auto start = std::chrono::steady_clock::now();
     if (!world.Step(scene.dt).ok()) return result;
     times.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    const StepEvents& step_events = world.events();
+    events += step_events.contact_begin.size() + step_events.contact_persist.size() +
+              step_events.contact_end.size();
     AddProfile(world.last_step_profile(), result);
     pairs += world.last_step_stats().pairs;
     replayed += world.last_step_stats().pairs_replayed;
@@ -203,6 +207,7 @@ EngineResult RunStrata(const BenchScene& scene, int threads, JobSystemKind job_s
     result.stages[s].busy_ms /= scene.steps;
   }
   result.replayed_pair_share = pairs > 0 ? static_cast<double>(replayed) / static_cast<double>(pairs) : 0.0;
+  result.contact_events_per_step = static_cast<double>(events) / std::max(scene.steps, 1);
   result.threads = world.job_system().ThreadCount();
   SummarizeTimes(std::move(times), result);
   std::vector<FinalPose> poses;

@@ -38,7 +38,8 @@ struct EngineResult {
   static constexpr int kMaxStages = 16;
   int stage_count = 0;  ///< Strata only
   StageFigures stages[kMaxStages];
-  double replayed_pair_share = 0.0;  ///< Strata: pairs that reused last step's manifolds / all pairs
+  double replayed_pair_share = 0.0;      ///< Strata: pairs that reused last step's manifolds / all pairs
+  double contact_events_per_step = 0.0;  ///< Strata: contact begin + persist + end events, mean
 
   double StepsPerSecond() const { return total_seconds > 0.0 ? steps / total_seconds : 0.0; }
 };

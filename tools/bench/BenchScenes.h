@@ -67,6 +67,8 @@ struct BenchScene {
   /// (Strata's own defaults are tighter); the Bullet peer has no such cache.
   float pair_cache_max_distance = 1e-3f;
   float pair_cache_max_angle = 2.0f;
+  /// Every dynamic body reports contact events (what they cost: `strata bench-gameplay`).
+  bool report_contacts = false;
 };
 
 /// 1240 boxes in a stepped pyramid on a floor (sleeping off, 10/2 iterations).

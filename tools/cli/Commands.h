@@ -14,6 +14,8 @@ std::function<int()> AddBenchCommand(CLI::App& app);
 std::function<int()> AddBroadPhaseBenchCommand(CLI::App& app);
 /// Adds `bench-navmesh` to `app`.
 std::function<int()> AddNavMeshBenchCommand(CLI::App& app);
+/// Adds `bench-gameplay` (shape casts, contact events' cost, the character's update) to `app`.
+std::function<int()> AddGameplayBenchCommand(CLI::App& app);
 /// Adds `demo` (the main job) to `app`.
 std::function<int()> AddDemoCommand(CLI::App& app);
 /// Adds `navmesh bake` and `navmesh path` to `app`.

@@ -11,6 +11,7 @@ int main(int argc, char** argv) {
   const auto bench = strata::cli::AddBenchCommand(app);
   const auto bench_broadphase = strata::cli::AddBroadPhaseBenchCommand(app);
   const auto bench_navmesh = strata::cli::AddNavMeshBenchCommand(app);
+  const auto bench_gameplay = strata::cli::AddGameplayBenchCommand(app);
   const auto demo = strata::cli::AddDemoCommand(app);
   const auto navmesh = strata::cli::AddNavMeshCommand(app);
   const auto level = strata::cli::AddLevelCommand(app);
@@ -25,6 +26,7 @@ int main(int argc, char** argv) {
   if (app.got_subcommand("bench")) return bench();
   if (app.got_subcommand("bench-broadphase")) return bench_broadphase();
   if (app.got_subcommand("bench-navmesh")) return bench_navmesh();
+  if (app.got_subcommand("bench-gameplay")) return bench_gameplay();
   if (app.got_subcommand("demo")) return demo();
   if (app.got_subcommand("navmesh")) return navmesh();
   if (app.got_subcommand("level")) return level();
