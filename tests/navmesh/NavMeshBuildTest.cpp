@@ -29,6 +29,24 @@ TEST(NavMeshBuild, FlatFloorCoversFloorMinusAgentRadius) {
   EXPECT_EQ(navmesh::CountIslands(service->navmesh()), 1);
 }
 
+TEST(NavMeshBuild, SensorsAreNoObstacles) {
+  // A 4 m trigger volume standing on the floor: agents walk through it as if it were not there.
+  const auto area_with = [](bool sensor) {
+    auto world = MakeWorld();
+    AddFloor(*world, 1);
+    BodyCreationSettings box = Static(Box(2, 2, 2), Vec3(6.4f, 2.0f, 6.4f));
+    box.is_sensor = sensor;
+    Add(*world, box);
+    return BuildArea(*world, TileArea(1))->navmesh().WalkableArea();
+  };
+  const double through_sensor = area_with(true), around_box = area_with(false);
+  auto bare = MakeWorld();
+  AddFloor(*bare, 1);
+  const double floor = BuildArea(*bare, TileArea(1))->navmesh().WalkableArea();
+  EXPECT_EQ(through_sensor, floor);
+  EXPECT_LT(around_box, floor - 10.0);  // the same box, solid, takes its footprint and more
+}
+
 TEST(NavMeshBuild, BoxObstacleKeepsAgentRadiusClearAndPathGoesAround) {
   auto world = MakeWorld();
   AddFloor(*world, 2);

@@ -604,6 +604,36 @@ TEST(Cli, LongCommandsShowABarOnATerminalAndOneSummaryLineOtherwise) {
   EXPECT_GT(screen.find("strata navmesh bake: "), bar) << screen;
 }
 
+TEST(Cli, GameplayBenchWritesItsFiguresAsJson) {
+  const std::filesystem::path json = TempFile("gameplay.json");
+  ASSERT_EQ(RunCli("bench-gameplay --bodies 2000 --tiles 4 --casts 300 --repeats 1 --event-steps 5 "
+                   "--event-rounds 1 --walkers 3 --frames 20 --json " +
+                   json.string()),
+            0);
+  const nlohmann::json figures = ReadJson(json);
+  const auto is_figure = [](const nlohmann::json& value) {
+    return value.is_number() && std::isfinite(value.get<double>());
+  };
+  ASSERT_EQ(figures["casts"].size(), 2u);  // a sphere and a capsule
+  for (const auto& row : figures["casts"]) {
+    EXPECT_GT(row["strata_casts_per_second"].get<double>(), 0.0);
+    EXPECT_TRUE(is_figure(row["strata_hits"]));
+#ifdef STRATA_HAVE_BULLET
+    EXPECT_GT(row["bullet_casts_per_second"].get<double>(), 0.0);
+    // Bullet places no hit earlier than the exact first touch (it lets shapes overlap up to its allowed
+    // penetration before it reports one).
+    EXPECT_EQ(row["bullet_earlier"].get<int>(), 0);
+#endif
+  }
+  ASSERT_EQ(figures["events"].size(), 1u);
+  EXPECT_GT(figures["events"][0]["events_per_step"].get<double>(), 1000.0);  // every box of the pyramid reports
+  for (const char* key : {"quiet_step_ms", "reporting_step_ms"})
+    EXPECT_GT(figures["events"][0][key].get<double>(), 0.0) << key;
+  EXPECT_EQ(figures["character"]["updates"].get<int>(), 60);
+  EXPECT_GT(figures["character"]["mean_us"].get<double>(), 0.0);
+  std::filesystem::remove(json);
+}
+
 TEST(Cli, BroadPhaseAndNavmeshBenchesWriteTheirFiguresAsJson) {
   const std::filesystem::path broad = TempFile("broadphase.json"), nav = TempFile("navmesh-bench.json");
   ASSERT_EQ(RunCli("bench-broadphase --bodies 2000 --tiles 4 --queries 200 --frames 3 --max-threads 2 "
