@@ -106,7 +106,8 @@ Status Character::Update(float dt, const Vec3& desired_velocity, const Vec3& gra
   const Vec3 walk = Horizontal(desired_velocity);
   Vec3 walking = walk;
   if (jumps) {
-    velocity_ = desired_velocity.y() * kUp + Vec3(0.0f, ground_velocity_.y(), 0.0f);
+    // Off a moving platform it keeps the platform's motion.
+    velocity_ = desired_velocity.y() * kUp + ground_velocity_;
   } else if (was_on_ground) {
     // Along the ground at the asked speed: up and down slopes, never into them.
     velocity_.setZero();
@@ -127,8 +128,11 @@ Status Character::Update(float dt, const Vec3& desired_velocity, const Vec3& gra
     ground_.gap = std::min(ground_.gap, settings_.skin);
     velocity_.setZero();
     // Its weight on a body that can move.
-    if (ground_.body != BodyID{} && *world_.bodies().GetMotionType(ground_.body) == MotionType::kDynamic)
+    const Result<MotionType> motion = world_.bodies().GetMotionType(ground_.body);
+    if (motion && *motion == MotionType::kDynamic)
       (void)world_.bodies().AddImpulse(ground_.body, settings_.mass * dt * gravity, feet_);
+  } else if (walks_on && ground_state_ == GroundState::kInAir) {
+    velocity_ += ground_velocity_;  // walked off a moving platform: it goes on with the platform's motion
   }
   walking_ = walking;
   return Status::Ok();

@@ -1,5 +1,6 @@
-// Game code on a live world: threads cast shapes, read the step's events and move characters while another
-// thread adds, removes and moves reporting bodies next to a sensor and a third steps the world. Each thread
+// Game code on a live world: threads cast shapes, read the step's events and move a character while another
+// thread adds, removes and moves reporting bodies next to a sensor and the test's thread steps the world; a
+// fixed amount of work each. Each thread
 // checks its own results against what it knows must hold (the floor under every downward cast, its own body
 // found where it just put it and gone once removed, every events copy whole and in order).
 #include <random>
@@ -32,7 +33,7 @@ bool EventsAreWhole(const StepEvents& events, BodyID sensor) {
   return true;
 }
 
-void CastReadMoveAndStep(int casters, int steps, int bodies) {
+void CastReadMoveAndStep(int casters, int casts_each, int steps, int bodies) {
   PhysicsSystemConfig config;
   config.max_bodies = static_cast<std::uint32_t>(bodies + 64);
   config.thread_count = 2;
@@ -42,7 +43,6 @@ void CastReadMoveAndStep(int casters, int steps, int bodies) {
   trigger.is_sensor = true;
   trigger.object_layer = layers::kMoving;
   const BodyID sensor = Add(*world, trigger);
-  std::atomic<bool> stop{false};
   std::atomic<int> failures{0}, casts{0}, copies{0}, moves{0};
 
   // Adds reporting bodies, teleports them and takes them out again, checking each against a cast.
@@ -51,7 +51,7 @@ void CastReadMoveAndStep(int casters, int steps, int bodies) {
     std::uniform_real_distribution<float> spread(-40.0f, 40.0f);
     const ShapeRef ball = Sphere(0.4f);
     std::vector<BodyID> mine;
-    for (int i = 0; i < bodies && !stop; ++i) {
+    for (int i = 0; i < bodies; ++i) {
       BodyCreationSettings settings = Dynamic(ball, Vec3(spread(random), 2.0f + i % 5, spread(random)));
       settings.report_contacts = true;
       const Result<BodyID> id = world->bodies().CreateAndAddBody(settings);
@@ -60,13 +60,13 @@ void CastReadMoveAndStep(int casters, int steps, int bodies) {
         continue;
       }
       mine.push_back(*id);
-      // Teleported well above everything, to a spot of its own: a cast down onto it meets it first.
+      // Teleported well above everything, to a column of its own: however far it has fallen since (the step
+      // runs meanwhile), a cast down that column meets it before anything else.
       const Vec3 high(-38.0f + 4.0f * static_cast<float>(i % 20), 40.0f,
                       -38.0f + 4.0f * static_cast<float>(i / 20 % 20));
       if (!world->bodies().SetPosition(*id, high)) ++failures;
-      const auto hit = world->query().CastShape(*Sphere(0.2f), Pose{high + Vec3(0, 5, 0), Quat::Identity()},
-                                                Vec3(0, -10, 0));
-      // The step may have moved it a little since (it falls): it is still the first thing below.
+      const auto hit = world->query().CastShape(*Sphere(0.2f), Pose{high + Vec3(0, 20, 0), Quat::Identity()},
+                                                Vec3(0, -70, 0));
       if (!hit || !hit->has_value() || (*hit)->body != *id) ++failures;
       ++moves;
       if (i % 3 == 2) {
@@ -89,7 +89,7 @@ void CastReadMoveAndStep(int casters, int steps, int bodies) {
       std::uniform_real_distribution<float> spread(-50.0f, 50.0f);
       const ShapeRef probe = c % 2 == 0 ? Sphere(0.3f) : Capsule(0.4f, 0.25f);
       StepEvents events;
-      while (!stop) {
+      for (int k = 0; k < casts_each; ++k) {
         const Vec3 from(spread(random), 30.0f, spread(random));
         const auto hit = world->query().CastShape(*probe, Pose{from, Quat::Identity()}, Vec3(0, -40, 0));
         // The floor is always there; whatever is hit lies on the way to it.
@@ -109,7 +109,7 @@ void CastReadMoveAndStep(int casters, int steps, int bodies) {
   // A character walking in circles on the same floor, on a thread of its own.
   std::thread walker([&] {
     auto character = std::move(*Character::Create(*world, {}, Vec3(20, 0.05f, 20)));
-    for (int frame = 0; !stop; ++frame) {
+    for (int frame = 0; frame < casts_each; ++frame) {
       const float angle = 0.02f * static_cast<float>(frame);
       if (!character->Update(1.0f / 60.0f, Vec3(3 * std::cos(angle), 0, 3 * std::sin(angle)),
                              Vec3(0, -9.81f, 0)))
@@ -120,21 +120,20 @@ void CastReadMoveAndStep(int casters, int steps, int bodies) {
   for (int step = 0; step < steps; ++step)
     if (!world->Step(1.0f / 60.0f)) ++failures;
   mover.join();
-  stop = true;
   for (std::thread& reader : readers) reader.join();
   walker.join();
   EXPECT_EQ(failures.load(), 0);
-  EXPECT_GT(casts.load(), casters);
-  EXPECT_GT(copies.load(), casters);
-  EXPECT_GT(moves.load(), 0);
+  EXPECT_EQ(casts.load(), casters * casts_each);
+  EXPECT_EQ(copies.load(), casters * casts_each);
+  EXPECT_EQ(moves.load(), bodies);
 }
 
 TEST(GameplayThreads, CastsEventReadsAndACharacterWhileBodiesChangeAndTheWorldSteps) {
-  CastReadMoveAndStep(4, 90, 120);
+  CastReadMoveAndStep(4, 300, 90, 120);
 }
 
 TEST(GameplayThreadsStress, CastsEventReadsAndACharacterWhileBodiesChangeAndTheWorldStepsLong) {
-  for (int repeat = 0; repeat < 100; ++repeat) CastReadMoveAndStep(8, 120, 300);
+  for (int repeat = 0; repeat < 100; ++repeat) CastReadMoveAndStep(8, 500, 120, 300);
 }
 
 }  // namespace
