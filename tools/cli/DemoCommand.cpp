@@ -186,6 +186,21 @@ std::vector<Vec3> PlayerRoute(const DemoOptions& options, const FloorSampler& fl
   return route;
 }
 
+/// The player, or none (null) when the demo runs without one or a made-up route found no floors to walk;
+/// fails (saying why) when a route asked for cannot be walked.
+Result<std::unique_ptr<demo::ScriptedWalk>> MakePlayer(PhysicsSystem& world, navmesh::NavMeshService& service,
+                                                       const DemoOptions& options, const AABB& level,
+                                                       const FloorSampler& floors, std::mt19937& random) {
+  if (!options.player) return std::unique_ptr<demo::ScriptedWalk>();
+  auto walk = demo::ScriptedWalk::Create(world, service, PlayerRoute(options, floors, random),
+                                         level.max.y() + 1.0f, level.min.y() - 1.0f, options.player_speed);
+  if (walk) return walk;
+  std::cerr << "strata demo: " << (options.player_route.empty() ? "warning: no player: " : "")
+            << "the player's route: " << walk.error().message << "\n";
+  if (!options.player_route.empty()) return walk.error();
+  return std::unique_ptr<demo::ScriptedWalk>();
+}
+
 void PrintWalk(const demo::ScriptedWalk& walk) {
   const demo::WalkReport report = walk.report();
   const Vec3& feet = walk.character().feet();
@@ -365,24 +380,15 @@ int RunDemo(const DemoOptions& options) {
     std::cerr << "strata demo: " << service.error().message << "\n";
     return 2;
   }
-  std::unique_ptr<demo::ScriptedWalk> player;
-  if (options.player) {
-    auto walk = demo::ScriptedWalk::Create(world, **service, PlayerRoute(options, floors, random),
-                                           level->bounds.max.y() + 1.0f, level->bounds.min.y() - 1.0f,
-                                           options.player_speed);
-    // A route asked for must work; one made up for a level without floors to walk is left out.
-    if (!walk)
-      std::cerr << "strata demo: " << (options.player_route.empty() ? "warning: no player: " : "")
-                << "the player's route: " << walk.error().message << "\n";
-    if (!walk && !options.player_route.empty()) return 2;
-    if (walk) player = std::move(*walk);
-  }
+  Result<std::unique_ptr<demo::ScriptedWalk>> player =
+      MakePlayer(world, **service, options, level->bounds, floors, random);
+  if (!player) return 2;
   std::optional<view::Recorder> recorder;
   if (!options.record.empty()) {
     recorder.emplace(world, "demo",
                      "strata demo: " + std::filesystem::path(options.level).filename().string());
     recorder->TrackTiles(**service, level->bounds);
-    if (player) recorder->TrackCharacter(player->character(), "player", player->route());
+    if (*player) recorder->TrackCharacter((*player)->character(), "player", (*player)->route());
     recorder->Capture(0, 0.0f);
   }
   std::printf("%zu bodies, %zu agents; %d physics thread(s), %d navmesh thread(s)\n",
@@ -413,8 +419,8 @@ int RunDemo(const DemoOptions& options) {
     }
     const double step_ms = Milliseconds(Clock::now() - step_start);
     step_ms_total += step_ms;
-    if (player) {
-      if (Status walked = player->Update(1.0f / 60.0f, static_cast<float>(step + 1) / 60.0f); !walked) {
+    if (*player) {
+      if (Status walked = (*player)->Update(1.0f / 60.0f, static_cast<float>(step + 1) / 60.0f); !walked) {
         std::cerr << "strata demo: the player: " << walked.message() << "\n";
         return 1;
       }
@@ -452,7 +458,7 @@ int RunDemo(const DemoOptions& options) {
                 path.ok() ? "" : "  (no navmesh at start)");
   }
 
-  if (player) PrintWalk(*player);
+  if (*player) PrintWalk(**player);
   const navmesh::NavMesh& navmesh = (*service)->navmesh();
   std::printf("\nnavmesh: %d tiles, %d polygons, %.1f m^2 walkable, %d islands\n", navmesh.tile_count(),
               navmesh.polygon_count(), navmesh.WalkableArea(), navmesh::CountIslands(navmesh));
@@ -468,7 +474,7 @@ int RunDemo(const DemoOptions& options) {
   const std::filesystem::path glb = std::filesystem::path(options.out_dir) / "scene.glb";
   for (const Status& written : {navmesh.WriteObj(obj),
                                 DrawPicture(world, *level, **service, agents, paths,
-                                            player ? player->trail() : std::vector<Vec3>{}, png),
+                                            *player ? (*player)->trail() : std::vector<Vec3>{}, png),
                                 WriteGltf(world, *level, navmesh, paths, glb)})
     if (!written) {
       std::cerr << "strata demo: " << written.message() << "\n";
