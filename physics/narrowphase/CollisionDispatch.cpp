@@ -15,9 +15,10 @@ CollisionDispatch BuildDefault() {
   table.AddConvexShape(ShapeType::kBox);
   table.AddConvexShape(ShapeType::kCapsule);
   table.AddConvexShape(ShapeType::kConvexHull);
-  table.AddTriangleShape(ShapeType::kTriangleMesh, CollideConvexWithMesh, CastOntoTriangles, SweepOntoMesh);
+  table.AddTriangleShape(ShapeType::kTriangleMesh, CollideConvexWithMesh, CastOntoTriangles,
+                         SweepOntoTriangleShape<TriangleMeshShape>);
   table.AddTriangleShape(ShapeType::kHeightField, CollideConvexWithHeightField, CastOntoTriangles,
-                         SweepOntoHeightField);
+                         SweepOntoTriangleShape<HeightFieldShape>);
   // Pairs with a closed form or a separating-axis test, which beat GJK on them. A hull against a box keeps
   // its own entry: the face preferences of the polyhedron test are not symmetric.
   table.RegisterCollide(ShapeType::kSphere, ShapeType::kSphere, CollideSpherePair);

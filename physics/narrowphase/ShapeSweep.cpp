@@ -155,27 +155,28 @@ std::optional<SweepContact> SweepOntoConvex(const ConvexShape& shape, const Pose
                    origin);
 }
 
-std::optional<SweepContact> SweepOntoMesh(const ConvexShape& shape, const Pose& start,
-                                          const Vec3& displacement, const Shape& target,
-                                          const Pose& target_pose, const ShapeCastSettings& settings,
-                                          CollisionScratch& scratch) {
+template <class TriangleShape>
+std::optional<SweepContact> SweepOntoTriangleShape(const ConvexShape& shape, const Pose& start,
+                                                   const Vec3& displacement, const Shape& target,
+                                                   const Pose& target_pose, const ShapeCastSettings& settings,
+                                                   CollisionScratch& scratch) {
   const Vec3& origin = start.position;
   return Unshifted(SweepOntoTriangles(shape, Shifted(start, origin), displacement,
-                                      static_cast<const TriangleMeshShape&>(target),
-                                      Shifted(target_pose, origin), settings, scratch),
+                                      static_cast<const TriangleShape&>(target), Shifted(target_pose, origin),
+                                      settings, scratch),
                    origin);
 }
 
-std::optional<SweepContact> SweepOntoHeightField(const ConvexShape& shape, const Pose& start,
-                                                 const Vec3& displacement, const Shape& target,
-                                                 const Pose& target_pose, const ShapeCastSettings& settings,
-                                                 CollisionScratch& scratch) {
-  const Vec3& origin = start.position;
-  return Unshifted(SweepOntoTriangles(shape, Shifted(start, origin), displacement,
-                                      static_cast<const HeightFieldShape&>(target),
-                                      Shifted(target_pose, origin), settings, scratch),
-                   origin);
-}
+template std::optional<SweepContact> SweepOntoTriangleShape<TriangleMeshShape>(const ConvexShape&,
+                                                                               const Pose&, const Vec3&,
+                                                                               const Shape&, const Pose&,
+                                                                               const ShapeCastSettings&,
+                                                                               CollisionScratch&);
+template std::optional<SweepContact> SweepOntoTriangleShape<HeightFieldShape>(const ConvexShape&, const Pose&,
+                                                                              const Vec3&, const Shape&,
+                                                                              const Pose&,
+                                                                              const ShapeCastSettings&,
+                                                                              CollisionScratch&);
 
 std::optional<SweepContact> SweepConvexShape(const ConvexShape& shape, const Pose& start,
                                              const Vec3& displacement, const Shape& target,

@@ -12,6 +12,9 @@
 
 namespace strata {
 
+class HeightFieldShape;
+class TriangleMeshShape;
+
 /// How a shape cast runs.
 struct ShapeCastSettings {
   /// A hit is reported when the gap has closed to this (m): how exact its fraction is.
@@ -50,15 +53,17 @@ std::optional<SweepContact> SweepOntoConvex(const ConvexShape& shape, const Pose
                                             const Vec3& displacement, const Shape& target,
                                             const Pose& target_pose, const ShapeCastSettings& settings,
                                             CollisionScratch& scratch);
-/// Onto a triangle mesh.
-std::optional<SweepContact> SweepOntoMesh(const ConvexShape& shape, const Pose& start,
-                                          const Vec3& displacement, const Shape& target,
-                                          const Pose& target_pose, const ShapeCastSettings& settings,
-                                          CollisionScratch& scratch);
-/// Onto a height field.
-std::optional<SweepContact> SweepOntoHeightField(const ConvexShape& shape, const Pose& start,
-                                                 const Vec3& displacement, const Shape& target,
-                                                 const Pose& target_pose, const ShapeCastSettings& settings,
-                                                 CollisionScratch& scratch);
+/// Onto a TriangleMeshShape or a HeightFieldShape (the type the table registers it for).
+template <class TriangleShape>
+std::optional<SweepContact> SweepOntoTriangleShape(const ConvexShape& shape, const Pose& start,
+                                                   const Vec3& displacement, const Shape& target,
+                                                   const Pose& target_pose, const ShapeCastSettings& settings,
+                                                   CollisionScratch& scratch);
+extern template std::optional<SweepContact> SweepOntoTriangleShape<TriangleMeshShape>(
+    const ConvexShape&, const Pose&, const Vec3&, const Shape&, const Pose&, const ShapeCastSettings&,
+    CollisionScratch&);
+extern template std::optional<SweepContact> SweepOntoTriangleShape<HeightFieldShape>(
+    const ConvexShape&, const Pose&, const Vec3&, const Shape&, const Pose&, const ShapeCastSettings&,
+    CollisionScratch&);
 
 }  // namespace strata

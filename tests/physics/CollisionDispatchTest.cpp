@@ -169,7 +169,8 @@ void MarkedContact(const Shape& a, const Pose& pose_a, const Shape& /*b*/, const
 TEST(CollisionDispatch, AShapeAddedByKindGetsEveryPairAndARegisteredPairServesBothOrders) {
   CollisionDispatch table;
   table.AddConvexShape(ShapeType::kBox);
-  table.AddTriangleShape(ShapeType::kTriangleMesh, CollideConvexWithMesh, CastOntoTriangles, SweepOntoMesh);
+  table.AddTriangleShape(ShapeType::kTriangleMesh, CollideConvexWithMesh, CastOntoTriangles,
+                         SweepOntoTriangleShape<TriangleMeshShape>);
   EXPECT_FALSE(table.Collides(ShapeType::kCapsule, ShapeType::kBox));
   // The one line a new convex shape needs: GJK against the convex shapes before it, and the mesh's function.
   table.AddConvexShape(ShapeType::kCapsule);
