@@ -48,6 +48,16 @@ std::optional<SweepContact> StartContact(const ConvexShape& shape, const Pose& s
   return deepest;
 }
 
+// The narrow phase measures a shallow contact along the normal of the rounded cores, and beside an edge of a
+// box or hull that normal tilts enough to report an overlap of a few millimetres where a gap of a fraction
+// of one remains. GJK on the exact shapes tells such a gap (over the tolerance) apart: no contact there.
+bool ClearAtStart(const ConvexShape& shape, const Pose& start, const ConvexSupport& target,
+                  float target_radius, float tolerance) {
+  const MeasuredConvex measured(shape, start);
+  const GjkResult closest = GjkClosestPoints(measured.support, target, kLargeFloat);
+  return !closest.overlapping && closest.distance - measured.radius - target_radius > tolerance;
+}
+
 // Whether a contact at the start stops the cast: an overlap always (unless the settings let a shape that
 // moves out of it go), a touch when the displacement presses into it.
 bool Blocks(const SweepContact& contact, const Vec3& displacement, const ShapeCastSettings& settings) {
@@ -100,7 +110,13 @@ std::optional<SweepContact> SweepOntoTriangles(const ConvexShape& shape, const P
                                                const Pose& mesh_pose, const ShapeCastSettings& settings,
                                                CollisionScratch& scratch) {
   if (auto contact = StartContact(shape, start, mesh, mesh_pose, settings, scratch); contact) {
-    if (Blocks(*contact, displacement, settings)) return contact;
+    const std::uint32_t t = contact->sub_shape;
+    const TriangleSupport triangle(mesh_pose.ToWorld(mesh.Vertex(t, 0)), mesh_pose.ToWorld(mesh.Vertex(t, 1)),
+                                   mesh_pose.ToWorld(mesh.Vertex(t, 2)));
+    // A touch the exact distance rules out leaves the triangles to the sweep below.
+    if (Blocks(*contact, displacement, settings) &&
+        !ClearAtStart(shape, start, triangle, 0.0f, settings.tolerance))
+      return contact;
   }
   AABB swept = shape.WorldBounds(start);
   swept.Encapsulate(AABB(swept.min + displacement, swept.max + displacement));
@@ -145,12 +161,13 @@ std::optional<SweepContact> SweepOntoConvex(const ConvexShape& shape, const Pose
                                             CollisionScratch& scratch) {
   const Vec3& origin = start.position;
   const Pose local_start = Shifted(start, origin), local_target = Shifted(target_pose, origin);
-  if (auto contact = StartContact(shape, local_start, target, local_target, settings, scratch); contact) {
+  const MeasuredConvex measured(static_cast<const ConvexShape&>(target), local_target);
+  if (auto contact = StartContact(shape, local_start, target, local_target, settings, scratch);
+      contact && !ClearAtStart(shape, local_start, measured.support, measured.radius, settings.tolerance)) {
     // A convex target the shape leaves (or slides along) is never met again.
     if (!Blocks(*contact, displacement, settings)) return std::nullopt;
     return Unshifted(contact, origin);
   }
-  const MeasuredConvex measured(static_cast<const ConvexShape&>(target), local_target);
   return Unshifted(Advance(shape, local_start, displacement, measured.support, measured.radius, settings),
                    origin);
 }

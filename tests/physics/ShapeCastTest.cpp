@@ -69,6 +69,25 @@ TEST(ShapeCast, SphereAtABoxFaceAndEdge) {
   EXPECT_FALSE(Sweep(sphere, Pose{{-5, 0, 0}, Quat::Identity()}, {3, 0, 0}, box, Pose{}).has_value());
 }
 
+// An upright capsule 0.4 mm above a box's top face and 8.4 mm out past its edge: the narrow phase's rounded
+// box tilts the contact normal there and reads an overlap, yet the shapes never touch sliding over the face,
+// and moving down they meet where the capsule's cap reaches the edge.
+TEST(ShapeCast, CapsuleJustClearOfABoxEdgeIsNoStartContact) {
+  const ShapeRef capsule = Capsule(0.6f, 0.3f), box = Box(2, 1, 0.7f);
+  const Pose box_pose{{1.0f, -1.9004f, 0.7084f}, Quat::Identity()};
+  const Pose start{Vec3::Zero(), Quat::Identity()};
+  EXPECT_FALSE(Sweep(capsule, start, {0, 0, 1}, box, box_pose).has_value());
+  const float drop = 0.3004f - std::sqrt(0.09f - 0.0084f * 0.0084f);
+  const auto down = Sweep(capsule, start, {0, -0.01f, 0}, box, box_pose);
+  ExpectFraction(down, drop / 0.01f, 0.01f);
+  EXPECT_EQ(down->penetration, 0.0f);
+  // Far from the origin the same.
+  const Vec3 far(928.5f, 4.5f, 77.5f);
+  EXPECT_FALSE(Sweep(capsule, Pose{far, Quat::Identity()}, {0, 0, 1}, box,
+                     Pose{far + box_pose.position, Quat::Identity()})
+                   .has_value());
+}
+
 TEST(ShapeCast, BoxAtABoxStraightAndTurned) {
   const ShapeRef target = Box(1, 1, 1), box = Box(0.5f, 0.5f, 0.5f);
   ExpectFraction(Sweep(box, Pose{{-5, 0, 0}, Quat::Identity()}, {10, 0, 0}, target, Pose{}), 0.35f, 10.0f);

@@ -616,17 +616,27 @@ TEST(Cli, GameplayBenchWritesItsFiguresAsJson) {
   };
   ASSERT_EQ(figures["casts"].size(), 2u);  // a sphere and a capsule
   for (const auto& row : figures["casts"]) {
-    EXPECT_GT(row["strata_casts_per_second"].get<double>(), 0.0);
-    EXPECT_TRUE(is_figure(row["strata_hits"]));
+    EXPECT_GT(row["exact_hits"].get<int>(), 0);
+    const nlohmann::json& strata = row["engines"][0];
+    EXPECT_EQ(strata["engine"], "strata");
+    EXPECT_GT(strata["casts_per_second"].get<double>(), 0.0);
+    // Every exact hit found, none made up, each within the cast's 0.1 mm tolerance of touching.
+    EXPECT_EQ(strata["missed"].get<int>(), 0);
+    EXPECT_EQ(strata["false_hits"].get<int>(), 0);
+    EXPECT_EQ(strata["hits"].get<int>(), row["exact_hits"].get<int>());
+    EXPECT_LE(strata["widest_gap_mm"].get<double>(), 0.11);
+    EXPECT_LE(strata["deepest_overlap_mm"].get<double>(), 0.1);
+    EXPECT_TRUE(is_figure(strata["mean_abs_mm"]));
 #ifdef STRATA_HAVE_BULLET
-    EXPECT_GT(row["bullet_casts_per_second"].get<double>(), 0.0);
-    // Bullet places no hit earlier than the exact first touch (it lets shapes overlap up to its allowed
-    // penetration before it reports one).
-    EXPECT_EQ(row["bullet_earlier"].get<int>(), 0);
+    ASSERT_EQ(row["engines"].size(), 2u);
+    EXPECT_EQ(row["engines"][1]["engine"], "bullet");
+    EXPECT_GT(row["engines"][1]["casts_per_second"].get<double>(), 0.0);
+    EXPECT_GT(row["engines"][1]["hits"].get<int>(), 0);
 #endif
   }
   ASSERT_EQ(figures["events"].size(), 1u);
-  EXPECT_GT(figures["events"][0]["events_per_step"].get<double>(), 1000.0);  // every box of the pyramid reports
+  EXPECT_GT(figures["events"][0]["events_per_step"].get<double>(),
+            1000.0);  // every box of the pyramid reports
   for (const char* key : {"quiet_step_ms", "reporting_step_ms"})
     EXPECT_GT(figures["events"][0][key].get<double>(), 0.0) << key;
   EXPECT_EQ(figures["character"]["updates"].get<int>(), 60);

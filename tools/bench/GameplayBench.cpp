@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <random>
 
 #include "assets/level/LevelLoader.h"
@@ -86,20 +87,147 @@ CastRun MeasureStrataCasts(const OpenWorld& world, const QuerySet& queries, Cast
   return run;
 }
 
-CastAgreement CompareCasts(const CastRun& a, const CastRun& b, float tolerance) {
-  CastAgreement agreement;
-  for (std::size_t i = 0; i < std::min(a.fractions.size(), b.fractions.size()); ++i) {
-    const float fa = a.fractions[i], fb = b.fractions[i];
-    if (fa >= 0.0f && fb < 0.0f) (fa == 0.0f ? agreement.only_a_at_start : agreement.only_a) += 1;
-    if (fb >= 0.0f && fa < 0.0f) ++agreement.only_b;
-    if (fa < 0.0f || fb < 0.0f) continue;
-    ++agreement.both_hit;
-    if (std::abs(fa - fb) <= tolerance)
-      ++agreement.same_place;
-    else
-      (fa < fb ? agreement.a_earlier : agreement.b_earlier) += 1;
+namespace {
+
+// The open world's boxes by their low x, so that a cast looks only at the run its sweep can reach, and the
+// exact gap between them and the cast shape's core (a point or an upright segment) with its radius.
+class BoxesNearCasts {
+ public:
+  BoxesNearCasts(const OpenWorld& world, CastShapeKind shape)
+      : world_(world),
+        radius_(shape == CastShapeKind::kSphere ? 0.5 : 0.3),
+        half_height_(shape == CastShapeKind::kSphere ? 0.0 : 0.6),
+        by_x_(world.bounds.size()) {
+    for (std::uint32_t i = 0; i < by_x_.size(); ++i) by_x_[i] = i;
+    std::sort(by_x_.begin(), by_x_.end(), [&](std::uint32_t a, std::uint32_t b) {
+      return world.bounds[a].min.x() < world.bounds[b].min.x();
+    });
+    for (const AABB& box : world.bounds) widest_ = std::max(widest_, box.max.x() - box.min.x());
   }
-  return agreement;
+
+  // Every box the shape can touch sweeping from `from` to `to`.
+  template <class Visit>
+  void ForEachNear(const Vec3& from, const Vec3& to, Visit visit) const {
+    const Vec3 reach(static_cast<float>(radius_), static_cast<float>(radius_ + half_height_),
+                     static_cast<float>(radius_));
+    const AABB swept(from.cwiseMin(to) - reach, from.cwiseMax(to) + reach);
+    const auto first =
+        std::lower_bound(by_x_.begin(), by_x_.end(), swept.min.x() - widest_,
+                         [&](std::uint32_t i, float x) { return world_.bounds[i].min.x() < x; });
+    for (auto it = first; it != by_x_.end() && world_.bounds[*it].min.x() <= swept.max.x(); ++it)
+      if (world_.bounds[*it].Overlaps(swept)) visit(world_.bounds[*it]);
+  }
+
+  // Negative where the shape at `centre` overlaps the box.
+  double Gap(const AABB& box, const Eigen::Vector3d& centre) const {
+    const auto outside = [](double value, double from, double to) {
+      return std::max({from - value, value - to, 0.0});
+    };
+    const double dx = outside(centre.x(), box.min.x(), box.max.x());
+    const double dz = outside(centre.z(), box.min.z(), box.max.z());
+    const double dy =
+        std::max({box.min.y() - (centre.y() + half_height_), (centre.y() - half_height_) - box.max.y(), 0.0});
+    return std::sqrt(dx * dx + dy * dy + dz * dz) - radius_;
+  }
+
+ private:
+  const OpenWorld& world_;
+  double radius_, half_height_;
+  std::vector<std::uint32_t> by_x_;
+  float widest_ = 0.0f;
+};
+
+// The first touch of the sweep origin + t direction (t in [0, 1]) with one box, 2 for none. The gap is convex
+// in t: the lowest by ternary search, then the first zero before it by bisection.
+double FirstTouch(const BoxesNearCasts& boxes, const AABB& box, const Eigen::Vector3d& origin,
+                  const Eigen::Vector3d& direction) {
+  const auto gap = [&](double t) { return boxes.Gap(box, origin + t * direction); };
+  if (gap(0.0) <= 0.0) return 0.0;
+  double low = 0.0, high = 1.0;
+  for (int i = 0; i < 200; ++i) {
+    const double a = low + (high - low) / 3.0, b = high - (high - low) / 3.0;
+    if (gap(a) < gap(b))
+      high = b;
+    else
+      low = a;
+  }
+  double touching = 0.5 * (low + high);
+  if (gap(touching) > 0.0) return 2.0;
+  double before = 0.0;
+  for (int i = 0; i < 100; ++i) {
+    const double middle = 0.5 * (before + touching);
+    if (gap(middle) > 0.0)
+      before = middle;
+    else
+      touching = middle;
+  }
+  return touching;
+}
+
+}  // namespace
+
+std::vector<float> ExactCastFractions(const OpenWorld& world, const QuerySet& queries, CastShapeKind shape) {
+  const BoxesNearCasts boxes(world, shape);
+  std::vector<float> fractions(queries.ray_origins.size(), -1.0f);
+  for (std::size_t c = 0; c < fractions.size(); ++c) {
+    const Eigen::Vector3d origin = queries.ray_origins[c].cast<double>();
+    const Eigen::Vector3d direction = queries.ray_directions_10m[c].cast<double>();
+    double nearest = 2.0;
+    boxes.ForEachNear(
+        queries.ray_origins[c], queries.ray_origins[c] + queries.ray_directions_10m[c],
+        [&](const AABB& box) { nearest = std::min(nearest, FirstTouch(boxes, box, origin, direction)); });
+    if (nearest <= 1.0) fractions[c] = static_cast<float>(nearest);
+  }
+  return fractions;
+}
+
+std::vector<double> ExactGapsAt(const OpenWorld& world, const QuerySet& queries, CastShapeKind shape,
+                                const std::vector<float>& fractions) {
+  const BoxesNearCasts boxes(world, shape);
+  std::vector<double> gaps(fractions.size(), std::numeric_limits<double>::quiet_NaN());
+  for (std::size_t c = 0; c < std::min(fractions.size(), queries.ray_origins.size()); ++c) {
+    if (fractions[c] < 0.0f) continue;
+    const Eigen::Vector3d centre = queries.ray_origins[c].cast<double>() +
+                                   double{fractions[c]} * queries.ray_directions_10m[c].cast<double>();
+    const Vec3 at = queries.ray_origins[c] + fractions[c] * queries.ray_directions_10m[c];
+    const Vec3 nearby = Vec3::Constant(0.1f);  // any gap a hit leaves is far below this
+    double nearest = std::numeric_limits<double>::infinity();
+    boxes.ForEachNear(at - nearby, at + nearby,
+                      [&](const AABB& box) { nearest = std::min(nearest, boxes.Gap(box, centre)); });
+    gaps[c] = nearest;
+  }
+  return gaps;
+}
+
+CastAccuracy MeasureCastAccuracy(const CastRun& run, const std::vector<float>& exact,
+                                 const std::vector<double>& gaps, float cast_length) {
+  CastAccuracy accuracy;
+  double total_mm = 0.0;
+  int both = 0;
+  for (std::size_t i = 0; i < std::min(run.fractions.size(), exact.size()); ++i) {
+    const float hit = run.fractions[i], truth = exact[i];
+    if (truth >= 0.0f) ++accuracy.exact_hits;
+    if (truth == 0.0f) ++accuracy.starts_inside;
+    if (truth >= 0.0f && hit < 0.0f) {
+      ++accuracy.missed;
+      if (truth == 0.0f) ++accuracy.missed_inside;
+    }
+    if (truth < 0.0f && hit >= 0.0f) ++accuracy.false_hits;
+    if (hit >= 0.0f && i < gaps.size() && gaps[i] == gaps[i]) {
+      accuracy.widest_gap_mm = std::max(accuracy.widest_gap_mm, 1000.0 * gaps[i]);
+      if (truth != 0.0f)
+        accuracy.deepest_overlap_mm = std::max(accuracy.deepest_overlap_mm, -1000.0 * gaps[i]);
+    }
+    if (truth < 0.0f || hit < 0.0f) continue;
+    const double error_mm = 1000.0 * static_cast<double>(cast_length) * (static_cast<double>(hit) - truth);
+    accuracy.earliest_mm = std::min(accuracy.earliest_mm, error_mm);
+    accuracy.latest_mm = std::max(accuracy.latest_mm, error_mm);
+    if (std::abs(error_mm) <= 1.0) ++accuracy.within_1mm;
+    total_mm += std::abs(error_mm);
+    ++both;
+  }
+  if (both > 0) accuracy.mean_abs_mm = total_mm / both;
+  return accuracy;
 }
 
 EventFigures MeasureEventCost(int threads, int steps, int rounds) {

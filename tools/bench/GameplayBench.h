@@ -30,18 +30,32 @@ CastRun MeasureStrataCasts(const OpenWorld& world, const QuerySet& queries, Cast
 CastRun MeasureBulletCasts(const OpenWorld& world, const QuerySet& queries, CastShapeKind shape, int repeats);
 #endif
 
-/// How two engines' casts compare: hits within `tolerance` of the same fraction, hits one of them places
-/// earlier, and casts only one of them hits (at the start: a shape that starts inside a box).
-struct CastAgreement {
-  int both_hit = 0;
-  int same_place = 0;
-  int a_earlier = 0;
-  int b_earlier = 0;
-  int only_a_at_start = 0;
-  int only_a = 0;
-  int only_b = 0;
+/// The exact fraction of every cast, the reference both engines are measured against: each box near the
+/// sweep by its distance to the swept shape's core (a point, or the capsule's upright segment, both exact
+/// against an axis-aligned box), which is convex along the cast, so its first touch is found by bisection to
+/// double precision. -1 for a miss, 0 where the shape starts inside a box.
+std::vector<float> ExactCastFractions(const OpenWorld& world, const QuerySet& queries, CastShapeKind shape);
+/// The exact gap (m, negative for an overlap) between each cast's shape at `fractions` and the nearest box;
+/// NaN where a fraction is negative (a miss).
+std::vector<double> ExactGapsAt(const OpenWorld& world, const QuerySet& queries, CastShapeKind shape,
+                                const std::vector<float>& fractions);
+
+/// One engine's casts against the exact ones (distances along the cast, mm).
+struct CastAccuracy {
+  int exact_hits = 0;               ///< casts that touch a box, starts inside included
+  int starts_inside = 0;            ///< casts that start inside a box
+  int within_1mm = 0;               ///< hits within 1 mm of the exact first touch
+  double earliest_mm = 0.0;         ///< the hit furthest before the exact one (<= 0)
+  double latest_mm = 0.0;           ///< the hit furthest past it (>= 0)
+  double mean_abs_mm = 0.0;         ///< over the casts both hit
+  double widest_gap_mm = 0.0;       ///< the most space left between shape and box at a reported hit
+  double deepest_overlap_mm = 0.0;  ///< the deepest a reported hit overlaps a box (starts inside left out)
+  int missed = 0;                   ///< exact hits the engine does not report
+  int missed_inside = 0;            ///< of those, starts inside a box
+  int false_hits = 0;               ///< hits where the exact cast touches nothing
 };
-CastAgreement CompareCasts(const CastRun& a, const CastRun& b, float tolerance);
+CastAccuracy MeasureCastAccuracy(const CastRun& run, const std::vector<float>& exact,
+                                 const std::vector<double>& gaps, float cast_length);
 
 /// The pyramid's step with and without every body reporting contact events (medians of alternated runs).
 struct EventFigures {

@@ -1,6 +1,6 @@
 // `strata bench-gameplay`: what game code costs (tools/bench/GameplayBench.h): shape casts on the 20,000-body
-// open world beside Bullet's convex sweep, the pyramid stepped with and without contact events, and the
-// character's update in the courtyard.
+// open world beside Bullet's convex sweep, both against the exact first touch, the pyramid stepped with and
+// without contact events, and the character's update in the courtyard.
 #include <cstdio>
 #include <iostream>
 #include <nlohmann/json.hpp>
@@ -29,54 +29,72 @@ struct GameplayBenchOptions {
   std::string json;
 };
 
+void PrintAccuracy(const char* shape, const char* engine, const bench::CastRun& run,
+                   const bench::CastAccuracy& accuracy, const char* speed) {
+  char missed[32];
+  std::snprintf(missed, sizeof(missed), "%d (%d inside)", accuracy.missed, accuracy.missed_inside);
+  std::printf("  %-20s %-7s %10.0f %7s %6d %11d %9.2f %9.2f %10.3f %8.3f %8.2f %16s %6d\n", shape, engine,
+              run.casts_per_second, speed, run.hits, accuracy.within_1mm, accuracy.earliest_mm,
+              accuracy.latest_mm, accuracy.mean_abs_mm, accuracy.widest_gap_mm, accuracy.deepest_overlap_mm,
+              missed, accuracy.false_hits);
+}
+
+nlohmann::json AccuracyJson(const char* engine, const bench::CastRun& run,
+                            const bench::CastAccuracy& accuracy) {
+  return {{"engine", engine},
+          {"casts_per_second", run.casts_per_second},
+          {"hits", run.hits},
+          {"within_1mm", accuracy.within_1mm},
+          {"earliest_mm", accuracy.earliest_mm},
+          {"latest_mm", accuracy.latest_mm},
+          {"mean_abs_mm", accuracy.mean_abs_mm},
+          {"widest_gap_mm", accuracy.widest_gap_mm},
+          {"deepest_overlap_mm", accuracy.deepest_overlap_mm},
+          {"missed", accuracy.missed},
+          {"missed_inside", accuracy.missed_inside},
+          {"false_hits", accuracy.false_hits}};
+}
+
 nlohmann::json Casts(const GameplayBenchOptions& options, const bench::OpenWorld& world,
                      const bench::QuerySet& queries) {
+  constexpr float kCastLength = 10.0f;
   std::printf(
       "shape casts: %d casts of 10 m through %d boxes (bench-broadphase's open world), closest hit, one "
-      "thread, best of %d\n",
+      "thread, best of %d\n  against the exact first touch: error along the cast (mm, - early), the widest "
+      "gap and deepest "
+      "overlap at a hit (mm), exact hits missed, hits where there is none\n",
       options.casts, options.bodies, options.repeats);
-  std::printf("  %-20s %14s %14s %13s %13s %28s %16s\n", "shape", "strata casts/s", "bullet casts/s",
-              "strata/bullet", "hits s / b", "same place / strata earlier", "only strata");
+  std::printf("  %-20s %-7s %10s %7s %6s %11s %9s %9s %10s %8s %8s %16s %6s\n", "shape", "engine", "casts/s",
+              "speed", "hits", "within 1 mm", "earliest", "latest", "mean |err|", "gap", "overlap", "missed",
+              "false");
   nlohmann::json rows = nlohmann::json::array();
   for (const bench::CastShapeKind kind : {bench::CastShapeKind::kSphere, bench::CastShapeKind::kCapsule}) {
+    const std::vector<float> exact = bench::ExactCastFractions(world, queries, kind);
     const bench::CastRun strata = bench::MeasureStrataCasts(world, queries, kind, options.repeats);
+    const bench::CastAccuracy strata_accuracy = bench::MeasureCastAccuracy(
+        strata, exact, bench::ExactGapsAt(world, queries, kind, strata.fractions), kCastLength);
+    nlohmann::json row = {{"shape", bench::ToString(kind)},
+                          {"exact_hits", strata_accuracy.exact_hits},
+                          {"exact_starts_inside", strata_accuracy.starts_inside},
+                          {"engines", {AccuracyJson("strata", strata, strata_accuracy)}}};
     bench::CastRun bullet;
 #ifdef STRATA_HAVE_BULLET
     if (options.bullet) bullet = bench::MeasureBulletCasts(world, queries, kind, options.repeats);
 #endif
-    nlohmann::json row = {{"shape", bench::ToString(kind)},
-                          {"strata_casts_per_second", strata.casts_per_second},
-                          {"strata_hits", strata.hits}};
-    if (bullet.casts_per_second < 0.0) {
-      std::printf("  %-20s %14.0f %14s %13s %13d\n", bench::ToString(kind), strata.casts_per_second, "-", "-",
-                  strata.hits);
-      rows.push_back(std::move(row));
-      continue;
+    char speed[16] = "-";
+    if (bullet.casts_per_second > 0.0)
+      std::snprintf(speed, sizeof(speed), "%.2fx", strata.casts_per_second / bullet.casts_per_second);
+    PrintAccuracy(bench::ToString(kind), "strata", strata, strata_accuracy, speed);
+    if (bullet.casts_per_second > 0.0) {
+      // Bullet reports a hit once the shapes overlap by up to its allowed penetration and passes shapes that
+      // start inside a box, so its hits come late or not at all there.
+      const bench::CastAccuracy bullet_accuracy = bench::MeasureCastAccuracy(
+          bullet, exact, bench::ExactGapsAt(world, queries, kind, bullet.fractions), kCastLength);
+      PrintAccuracy("", "bullet", bullet, bullet_accuracy, "1.00x");
+      row["engines"].push_back(AccuracyJson("bullet", bullet, bullet_accuracy));
     }
-    // Within 1 mm of a 10 m cast. Bullet reports a hit once the shapes overlap by up to its allowed
-    // penetration (4 cm by default), so its hits come later, and it passes shapes that start inside a box.
-    const bench::CastAgreement agreement = bench::CompareCasts(strata, bullet, 1e-4f);
-    char hits[32], places[48], only[48];
-    std::snprintf(hits, sizeof(hits), "%d / %d", strata.hits, bullet.hits);
-    std::snprintf(places, sizeof(places), "%d / %d of %d", agreement.same_place, agreement.a_earlier,
-                  agreement.both_hit);
-    std::snprintf(only, sizeof(only), "%d (%d at start)", agreement.only_a + agreement.only_a_at_start,
-                  agreement.only_a_at_start);
-    std::printf("  %-20s %14.0f %14.0f %12.2fx %13s %28s %16s\n", bench::ToString(kind),
-                strata.casts_per_second, bullet.casts_per_second,
-                strata.casts_per_second / bullet.casts_per_second, hits, places, only);
-    if (agreement.b_earlier + agreement.only_b > 0)
-      std::printf("  (%d casts Bullet hits earlier, %d only Bullet hits)\n", agreement.b_earlier,
-                  agreement.only_b);
-    row["bullet_casts_per_second"] = bullet.casts_per_second;
-    row["bullet_hits"] = bullet.hits;
-    row["both_hit"] = agreement.both_hit;
-    row["same_place"] = agreement.same_place;
-    row["strata_earlier"] = agreement.a_earlier;
-    row["bullet_earlier"] = agreement.b_earlier;
-    row["only_strata"] = agreement.only_a + agreement.only_a_at_start;
-    row["only_strata_at_start"] = agreement.only_a_at_start;
-    row["only_bullet"] = agreement.only_b;
+    std::printf("  %-20s exact   %10s %9s %6d (%d start inside a box)\n", "", "", "",
+                strata_accuracy.exact_hits, strata_accuracy.starts_inside);
     rows.push_back(std::move(row));
   }
   return rows;
