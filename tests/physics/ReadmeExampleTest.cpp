@@ -34,7 +34,7 @@ TEST(ReadmeExample, GameplayRunsAsWritten) {
   EXPECT_EQ(entered_sensor, gate_id);
   EXPECT_EQ(visitor, crate_id);
   EXPECT_EQ(hits, 1);
-  EXPECT_EQ(hit_body, crate_id);  // the sensor in the way is no obstacle
+  EXPECT_EQ(hit_body, crate_id);             // the sensor in the way is no obstacle
   EXPECT_NEAR(hit_point.z(), -0.5f, 0.05f);  // its near face (it may settle a little askew)
   EXPECT_TRUE(grounded);
   EXPECT_NEAR(player->feet().x(), 5.0f, 0.1f);
