@@ -379,8 +379,10 @@ TEST(Cli, FailedWritesExitTwoAndOutputsAreReplacedWhole) {
 // made are refused before the run; crates beyond the old fixed body table are all added, not capped.
 TEST(Cli, DemoRefusesBadOptionsBeforeRunningAndAddsEveryCrate) {
   const auto out_dir = TempFile("demo_out");
-  for (const char* bad : {"--steps -1", "--steps 0", "--crates -1", "--request-radius nan",
-                          "--request-radius -3", "--agents 100000", "--threads 0"})
+  for (const char* bad :
+       {"--steps -1", "--steps 0", "--crates -1", "--request-radius nan", "--request-radius -3",
+        "--agents 100000", "--threads 0", "--player-route 1,2,3", "--player-route 33,45",
+        "--player-route 1,nan,3,4", "--player-speed 0", "--player-speed 51"})
     EXPECT_EQ(RunCli("demo --out-dir " + out_dir.string() + " " + std::string(bad)), 2) << bad;
   const auto file = TempFile("a_file");
   std::ofstream(file) << "x";

@@ -542,11 +542,12 @@ std::function<int()> AddDemoCommand(CLI::App& app) {
   demo->add_flag("!--no-player", options->player, "leave out the player character");
   demo->add_option(
           "--player-route", options->player_route,
-          "the player's waypoints as x,z pairs (default: the courtyard's tour on it, else random floors)")
+          "the player's start and waypoints as x,z pairs, two or more (default: the courtyard's tour on it, "
+          "else random floors)")
       ->delimiter(',')
       ->check(FiniteIn(-1.0e7, 1.0e7));
   demo->add_option("--player-speed", options->player_speed, "the player's walking speed (m/s)")
-      ->check(FiniteIn(0.0, 50.0))
+      ->check(FiniteIn(0.1, 50.0))
       ->capture_default_str();
   AddNavMeshSettingsOptions(*demo, options->settings);
   AddLevelOptions(*demo, options->level_options);
