@@ -324,20 +324,6 @@ void ApplyBundleRestitution(ContactBundle& bundle, SolverBody* bodies, const Sub
   lanes.Scatter(bodies, bundle);
 }
 
-namespace {
-
-// Hands row j's summed impulses to the reporting lanes' constraints.
-void StoreReportedImpulses(const ContactBundle& bundle, std::uint32_t j) {
-  alignas(alignof(WideFloat)) Lanes sums;
-  bundle.reported_impulses()[j].Store(sums);
-  for (int lane = 0; lane < kLanes; ++lane) {
-    ContactConstraint* c = bundle.constraints[lane];
-    if (c != nullptr && c->reports && j < c->point_count) c->reported_impulses()[j] = sums[lane];
-  }
-}
-
-}  // namespace
-
 void AddBundleReportedImpulses(ContactBundle& bundle) {
   WideFloat* sums = bundle.reported_impulses();
   for (std::uint32_t j = 0; j < bundle.point_count; ++j) sums[j] = sums[j] + bundle.rows()[j].normal_impulse;
@@ -350,17 +336,19 @@ void StoreBundleImpulses(ContactBundle& bundle) {
     const WideVec3 friction =
         MulAdd(p.tangent_impulse[0], bundle.tangent[0], p.tangent_impulse[1] * bundle.tangent[1]);
     Lanes3 staged;
-    alignas(alignof(WideFloat)) Lanes normal;
+    alignas(alignof(WideFloat)) Lanes normal, reported;
     friction.x.Store(staged.x), friction.y.Store(staged.y), friction.z.Store(staged.z);
     p.normal_impulse.Store(normal);
+    // The reporting lanes' step sums go to their constraints' records in the same pass.
+    if (bundle.reports) bundle.reported_impulses()[j].Store(reported);
     for (int lane = 0; lane < kLanes; ++lane) {
       const ContactConstraint* c = bundle.constraints[lane];
       if (c == nullptr || j >= c->point_count) continue;
       CachedContactPoint& cached = c->cache->points()[j];
       cached.normal_impulse = normal[lane];
       cached.friction_impulse = Vec3(staged.x[lane], staged.y[lane], staged.z[lane]);
+      if (c->reports) c->reported_impulses()[j] = reported[lane];
     }
-    if (bundle.reports) StoreReportedImpulses(bundle, j);
   }
 }
 

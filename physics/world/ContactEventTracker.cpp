@@ -55,11 +55,10 @@ void ContactEventTracker::Merge(const ReportedManifold& manifold, Pair& pair) {
   if (pair.deepest == nullptr || manifold.separation < pair.deepest->separation) pair.deepest = &manifold;
 }
 
-ContactEvent ContactEventTracker::EventOf(const Pair& pair) {
+void ContactEventTracker::WriteEvent(const Pair& pair, ContactEvent& event) {
   const ReportedManifold& deepest = *pair.deepest;
   // Events name the lower index first; the normal turns with them.
   const bool turned = deepest.a.index > deepest.b.index;
-  ContactEvent event;
   event.body_a = turned ? deepest.b : deepest.a;
   event.body_b = turned ? deepest.a : deepest.b;
   event.normal = turned ? Vec3(-deepest.normal) : deepest.normal;
@@ -67,7 +66,6 @@ ContactEvent ContactEventTracker::EventOf(const Pair& pair) {
   std::copy_n(deepest.points, deepest.point_count, event.points);
   event.approach_speed = pair.approach_speed;
   event.normal_impulse = pair.normal_impulse;
-  return event;
 }
 
 void ContactEventTracker::Summarize(std::span<const std::span<const ReportedManifold* const>> jobs) {
@@ -131,7 +129,7 @@ void ContactEventTracker::Update(std::span<const std::span<const ReportedManifol
       if (touched_before) events.contact_end.push_back({low, high});
       continue;
     }
-    (touched_before ? events.contact_persist : events.contact_begin).push_back(EventOf(pair));
+    WriteEvent(pair, (touched_before ? events.contact_persist : events.contact_begin).emplace_back());
     next_touching_.push_back({pair.key, low, high});
   }
   while (last < touching_.size()) carry_or_end(touching_[last++]);

@@ -60,7 +60,7 @@ class ContactEventTracker {
 
   void Summarize(std::span<const std::span<const ReportedManifold* const>> jobs);
   static void Merge(const ReportedManifold& manifold, Pair& pair);
-  static ContactEvent EventOf(const Pair& pair);
+  static void WriteEvent(const Pair& pair, ContactEvent& event);
 
   std::vector<Pair> pairs_;                                     // this step's reporting pairs
   std::vector<std::pair<std::uint64_t, std::uint32_t>> order_;  // their keys and indices, by key
