@@ -99,11 +99,11 @@ ContactBundle* AllocateBundle(BlockArena& arena, std::span<ContactConstraint* co
     points = std::max<std::uint32_t>(points, c->point_count);
     reports = reports || c->reports;
   }
-  const std::size_t bytes =
-      sizeof(ContactBundle) + points * (sizeof(ContactBundleRows) + (reports ? sizeof(WideFloat) : 0));
+  const std::size_t bytes = sizeof(ContactBundle) + points * sizeof(ContactBundleRows);
   auto* bundle = new (arena.Allocate(bytes, alignof(ContactBundle))) ContactBundle;
   bundle->point_count = points;
   bundle->reports = reports;
+  bundle->reported_impulses = nullptr;
   for (int lane = 0; lane < kLanes; ++lane) {
     const bool used = lane < static_cast<int>(constraints.size());
     ContactConstraint* c = used ? constraints[lane] : nullptr;
@@ -114,6 +114,15 @@ ContactBundle* AllocateBundle(BlockArena& arena, std::span<ContactConstraint* co
     bundle->dynamic_b[lane] = c && c->dynamic_b;
   }
   return bundle;
+}
+
+void AllocateReportedImpulses(BlockArena& arena, ContactBundle& bundle) {
+  // A cache line of its own: neighbouring bundles are solved on other threads.
+  constexpr std::size_t kCacheLine = 64;
+  if (bundle.reports)
+    bundle.reported_impulses =
+        static_cast<WideFloat*>(arena.Allocate(std::max(kCacheLine, bundle.point_count * sizeof(WideFloat)),
+                                               std::max(kCacheLine, alignof(WideFloat))));
 }
 
 void SetupBundle(ContactBundle& bundle, const SolverBody* bodies, const SubstepContext& context) {
@@ -192,7 +201,7 @@ void SetupBundle(ContactBundle& bundle, const SolverBody* bodies, const SubstepC
     rows.tangent_impulse[0] = Dot(warm, bundle.tangent[0]);
     rows.tangent_impulse[1] = Dot(warm, bundle.tangent[1]);
     rows.max_normal_impulse = WideFloat::Zero();
-    if (bundle.reports) bundle.reported_impulses()[j] = WideFloat::Zero();
+    if (bundle.reports) bundle.reported_impulses[j] = WideFloat::Zero();
   }
 }
 
@@ -325,7 +334,7 @@ void ApplyBundleRestitution(ContactBundle& bundle, SolverBody* bodies, const Sub
 }
 
 void AddBundleReportedImpulses(ContactBundle& bundle) {
-  WideFloat* sums = bundle.reported_impulses();
+  WideFloat* sums = bundle.reported_impulses;
   for (std::uint32_t j = 0; j < bundle.point_count; ++j) sums[j] = sums[j] + bundle.rows()[j].normal_impulse;
 }
 
@@ -340,7 +349,7 @@ void StoreBundleImpulses(ContactBundle& bundle) {
     friction.x.Store(staged.x), friction.y.Store(staged.y), friction.z.Store(staged.z);
     p.normal_impulse.Store(normal);
     // The reporting lanes' step sums go to their constraints' records in the same pass.
-    if (bundle.reports) bundle.reported_impulses()[j].Store(reported);
+    if (bundle.reports) bundle.reported_impulses[j].Store(reported);
     for (int lane = 0; lane < kLanes; ++lane) {
       const ContactConstraint* c = bundle.constraints[lane];
       if (c == nullptr || j >= c->point_count) continue;

@@ -66,20 +66,20 @@ struct alignas(alignof(WideFloat)) ContactBundle {
   bool dynamic_b[kLanes];
   std::uint32_t point_count;  ///< most points of any lane
   /// A lane's constraint reports contact events: the bundle sums each point's normal impulse over the step in
-  /// reported_impulses(), which follow the rows (bundles without such a lane have none).
+  /// `reported_impulses` (one row a point; null in bundles without such a lane). They lie apart from the
+  /// bundles (AllocateReportedImpulses), so that the solver's passes stream the bundles alone.
   bool reports;
+  WideFloat* reported_impulses;
 
   ContactBundleRows* rows() { return reinterpret_cast<ContactBundleRows*>(this + 1); }
   const ContactBundleRows* rows() const { return reinterpret_cast<const ContactBundleRows*>(this + 1); }
-  WideFloat* reported_impulses() { return reinterpret_cast<WideFloat*>(rows() + point_count); }
-  const WideFloat* reported_impulses() const {
-    return reinterpret_cast<const WideFloat*>(rows() + point_count);
-  }
 };
 
 /// Reserves a bundle for `constraints` (at most kLanes, no two moving the same body) in `arena`; SetupBundle
 /// fills it in later, possibly on another thread.
 ContactBundle* AllocateBundle(BlockArena& arena, std::span<ContactConstraint* const> constraints);
+/// A reporting bundle's impulse sums, from `arena` once a group's bundles are all allocated.
+void AllocateReportedImpulses(BlockArena& arena, ContactBundle& bundle);
 /// Lays the bundle's constraints out lane by lane against the bodies' current inverse masses and inertias.
 void SetupBundle(ContactBundle& bundle, const SolverBody* bodies, const SubstepContext& context);
 /// Applies the accumulated impulses to the bodies' velocities (every substep: they are per-substep impulses).

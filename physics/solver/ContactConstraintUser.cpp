@@ -120,6 +120,7 @@ GroupLayout ContactConstraintUser::PrepareGroup(const SolverGroup& solver_group,
     }
   }
   group.bundle_begin[parallel_splits] = bundle;
+  for (std::uint32_t b = 0; b < group.bundle_count; ++b) AllocateReportedImpulses(arena, *group.bundles[b]);
   group.sequential_count = 0;
   if (group.splits.last_is_sequential) {
     group.sequential = ordered.data() + group.splits.begin[parallel_splits];

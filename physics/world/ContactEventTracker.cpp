@@ -129,6 +129,8 @@ void ContactEventTracker::Update(std::span<const std::span<const ReportedManifol
       if (touched_before) events.contact_end.push_back({low, high});
       continue;
     }
+    // Written in place: an event built apart and copied in is read back wider than it was written, and each
+    // such read waits for its stores to drain.
     WriteEvent(pair, (touched_before ? events.contact_persist : events.contact_begin).emplace_back());
     next_touching_.push_back({pair.key, low, high});
   }

@@ -17,6 +17,9 @@ namespace strata {
 /// pushed them apart this step, or when they overlapped as the step began.
 struct ContactEvent {
   static constexpr int kMaxPoints = 4;
+  // Provided, so that an event made in its array is not zeroed whole before its members are set (the step
+  // writes thousands of them in place).
+  ContactEvent() {}
   BodyID body_a;
   BodyID body_b;
   Vec3 normal = Vec3::UnitY();  ///< unit, from A towards B, of the pair's deepest manifold

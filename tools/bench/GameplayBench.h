@@ -57,7 +57,8 @@ struct CastAccuracy {
 CastAccuracy MeasureCastAccuracy(const CastRun& run, const std::vector<float>& exact,
                                  const std::vector<double>& gaps, float cast_length);
 
-/// The pyramid's step with and without every body reporting contact events (medians of alternated runs).
+/// The pyramid's step with and without every body reporting contact events: each run's median step, the
+/// median over alternated runs.
 struct EventFigures {
   int threads = 1;
   double quiet_step_ms = 0.0;      ///< no body asks for events

@@ -103,7 +103,7 @@ nlohmann::json Casts(const GameplayBenchOptions& options, const bench::OpenWorld
 nlohmann::json Events(const GameplayBenchOptions& options) {
   std::printf(
       "\ncontact events: the pyramid (1,240 boxes), %d steps, every box reporting its contacts against none "
-      "(medians of %d alternated runs)\n",
+      "(each run's median step; the median of %d alternated runs)\n",
       options.event_steps, options.event_rounds);
   std::printf("  %-8s %14s %16s %10s %14s\n", "threads", "quiet ms/step", "reporting ms/step", "cost",
               "events/step");
