@@ -1,6 +1,9 @@
 #include "physics/narrowphase/BodyPairCache.h"
 
+#include <algorithm>
 #include <new>
+
+#include "physics/narrowphase/ContactManifold.h"
 
 namespace strata {
 
@@ -60,15 +63,20 @@ CachedBodyPair* BodyPairCache::Create(std::uint32_t job, BodyID owner, BodyID ot
 
 CachedManifold* BodyPairCache::AddManifold(std::uint32_t job, CachedBodyPair& pair, std::uint32_t sub_shape_a,
                                            std::uint32_t sub_shape_b, const Vec3& normal_a,
-                                           std::uint32_t point_count) {
+                                           std::uint32_t point_count, bool reports) {
   BlockArena& arena = generations_[current_].jobs[job].arena;
-  void* memory = arena.Allocate(sizeof(CachedManifold) + point_count * sizeof(CachedContactPoint),
-                                alignof(CachedManifold));
+  // Room for the most points a manifold has: zeroing a fixed count is a single store.
+  constexpr int kReported = ContactManifold::kMaxPoints;
+  const std::size_t bytes = sizeof(CachedManifold) + point_count * sizeof(CachedContactPoint) +
+                            (reports ? kReported * sizeof(float) : 0);
+  void* memory = arena.Allocate(bytes, alignof(CachedManifold));
   auto* manifold = new (memory) CachedManifold;
   manifold->normal_a = normal_a;
   manifold->sub_shape_a = sub_shape_a;
   manifold->sub_shape_b = sub_shape_b;
-  manifold->point_count = point_count;
+  manifold->point_count = static_cast<std::uint16_t>(point_count);
+  manifold->reports = reports;
+  if (reports) std::fill_n(manifold->reported_impulses(point_count), kReported, 0.0f);
   // Appended, not prepended: replaying keeps the order, so constraint order does not flip every step.
   CachedManifold** tail = &pair.manifolds;
   while (*tail != nullptr) tail = &(*tail)->next;

@@ -33,10 +33,22 @@ struct CachedManifold {
   Vec3 normal_a;                      ///< contact normal (A to B) in A's frame
   std::uint32_t sub_shape_a = 0;
   std::uint32_t sub_shape_b = 0;
-  std::uint32_t point_count = 0;
+  std::uint16_t point_count = 0;
+  /// Its pair reports contact events: reported_impulses() follow the points.
+  bool reports = false;
 
   CachedContactPoint* points() { return reinterpret_cast<CachedContactPoint*>(this + 1); }
   const CachedContactPoint* points() const { return reinterpret_cast<const CachedContactPoint*>(this + 1); }
+  /// Only when `reports`: per point, the normal impulse applied over this step (N s), which the solver sums
+  /// here and the step's contact events read. Beside the impulses the solver stores anyway, so reporting
+  /// touches no other memory.
+  float* reported_impulses() { return reported_impulses(point_count); }
+  const float* reported_impulses() const { return reinterpret_cast<const float*>(points() + point_count); }
+  /// The same for a caller that holds the point count (the solver's constraint): it need not load this
+  /// header, which the solver otherwise never reads.
+  float* reported_impulses(std::uint32_t points_held) {
+    return reinterpret_cast<float*>(points() + points_held);
+  }
 };
 
 /// A body pair's entry: the relative pose when its manifolds were computed, and the manifolds (maybe none:
@@ -88,9 +100,10 @@ class BodyPairCache {
   CachedBodyPair* Create(std::uint32_t job, BodyID owner, BodyID other, BodyID a, BodyID b,
                          const Vec3& delta_position, const Quat& delta_rotation);
   /// Appends a manifold of sub-shapes (`sub_shape_a`, `sub_shape_b`) with `point_count` (uninitialised)
-  /// points to `pair`, from job `job`'s arena.
+  /// points to `pair`, from job `job`'s arena; with `reports`, also its reported impulses, zeroed.
   CachedManifold* AddManifold(std::uint32_t job, CachedBodyPair& pair, std::uint32_t sub_shape_a,
-                              std::uint32_t sub_shape_b, const Vec3& normal_a, std::uint32_t point_count);
+                              std::uint32_t sub_shape_b, const Vec3& normal_a, std::uint32_t point_count,
+                              bool reports);
 
   /// Gives `manifold` a copy of `face`, from job `job`'s arena.
   void SetFace(std::uint32_t job, CachedManifold& manifold, const SlidingFace& face);

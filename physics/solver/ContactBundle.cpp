@@ -356,7 +356,7 @@ void StoreBundleImpulses(ContactBundle& bundle) {
       CachedContactPoint& cached = c->cache->points()[j];
       cached.normal_impulse = normal[lane];
       cached.friction_impulse = Vec3(staged.x[lane], staged.y[lane], staged.z[lane]);
-      if (c->reports) c->reported_impulses()[j] = reported[lane];
+      if (c->reports) c->cache->reported_impulses(c->point_count)[j] = reported[lane];
     }
   }
 }

@@ -3,7 +3,6 @@
 #include <cmath>
 
 #include <algorithm>
-#include <cstring>
 #include <new>
 
 namespace strata {
@@ -40,10 +39,9 @@ float ApproachAtImpact(float normal_velocity, float gain_per_substep, float subs
 ContactConstraint* BuildContactConstraint(BlockArena& arena, const Vec3& normal,
                                           std::span<const ContactArms> points, const ContactSide& a,
                                           const ContactSide& b, float friction, float restitution,
-                                          CachedManifold* cache, float* reported_impulses) {
+                                          CachedManifold* cache) {
   const auto count = static_cast<int>(points.size());
-  const bool reports = reported_impulses != nullptr;
-  void* memory = arena.Allocate(ContactConstraint::Bytes(count, reports), alignof(ContactConstraint));
+  void* memory = arena.Allocate(ContactConstraint::Bytes(count), alignof(ContactConstraint));
   auto* c = new (memory) ContactConstraint;
   c->normal = normal;
   c->body_a = a.solver_index;
@@ -54,7 +52,7 @@ ContactConstraint* BuildContactConstraint(BlockArena& arena, const Vec3& normal,
   c->point_count = static_cast<std::uint8_t>(count);
   c->dynamic_a = a.dynamic;
   c->dynamic_b = b.dynamic;
-  c->reports = reports;
+  c->reports = cache->reports;
   const Vec3 velocity_a = ToVec3(a.body->linear_velocity), spin_a = ToVec3(a.body->angular_velocity);
   const Vec3 velocity_b = ToVec3(b.body->linear_velocity), spin_b = ToVec3(b.body->angular_velocity);
   const CachedContactPoint* cached = cache->points();
@@ -69,10 +67,6 @@ ContactConstraint* BuildContactConstraint(BlockArena& arena, const Vec3& normal,
     p.normal_velocity =
         ApproachAtImpact((velocity_b + spin_b.cross(p.r_b) - velocity_a - spin_a.cross(p.r_a)).dot(normal),
                          (b.velocity_gain - a.velocity_gain).dot(normal), a.substep, p.separation);
-  }
-  if (reports) {
-    std::fill_n(reported_impulses, count, 0.0f);
-    std::memcpy(static_cast<void*>(c->points() + count), &reported_impulses, sizeof(reported_impulses));
   }
   return c;
 }

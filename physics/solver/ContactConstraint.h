@@ -6,7 +6,6 @@
 #pragma once
 
 #include <cstdint>
-#include <cstring>
 #include <span>
 
 #include "physics/core/BlockArena.h"
@@ -40,23 +39,15 @@ struct ContactConstraint {
   bool dynamic_a;  ///< the solver moves A
   bool dynamic_b;
   /// Its pair reports contact events: the solver sums each point's normal impulse over the step's substeps
-  /// into reported_impulses() (where the event's record keeps them; constraints of other pairs have none).
+  /// into the cache's reported_impulses() (CachedManifold::reports).
   bool reports;
 
   ContactConstraintPoint* points() { return reinterpret_cast<ContactConstraintPoint*>(this + 1); }
   const ContactConstraintPoint* points() const {
     return reinterpret_cast<const ContactConstraintPoint*>(this + 1);
   }
-  /// Per point, the normal impulse applied over the step so far (N s); only when `reports`. The address
-  /// follows the points.
-  float* reported_impulses() const {
-    float* sums;
-    std::memcpy(&sums, static_cast<const void*>(points() + point_count), sizeof(sums));
-    return sums;
-  }
-  static std::size_t Bytes(int points, bool reports) {
-    return sizeof(ContactConstraint) + points * sizeof(ContactConstraintPoint) +
-           (reports ? sizeof(float*) : 0);
+  static std::size_t Bytes(int points) {
+    return sizeof(ContactConstraint) + points * sizeof(ContactConstraintPoint);
   }
 };
 
@@ -119,12 +110,11 @@ struct ContactSide {
 float ApproachAtImpact(float normal_velocity, float gain_per_substep, float substep, float separation);
 
 /// Builds the constraint for a manifold (unit normal A to B, its points) in `arena`, with warm-start impulses
-/// from `cache`, which holds last step's impulses for the same points in the same order. With
-/// `reported_impulses` (one float a point, zeroed here) the solver sums the step's impulses there (see
-/// ContactConstraint::reports).
+/// from `cache`, which holds last step's impulses for the same points in the same order; it reports when the
+/// cache does.
 ContactConstraint* BuildContactConstraint(BlockArena& arena, const Vec3& normal,
                                           std::span<const ContactArms> points, const ContactSide& a,
                                           const ContactSide& b, float friction, float restitution,
-                                          CachedManifold* cache, float* reported_impulses = nullptr);
+                                          CachedManifold* cache);
 
 }  // namespace strata

@@ -302,7 +302,7 @@ void StoreContactImpulses(const SolverContact& c) {
 }
 
 void AddReportedImpulses(const SolverContact& c) {
-  float* sums = c.constraint->reported_impulses();
+  float* sums = c.constraint->cache->reported_impulses(c.point_count);
   for (int i = 0; i < c.point_count; ++i) sums[i] += c.points()[i].normal_impulse;
 }
 

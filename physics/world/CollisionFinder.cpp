@@ -62,19 +62,17 @@ void CollisionFinder::BeginStep(const Input& input, std::uint32_t job_count) {
   next_body_.store(0, std::memory_order_relaxed);
   if (jobs_.size() < job_count) {
     jobs_.resize(job_count);
-    for (Job& job : jobs_) {
-      job.arena.SetPool(pool_);
-      job.report_arena.SetPool(pool_);
-    }
+    for (Job& job : jobs_) job.arena.SetPool(pool_);
   }
   for (Job& job : jobs_) {
     job.arena.Recycle();
-    job.report_arena.Recycle();
     job.constraints.clear();
     job.island_body.clear();
     job.wake_keys.clear();
     job.reported.clear();
+    job.reported_geometry.clear();
     ReserveWithSlack(job.reported, last_reported);
+    ReserveWithSlack(job.reported_geometry, last_reported);
     // Counts from last step get slack; the largest capacity any job already holds is matched exactly (slack
     // on it would compound from job to job).
     ReserveWithSlack(job.constraints, last.constraints);
@@ -212,7 +210,7 @@ void CollisionFinder::ReplayManifolds(const CachedBodyPair& previous, const Side
                                       CachedBodyPair& entry, std::uint32_t job_index) {
   for (const CachedManifold* old = previous.manifolds; old != nullptr; old = old->next) {
     CachedManifold& cached = *input_.cache->AddManifold(job_index, entry, old->sub_shape_a, old->sub_shape_b,
-                                                        old->normal_a, old->point_count);
+                                                        old->normal_a, old->point_count, Reports(a, b));
     std::copy(old->points(), old->points() + old->point_count, cached.points());
     if (old->face != nullptr) input_.cache->SetFace(job_index, cached, *old->face);
     const Vec3 normal = a.rotation_matrix * old->normal_a;
@@ -250,7 +248,7 @@ bool CollisionFinder::SlideManifold(BodyPair pair, const CachedBodyPair& previou
   const auto to_a = a.rotation_matrix.transpose();
   const auto to_b = b.rotation_matrix.transpose();
   CachedManifold& cached = *input_.cache->AddManifold(job_index, entry, old->sub_shape_a, old->sub_shape_b,
-                                                      to_a * slid.normal, old->point_count);
+                                                      to_a * slid.normal, old->point_count, Reports(a, b));
   input_.cache->SetFace(job_index, cached, face);
   ContactArms arms[ContactManifold::kMaxPoints];
   for (int i = 0; i < slid.count; ++i) {
@@ -278,9 +276,9 @@ void CollisionFinder::AddComputedManifold(const ContactManifold& manifold, const
   // flagged those copies as maybe-uninitialized).
   const auto to_a = a.rotation_matrix.transpose();
   const auto to_b = b.rotation_matrix.transpose();
-  CachedManifold& cached =
-      *input_.cache->AddManifold(job_index, entry, manifold.sub_shape_a, manifold.sub_shape_b,
-                                 to_a * manifold.normal, static_cast<std::uint32_t>(manifold.count));
+  CachedManifold& cached = *input_.cache->AddManifold(
+      job_index, entry, manifold.sub_shape_a, manifold.sub_shape_b, to_a * manifold.normal,
+      static_cast<std::uint32_t>(manifold.count), Reports(a, b));
   if (manifold.face.valid) {
     const Side& owner = manifold.face.on_a ? a : b;
     input_.cache->SetFace(
@@ -328,20 +326,14 @@ void CollisionFinder::AddConstraint(const Vec3& normal, std::span<const ContactA
     if (a.body->sleeping() && b.body->IsActive()) job.wake_keys.push_back(a.body->sleep_island());
     if (b.body->sleeping() && a.body->IsActive()) job.wake_keys.push_back(b.body->sleep_island());
   }
-  ReportedManifold* reported = nullptr;
-  if ((flags & Body::kReportContacts) != 0) {
-    reported = job.report_arena.AllocateArray<ReportedManifold>(1);
-    job.reported.push_back(reported);
-  }
   if (!a.dynamic && !b.dynamic) {
-    if (reported != nullptr) Report(normal, arms, a, b, nullptr, *reported);
+    if (cached.reports) Report(normal, arms, a, b, nullptr, cached, job);
     return;
   }
   ContactConstraint* constraint =
       BuildContactConstraint(job.arena, normal, arms, ContactInputSide(a), ContactInputSide(b),
                              std::sqrt(a.body->friction() * b.body->friction()),
-                             std::max(a.body->restitution(), b.body->restitution()), &cached,
-                             reported != nullptr ? reported->impulses : nullptr);
+                             std::max(a.body->restitution(), b.body->restitution()), &cached);
   job.constraints.push_back(constraint);
   ++job.stats.constraints;
   // The island is that of a body the solver moves; two moving bodies join their islands.
@@ -351,14 +343,15 @@ void CollisionFinder::AddConstraint(const Vec3& normal, std::span<const ContactA
     job.stats.link_hops += input_.islands->Link(island_a, island_b);
     ++job.stats.links;
   }
-  if (reported != nullptr) Report(normal, arms, a, b, constraint, *reported);
+  if (cached.reports) Report(normal, arms, a, b, constraint, cached, job);
 }
 
 namespace {
 
-// Where a manifold point's two surfaces meet: midway between the point on A and the point on B.
-Vec3 MidPoint(const ContactArms& arms, const Vec3& center_of_mass_a, const Vec3& center_of_mass_b) {
-  return 0.5f * (center_of_mass_a + arms.r_a + center_of_mass_b + arms.r_b);
+// Where a manifold point's two surfaces meet, midway between the point on A and the point on B: the
+// midpoint of the bodies' centres of mass plus the mean of the arms.
+Vec3 MidPoint(const ContactArms& arms, const Vec3& centers_midpoint) {
+  return centers_midpoint + 0.5f * (arms.r_a + arms.r_b);
 }
 
 }  // namespace
@@ -366,28 +359,34 @@ Vec3 MidPoint(const ContactArms& arms, const Vec3& center_of_mass_a, const Vec3&
 bool CollisionFinder::Validate(const Vec3& normal, std::span<const ContactArms> arms, const Side& a,
                                const Side& b) const {
   ContactCandidate candidate{*a.body, *b.body, normal, kLargeFloat, static_cast<int>(arms.size()), {}};
+  const Vec3 centers_midpoint = 0.5f * (a.center_of_mass + b.center_of_mass);
   for (std::size_t i = 0; i < arms.size(); ++i) {
     candidate.separation = std::min(candidate.separation, arms[i].separation);
-    candidate.points[i] = MidPoint(arms[i], a.center_of_mass, b.center_of_mass);
+    candidate.points[i] = MidPoint(arms[i], centers_midpoint);
   }
   return (*input_.validator)(candidate);
 }
 
+bool CollisionFinder::Reports(const Side& a, const Side& b) {
+  return ((a.body->event_flags() | b.body->event_flags()) & Body::kReportContacts) != 0;
+}
+
 void CollisionFinder::Report(const Vec3& normal, std::span<const ContactArms> arms, const Side& a,
-                             const Side& b, const ContactConstraint* constraint,
-                             ReportedManifold& reported) const {
+                             const Side& b, const ContactConstraint* constraint, const CachedManifold& cached,
+                             Job& job) const {
+  ReportedManifold& reported = job.reported.emplace_back();
+  ReportedGeometry& geometry = job.reported_geometry.emplace_back();
   reported.a = a.body->id();
   reported.b = b.body->id();
-  reported.solved = constraint != nullptr;
-  if (constraint == nullptr) std::fill_n(reported.impulses, arms.size(), 0.0f);
-  reported.normal = normal;
-  reported.separation = kLargeFloat;
+  reported.impulses = cached.reported_impulses();
   reported.point_count = static_cast<int>(arms.size());
-  float fastest = 0.0f;
+  geometry.normal = normal;
+  const Vec3 centers_midpoint = 0.5f * (a.center_of_mass + b.center_of_mass);
+  float closest = kLargeFloat, fastest = 0.0f;
   for (std::size_t i = 0; i < arms.size(); ++i) {
-    const Vec3 point = MidPoint(arms[i], a.center_of_mass, b.center_of_mass);
-    reported.points[i] = point;
-    reported.separation = std::min(reported.separation, arms[i].separation);
+    const Vec3 point = MidPoint(arms[i], centers_midpoint);
+    geometry.points[i] = point;
+    closest = std::min(closest, arms[i].separation);
     // The solver's approach at impact where it has the contact; else (neither side moves this step) the
     // bodies' velocities now.
     const float normal_velocity =
@@ -395,6 +394,7 @@ void CollisionFinder::Report(const Vec3& normal, std::span<const ContactArms> ar
                               : (b.body->PointVelocity(point) - a.body->PointVelocity(point)).dot(normal);
     fastest = std::max(fastest, -normal_velocity);
   }
+  reported.separation = closest;
   reported.approach_speed = fastest;
 }
 
@@ -418,7 +418,7 @@ void CollisionFinder::CollectWakeKeys(std::vector<std::uint32_t>& out) const {
 
 std::size_t CollisionFinder::arena_bytes() const {
   std::size_t total = 0;
-  for (const Job& job : jobs_) total += job.arena.bytes_in_use() + job.report_arena.bytes_in_use();
+  for (const Job& job : jobs_) total += job.arena.bytes_in_use();
   return total;
 }
 

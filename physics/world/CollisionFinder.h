@@ -79,7 +79,7 @@ class CollisionFinder {
   CollisionStats stats() const;
   /// The manifolds job `job` reported this step (pairs with a body created with report_contacts), in the
   /// order it found them.
-  std::span<const ReportedManifold* const> reported(std::uint32_t job) const { return jobs_[job].reported; }
+  JobReports reported(std::uint32_t job) const { return {jobs_[job].reported, jobs_[job].reported_geometry}; }
   std::uint32_t job_count() const { return job_count_; }
   /// Bytes this step's constraints take in the pool's blocks.
   std::size_t arena_bytes() const;
@@ -92,14 +92,14 @@ class CollisionFinder {
   };
   struct alignas(64) Job {
     BlockArena arena;
-    BlockArena report_arena;  // the reported manifolds, together: the events read them one after another
     std::vector<ContactConstraint*> constraints;
     std::vector<std::uint32_t> island_body;
     std::vector<BodyPair> pairs;
     std::vector<ContactManifold> manifolds;
     CollisionScratch scratch;
     std::vector<std::uint32_t> wake_keys;
-    std::vector<ReportedManifold*> reported;  // records in the job's arena
+    std::vector<ReportedManifold> reported;
+    std::vector<ReportedGeometry> reported_geometry;
     CollisionStats stats;
   };
   // A posed side of a pair as the narrow phase and the constraint builder need it.
@@ -132,10 +132,12 @@ class CollisionFinder {
                      CachedManifold& cached, std::uint32_t job_index);
   /// Whether the validator lets the manifold be solved.
   bool Validate(const Vec3& normal, std::span<const ContactArms> arms, const Side& a, const Side& b) const;
-  /// Fills the record of a reported manifold (its impulses zeroed, for the solver to sum into when
-  /// `constraint` is set).
+  /// Adds the manifold's record to the job's reports; its impulses are those the solver sums in `cached`
+  /// (none without a `constraint`).
   void Report(const Vec3& normal, std::span<const ContactArms> arms, const Side& a, const Side& b,
-              const ContactConstraint* constraint, ReportedManifold& reported) const;
+              const ContactConstraint* constraint, const CachedManifold& cached, Job& job) const;
+  /// Whether the pair's manifolds are reported (a body created with report_contacts).
+  static bool Reports(const Side& a, const Side& b);
   Side MakeSide(const Body& body) const;
   ContactSide ContactInputSide(const Side& side) const;
 

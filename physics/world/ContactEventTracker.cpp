@@ -13,7 +13,6 @@ std::uint64_t PairKey(BodyID a, BodyID b) {
 }
 
 float SummedImpulse(const ReportedManifold& manifold) {
-  if (!manifold.solved) return 0.0f;
   float sum = 0.0f;
   for (int i = 0; i < manifold.point_count; ++i) sum += manifold.impulses[i];
   return sum;
@@ -45,40 +44,54 @@ bool InWorld(const BodyManager& bodies, BodyID id) {
 
 }  // namespace
 
-void ContactEventTracker::Merge(const ReportedManifold& manifold, Pair& pair) {
+void ContactEventTracker::Merge(const ReportedManifold& manifold, const ReportedGeometry& geometry,
+                                Pair& pair) {
   const float impulse = SummedImpulse(manifold);
   // The solver pushed (the step's impulse), or the bodies overlapped as the step began: a speculative
   // contact that never closed its gap is not a touch.
   pair.touching = pair.touching || impulse > 0.0f || manifold.separation <= 0.0f;
   pair.normal_impulse += impulse;
   pair.approach_speed = std::max(pair.approach_speed, manifold.approach_speed);
-  if (pair.deepest == nullptr || manifold.separation < pair.deepest->separation) pair.deepest = &manifold;
+  if (pair.deepest != nullptr && manifold.separation >= pair.separation) return;
+  pair.deepest = &geometry;
+  pair.separation = manifold.separation;
+  pair.point_count = manifold.point_count;
 }
 
 void ContactEventTracker::WriteEvent(const Pair& pair, ContactEvent& event) {
-  const ReportedManifold& deepest = *pair.deepest;
+  const ReportedGeometry& deepest = *pair.deepest;
+  event.body_a = pair.low;
+  event.body_b = pair.high;
   // Events name the lower index first; the normal turns with them.
-  const bool turned = deepest.a.index > deepest.b.index;
-  event.body_a = turned ? deepest.b : deepest.a;
-  event.body_b = turned ? deepest.a : deepest.b;
-  event.normal = turned ? Vec3(-deepest.normal) : deepest.normal;
-  event.point_count = deepest.point_count;
-  std::copy_n(deepest.points, deepest.point_count, event.points);
+  event.normal = pair.turned ? Vec3(-deepest.normal) : deepest.normal;
+  event.point_count = pair.point_count;
+  std::copy_n(deepest.points, pair.point_count, event.points);
   event.approach_speed = pair.approach_speed;
   event.normal_impulse = pair.normal_impulse;
 }
 
-void ContactEventTracker::Summarize(std::span<const std::span<const ReportedManifold* const>> jobs) {
+void ContactEventTracker::Summarize(std::span<const JobReports> jobs) {
   pairs_.clear();
-  for (const std::span<const ReportedManifold* const> job : jobs) {
+  for (const JobReports& job : jobs) {
     // One job handles all of a pair's manifolds, one after another.
-    const ReportedManifold* previous = nullptr;
-    for (const ReportedManifold* record : job) {
-      const ReportedManifold& manifold = *record;
-      if (previous == nullptr || previous->a != manifold.a || previous->b != manifold.b)
-        pairs_.push_back({PairKey(manifold.a, manifold.b), nullptr, 0.0f, 0.0f, false});
-      Merge(manifold, pairs_.back());
-      previous = &manifold;
+    const std::span<const ReportedManifold> manifolds = job.manifolds;
+    for (std::size_t k = 0; k < manifolds.size(); ++k) {
+      // The impulses are where the solver left them, all over its cache: start loading what is next.
+      if (k + 8 < manifolds.size()) __builtin_prefetch(manifolds[k + 8].impulses);
+      const ReportedManifold& manifold = manifolds[k];
+      if (k == 0 || manifolds[k - 1].a != manifold.a || manifolds[k - 1].b != manifold.b) {
+        const bool turned = manifold.a.index > manifold.b.index;
+        Pair& pair = pairs_.emplace_back();
+        pair.key = PairKey(manifold.a, manifold.b);
+        pair.low = turned ? manifold.b : manifold.a;
+        pair.high = turned ? manifold.a : manifold.b;
+        pair.deepest = nullptr;
+        pair.approach_speed = 0.0f;
+        pair.normal_impulse = 0.0f;
+        pair.touching = false;
+        pair.turned = turned;
+      }
+      Merge(manifold, job.geometry[k], pairs_.back());
     }
   }
   // Which job found a pair depends on the thread count; the order of the events must not. A world at rest
@@ -96,9 +109,8 @@ void ContactEventTracker::Summarize(std::span<const std::span<const ReportedMani
   SortByKey(order_, sort_scratch_);
 }
 
-void ContactEventTracker::Update(std::span<const std::span<const ReportedManifold* const>> jobs,
-                                 std::span<const std::uint8_t> active_flags, const BodyManager& bodies,
-                                 StepEvents& events) {
+void ContactEventTracker::Update(std::span<const JobReports> jobs, std::span<const std::uint8_t> active_flags,
+                                 const BodyManager& bodies, StepEvents& events) {
   Summarize(jobs);
   next_touching_.clear();
   // Last step's touching pair that was not reported this step: over if a body left the world or the step
@@ -116,8 +128,7 @@ void ContactEventTracker::Update(std::span<const std::span<const ReportedManifol
     if (k + 8 < order_.size()) __builtin_prefetch(pairs_[order_[k + 8].second].deepest);
     const Pair& pair = pairs_[order_[k].second];
     while (last < touching_.size() && touching_[last].key < pair.key) carry_or_end(touching_[last++]);
-    const BodyID low = pair.deepest->a.index < pair.deepest->b.index ? pair.deepest->a : pair.deepest->b;
-    const BodyID high = pair.deepest->a.index < pair.deepest->b.index ? pair.deepest->b : pair.deepest->a;
+    const BodyID low = pair.low, high = pair.high;
     bool touched_before = false;
     if (last < touching_.size() && touching_[last].key == pair.key) {
       // The same slots may hold other bodies now (one destroyed, another created in its slot).

@@ -16,18 +16,32 @@
 
 namespace strata {
 
-/// One manifold of a reporting pair, as a narrow-phase job found it (in the job's arena, so that the solver
-/// can sum its impulses into it).
+/// One manifold of a reporting pair, as a narrow-phase job found it: what the events sum up, one record
+/// after another (its geometry lies apart: only a touching pair's deepest manifold is read for it).
 struct ReportedManifold {
+  // Provided, so that a record made in its array is not zeroed before its members are set.
+  ReportedManifold() {}
   BodyID a;  ///< the pair as the narrow phase ordered it (A found it)
   BodyID b;
-  bool solved;  ///< the solver sums its impulses into `impulses` (false when neither side moves this step)
-  int point_count;
-  float separation;
+  /// Per point, the normal impulse over the step (N s), where the solver sums it (its CachedManifold); zero
+  /// when neither side moves this step.
+  const float* impulses;
+  float separation;  ///< the smallest of its points' as the step began
   float approach_speed;
-  Vec3 normal;                               ///< A to B
-  float impulses[ContactEvent::kMaxPoints];  ///< normal impulse over the step, per point (N s)
-  Vec3 points[ContactEvent::kMaxPoints];     ///< world, midway between the surfaces
+  int point_count;
+};
+
+/// A reported manifold's normal and points, at the same index as its ReportedManifold.
+struct ReportedGeometry {
+  ReportedGeometry() {}
+  Vec3 normal;                            ///< A to B
+  Vec3 points[ContactEvent::kMaxPoints];  ///< world, midway between the surfaces
+};
+
+/// What one narrow-phase job reported, in the order it found it.
+struct JobReports {
+  std::span<const ReportedManifold> manifolds;
+  std::span<const ReportedGeometry> geometry;
 };
 
 /// Last step's touching pairs and the diff that makes this step's events.
@@ -40,8 +54,8 @@ class ContactEventTracker {
   /// This step's events from every job's reported manifolds (each job's in the order it found them).
   /// `active_flags` (by body index) says which bodies' pairs the step looked at; `bodies` tells whether a
   /// body of a pair that touched last step is still in the world.
-  void Update(std::span<const std::span<const ReportedManifold* const>> jobs,
-              std::span<const std::uint8_t> active_flags, const BodyManager& bodies, StepEvents& events);
+  void Update(std::span<const JobReports> jobs, std::span<const std::uint8_t> active_flags,
+              const BodyManager& bodies, StepEvents& events);
 
  private:
   struct Touching {
@@ -52,14 +66,19 @@ class ContactEventTracker {
   // A pair's manifolds summed up; its event is made from them only when it is reported.
   struct Pair {
     std::uint64_t key;
-    const ReportedManifold* deepest;  // the manifold the event takes its normal and points from
+    BodyID low;  // the body of the lower index: the event's body_a
+    BodyID high;
+    const ReportedGeometry* deepest;  // the manifold the event takes its normal and points from
+    float separation;                 // the deepest's
     float approach_speed;
     float normal_impulse;
+    int point_count;  // the deepest's
     bool touching;
+    bool turned;  // the narrow phase found the pair from the higher index: the normal turns
   };
 
-  void Summarize(std::span<const std::span<const ReportedManifold* const>> jobs);
-  static void Merge(const ReportedManifold& manifold, Pair& pair);
+  void Summarize(std::span<const JobReports> jobs);
+  static void Merge(const ReportedManifold& manifold, const ReportedGeometry& geometry, Pair& pair);
   static void WriteEvent(const Pair& pair, ContactEvent& event);
 
   std::vector<Pair> pairs_;                                     // this step's reporting pairs

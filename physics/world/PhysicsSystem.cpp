@@ -612,7 +612,7 @@ void PhysicsSystem::ReportContacts() {
   bool reported = false;
   for (std::uint32_t job = 0; job < collisions_.job_count(); ++job) {
     reported_[job] = collisions_.reported(job);
-    reported = reported || !reported_[job].empty();
+    reported = reported || !reported_[job].manifolds.empty();
   }
   if (!reported && contact_events_.idle()) return;
   contact_events_.Update(std::span(reported_).first(collisions_.job_count()), active_flags_, body_manager_,

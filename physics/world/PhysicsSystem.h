@@ -234,7 +234,7 @@ class PhysicsSystem {
   // Events: built by the step into next_events_ and swapped into events_ (under events_mutex_) as it ends.
   ContactValidator validator_;  // changed only under step_mutex_
   ContactEventTracker contact_events_;
-  std::vector<std::span<const ReportedManifold* const>> reported_;  // per job, for contact_events_
+  std::vector<JobReports> reported_;  // per job, for contact_events_
   SensorTracker sensors_;
   std::vector<BodyID> sensor_bodies_;  // the sensors in the world this step, by index
   StepEvents next_events_;

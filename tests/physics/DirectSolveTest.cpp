@@ -185,7 +185,7 @@ ContactConstraint* FaceContact(BlockArena& arena, std::uint32_t a, std::uint32_t
                                float load) {
   const Vec3 u = normal.unitOrthogonal(), v = normal.cross(u);
   auto* contact =
-      new (arena.Allocate(ContactConstraint::Bytes(4, false), alignof(ContactConstraint))) ContactConstraint;
+      new (arena.Allocate(ContactConstraint::Bytes(4), alignof(ContactConstraint))) ContactConstraint;
   *contact = {normal, a, b, 0.6f, 0.0f, nullptr, 4, a != 0, b != 0, false};
   const float corners[4][2] = {{0.5f, 0.4f}, {-0.5f, 0.4f}, {-0.5f, -0.4f}, {0.5f, -0.4f}};
   for (int k = 0; k < 4; ++k) {
