@@ -621,7 +621,7 @@ TEST(Cli, GameplayBenchWritesItsFiguresAsJson) {
     EXPECT_GT(row["exact_hits"].get<int>(), 0);
     const nlohmann::json& strata = row["engines"][0];
     EXPECT_EQ(strata["engine"], "strata");
-    EXPECT_GT(strata["casts_per_second"].get<double>(), 0.0);
+    EXPECT_TRUE(is_figure(strata["casts_per_second"]));
     // Every exact hit found, none made up, each within the cast's 0.1 mm tolerance of touching.
     EXPECT_EQ(strata["missed"].get<int>(), 0);
     EXPECT_EQ(strata["false_hits"].get<int>(), 0);
@@ -632,17 +632,18 @@ TEST(Cli, GameplayBenchWritesItsFiguresAsJson) {
 #ifdef STRATA_HAVE_BULLET
     ASSERT_EQ(row["engines"].size(), 2u);
     EXPECT_EQ(row["engines"][1]["engine"], "bullet");
-    EXPECT_GT(row["engines"][1]["casts_per_second"].get<double>(), 0.0);
+    EXPECT_TRUE(is_figure(row["engines"][1]["casts_per_second"]));
     EXPECT_GT(row["engines"][1]["hits"].get<int>(), 0);
 #endif
   }
   ASSERT_EQ(figures["events"].size(), 1u);
   EXPECT_GT(figures["events"][0]["events_per_step"].get<double>(),
             1000.0);  // every box of the pyramid reports
+  // Times are printed figures, not targets: here only that each was measured and written.
   for (const char* key : {"quiet_step_ms", "reporting_step_ms"})
-    EXPECT_GT(figures["events"][0][key].get<double>(), 0.0) << key;
+    EXPECT_TRUE(is_figure(figures["events"][0][key])) << key;
   EXPECT_EQ(figures["character"]["updates"].get<int>(), 60);
-  EXPECT_GT(figures["character"]["mean_us"].get<double>(), 0.0);
+  EXPECT_TRUE(is_figure(figures["character"]["mean_us"]));
   std::filesystem::remove(json);
 }
 
