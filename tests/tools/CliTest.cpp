@@ -647,6 +647,18 @@ TEST(Cli, GameplayBenchWritesItsFiguresAsJson) {
   std::filesystem::remove(json);
 }
 
+TEST(Cli, GameplayBenchRefusesALevelThatDoesNotLoadBeforeItsLongParts) {
+  const std::filesystem::path json = TempFile("gameplay-bad-level.json"), level = TempFile("two-lines.obj");
+  std::ofstream(level) << "v 1 2\nf 1 2 3\n";
+  for (const std::string& path : {level.string(), std::string("/no/such/level.obj")}) {
+    std::string errors;
+    EXPECT_EQ(RunCliErrors("bench-gameplay --level " + path + " --json " + json.string(), errors), 2) << path;
+    EXPECT_NE(errors.find("--level " + path), std::string::npos) << errors;
+    EXPECT_FALSE(std::filesystem::exists(json));
+  }
+  std::filesystem::remove(level);
+}
+
 TEST(Cli, BroadPhaseAndNavmeshBenchesWriteTheirFiguresAsJson) {
   const std::filesystem::path broad = TempFile("broadphase.json"), nav = TempFile("navmesh-bench.json");
   ASSERT_EQ(RunCli("bench-broadphase --bodies 2000 --tiles 4 --queries 200 --frames 3 --max-threads 2 "

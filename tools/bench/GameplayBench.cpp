@@ -254,13 +254,13 @@ EventFigures MeasureEventCost(int threads, int steps, int rounds) {
   return figures;
 }
 
-CharacterFigures MeasureCharacterUpdates(const std::string& level_path, int walkers, int frames) {
+Result<CharacterFigures> MeasureCharacterUpdates(const std::string& level_path, int walkers, int frames) {
   CharacterFigures figures;
   PhysicsSystemConfig config;
   config.job_system = std::make_shared<SerialJobSystem>();
   auto world = std::move(*PhysicsSystem::Create(config));
   const Result<LoadedLevel> level = LoadLevel(*world, level_path);
-  if (!level) return figures;
+  if (!level) return level.error();
   std::mt19937 random(5);
   std::uniform_real_distribution<float> x(level->bounds.min.x(), level->bounds.max.x());
   std::uniform_real_distribution<float> z(level->bounds.min.z(), level->bounds.max.z());

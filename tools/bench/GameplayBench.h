@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "physics/core/Result.h"
 #include "tools/bench/BroadPhaseBench.h"
 
 namespace strata::bench {
@@ -75,6 +76,7 @@ struct CharacterFigures {
   double p99_us = 0.0;
   double max_us = 0.0;
 };
-CharacterFigures MeasureCharacterUpdates(const std::string& level, int walkers, int frames);
+/// The level's error when it does not load.
+Result<CharacterFigures> MeasureCharacterUpdates(const std::string& level, int walkers, int frames);
 
 }  // namespace strata::bench

@@ -123,19 +123,21 @@ nlohmann::json Events(const GameplayBenchOptions& options) {
   return rows;
 }
 
-nlohmann::json CharacterUpdates(const GameplayBenchOptions& options) {
-  const bench::CharacterFigures figures =
+Result<nlohmann::json> CharacterUpdates(const GameplayBenchOptions& options) {
+  const Result<bench::CharacterFigures> measured =
       bench::MeasureCharacterUpdates(options.level, options.walkers, options.frames);
+  if (!measured) return measured.error();
+  const bench::CharacterFigures& figures = *measured;
   std::printf(
       "\ncharacter: %d walkers x %d frames on %s: %d updates, Character::Update %.1f us mean, %.1f us "
       "median, %.1f us 99th percentile, %.1f us max\n",
       options.walkers, options.frames, options.level.c_str(), figures.updates, figures.mean_us,
       figures.median_us, figures.p99_us, figures.max_us);
-  return {{"updates", figures.updates},
-          {"mean_us", figures.mean_us},
-          {"median_us", figures.median_us},
-          {"p99_us", figures.p99_us},
-          {"max_us", figures.max_us}};
+  return nlohmann::json{{"updates", figures.updates},
+                        {"mean_us", figures.mean_us},
+                        {"median_us", figures.median_us},
+                        {"p99_us", figures.p99_us},
+                        {"max_us", figures.max_us}};
 }
 
 int Run(const GameplayBenchOptions& options) {
@@ -143,11 +145,17 @@ int Run(const GameplayBenchOptions& options) {
     std::cerr << "strata bench-gameplay: --json " << options.json << ": no such directory\n";
     return 2;
   }
+  // The character first: a level that does not load stops the run before the long parts.
+  Result<nlohmann::json> character = CharacterUpdates(options);
+  if (!character) {
+    // The loader's message names the file.
+    std::cerr << "strata bench-gameplay: --level " << character.error().message << "\n";
+    return 2;
+  }
   const bench::OpenWorld world = bench::MakeOpenWorld(options.bodies, options.tiles, 7);
   const bench::QuerySet queries = bench::MakeQuerySet(world, options.casts, 11);
-  nlohmann::json report = {{"casts", Casts(options, world, queries)},
-                           {"events", Events(options)},
-                           {"character", CharacterUpdates(options)}};
+  const nlohmann::json report = {
+      {"casts", Casts(options, world, queries)}, {"events", Events(options)}, {"character", *character}};
   if (options.json.empty()) return 0;
   if (Status written = bench::WriteJsonReport(options.json, report); !written) {
     std::cerr << "strata bench-gameplay: " << written.message() << "\n";
