@@ -64,7 +64,17 @@ Result<LevelBake> BakeLevel(const PhysicsSystem& world, const AABB& level_bounds
   if (!config) return config.error();
   Result<std::unique_ptr<NavMeshService>> service = NavMeshService::Create(world, *config);
   if (!service) return service.error();
-  LevelBake bake{std::move(*service), static_cast<std::size_t>(config->max_tiles), 0.0};
+  LevelBake bake{std::move(*service), static_cast<std::size_t>(config->max_tiles), 0.0, {}};
+  const std::vector<TileCoord> level_tiles = bake.service->grid().TilesInBox(level_bounds);
+  bake.coverage.shard = options.shard;
+  bake.coverage.shard_count = options.shard_count;
+  if (!level_tiles.empty()) {
+    bake.coverage.first = bake.coverage.last = level_tiles.front();
+    for (const TileCoord tile : level_tiles) {
+      bake.coverage.first = {std::min(bake.coverage.first.x, tile.x), std::min(bake.coverage.first.z, tile.z)};
+      bake.coverage.last = {std::max(bake.coverage.last.x, tile.x), std::max(bake.coverage.last.z, tile.z)};
+    }
+  }
 
   if (options.shard_count < 1 || options.shard < 0 || options.shard >= options.shard_count)
     return MakeError(ErrorCode::kInvalidArgument, "navmesh bake: shard " + std::to_string(options.shard) +
@@ -101,34 +111,103 @@ Result<LevelBake> BakeLevel(const PhysicsSystem& world, const AABB& level_bounds
 
 namespace strata::navmesh {
 
-Result<std::unique_ptr<NavMesh>> MergeShards(const std::vector<std::filesystem::path>& shard_files) {
-  if (shard_files.empty()) return MakeError(ErrorCode::kInvalidArgument, "navmesh merge: no shard files");
-  Result<std::unique_ptr<NavMesh>> merged = NavMesh::Load(shard_files.front());
-  if (!merged) return merged.error();
-  NavMesh& into = **merged;
+std::string DescribeTiles(const std::vector<TileCoord>& tiles, std::size_t shown) {
+  std::string text;
+  for (std::size_t i = 0; i < tiles.size() && i < shown; ++i)
+    text += (i ? ", (" : "(") + std::to_string(tiles[i].x) + ", " + std::to_string(tiles[i].z) + ")";
+  if (tiles.size() > shown) text += " and " + std::to_string(tiles.size() - shown) + " more";
+  return text;
+}
+
+namespace {
+Error MergeError(const std::string& why) {
+  return MakeError(ErrorCode::kInvalidArgument, "navmesh merge: " + why);
+}
+
+// The level tiles (coordinate order) that share `shard` of `coverage.shard_count` holds.
+std::vector<TileCoord> TilesOfShard(const SetCoverage& coverage, int shard) {
+  std::vector<TileCoord> tiles;
+  std::size_t index = 0;
+  for (int x = coverage.first.x; x <= coverage.last.x; ++x)
+    for (int z = coverage.first.z; z <= coverage.last.z; ++z, ++index)
+      if (index % static_cast<std::size_t>(coverage.shard_count) == static_cast<std::size_t>(shard))
+        tiles.push_back({x, z});
+  return tiles;
+}
+
+// Which shards the files hold, checked against each other; the missing ones in `merged`.
+Status CheckShardSet(const std::vector<std::filesystem::path>& files, const std::vector<SetCoverage>& coverages,
+                     bool allow_partial, MergedShards& merged) {
+  const SetCoverage& first = coverages.front();
+  for (std::size_t f = 0; f < files.size(); ++f) {
+    if (!coverages[f].known()) {
+      if (allow_partial) return Status::Ok();
+      return MergeError(files[f].string() +
+                        " does not say which shard of which level it is (not written by a sharded bake): "
+                        "the set cannot be checked (--allow-partial merges it anyway)");
+    }
+    if (coverages[f].shard_count != first.shard_count || coverages[f].first != first.first ||
+        coverages[f].last != first.last)
+      return MergeError(files[f].string() + " is a shard of another split or level than " + files[0].string());
+  }
+  std::vector<bool> present(static_cast<std::size_t>(first.shard_count), false);
+  for (std::size_t f = 0; f < files.size(); ++f) {
+    if (present[static_cast<std::size_t>(coverages[f].shard)])
+      return MergeError("shard " + std::to_string(coverages[f].shard) + " is given twice (" + files[f].string() + ")");
+    present[static_cast<std::size_t>(coverages[f].shard)] = true;
+  }
+  for (int shard = 0; shard < first.shard_count; ++shard) {
+    if (present[static_cast<std::size_t>(shard)]) continue;
+    merged.missing_shards.push_back(shard);
+    for (const TileCoord tile : TilesOfShard(first, shard)) merged.missing_tiles.push_back(tile);
+  }
+  std::sort(merged.missing_tiles.begin(), merged.missing_tiles.end());
+  if (merged.missing_shards.empty()) {
+    merged.coverage = {0, 1, first.first, first.last};
+    return Status::Ok();
+  }
+  if (allow_partial) return Status::Ok();
+  std::string shards;
+  for (const int shard : merged.missing_shards) shards += (shards.empty() ? "" : ", ") + std::to_string(shard);
+  return MergeError(std::to_string(merged.missing_shards.size()) + " of " + std::to_string(first.shard_count) +
+                    " shards are missing (shard " + shards + "): " + std::to_string(merged.missing_tiles.size()) +
+                    " tiles are in no file: " + DescribeTiles(merged.missing_tiles) +
+                    " (--allow-partial writes the others)");
+}
+}  // namespace
+
+Result<MergedShards> MergeShards(const std::vector<std::filesystem::path>& shard_files, bool allow_partial) {
+  if (shard_files.empty()) return MergeError("no shard files");
+  MergedShards merged;
+  Result<std::unique_ptr<NavMesh>> first = NavMesh::Load(shard_files.front());
+  if (!first) return first.error();
+  merged.navmesh = std::move(*first);
+  NavMesh& into = *merged.navmesh;
+  std::vector<SetCoverage> coverages{into.coverage()};
   for (std::size_t f = 1; f < shard_files.size(); ++f) {
     const std::string name = shard_files[f].string();
     Result<std::unique_ptr<NavMesh>> shard = NavMesh::Load(shard_files[f]);
     if (!shard) return shard.error();
+    coverages.push_back((*shard)->coverage());
     if (!SameParameters(into, **shard))
-      return MakeError(ErrorCode::kInvalidArgument,
-                       "navmesh merge: " + name + " is not a shard of the same level as " +
-                           shard_files.front().string() + " (tile size, origin or tile table differ)");
+      return MergeError(name + " is not a shard of the same level as " + shard_files.front().string() +
+                        " (tile size, origin or tile table differ)");
     const std::vector<TileCoord> present = into.Tiles();
     for (const TileCoord tile : (*shard)->Tiles()) {
       if (std::find(present.begin(), present.end(), tile) != present.end())
-        return MakeError(ErrorCode::kInvalidArgument, "navmesh merge: tile (" + std::to_string(tile.x) +
-                                                          ", " + std::to_string(tile.z) + ") of " + name +
-                                                          " is in an earlier shard too");
+        return MergeError("tile (" + std::to_string(tile.x) + ", " + std::to_string(tile.z) + ") of " + name +
+                          " is in an earlier shard too");
       const TileCoord local{tile.x - (*shard)->origin_tile().x, tile.z - (*shard)->origin_tile().z};
       TileData data = (*shard)->Read([&](const dtNavMesh& mesh) {
         const dtMeshTile* found = mesh.getTileAt(local.x, local.z, 0);
         return TileData::CopyOf({found->data, static_cast<std::size_t>(found->dataSize)});
       });
       if (Status added = into.ReplaceTile(tile, std::move(data)); !added)
-        return MakeError(added.error().code, "navmesh merge: " + name + ": " + added.message());
+        return MergeError(name + ": " + added.message());
     }
   }
+  if (Status complete = CheckShardSet(shard_files, coverages, allow_partial, merged); !complete)
+    return complete.error();
   return merged;
 }
 

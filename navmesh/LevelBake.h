@@ -41,6 +41,7 @@ struct LevelBake {
   std::unique_ptr<NavMeshService> service;
   std::size_t tiles = 0;  ///< tiles the level covers (all of them were built)
   double wall_ms = 0.0;   ///< from the request to the last tile published
+  SetCoverage coverage;   ///< the level's tiles and the share built: what to Save the navmesh with
 };
 
 /// Builds every tile over `level_bounds` from `world` (or the options' shard of them). Fails for an empty or
@@ -49,10 +50,22 @@ struct LevelBake {
 Result<LevelBake> BakeLevel(const PhysicsSystem& world, const AABB& level_bounds,
                             const LevelBakeOptions& options = {});
 
+/// The shards' tiles in one navmesh, and what is missing from them.
+struct MergedShards {
+  std::unique_ptr<NavMesh> navmesh;
+  SetCoverage coverage;  ///< the whole level's when every shard was given; not known otherwise
+  std::vector<int> missing_shards;
+  std::vector<TileCoord> missing_tiles;  ///< the level tiles those shards hold, in coordinate order
+};
+
 /// The navmesh of every shard file (each saved from a sharded bake of one level): their tiles in one navmesh
-/// whose Save gives the bytes one whole bake saves. Fails, naming the file, for a file that does not load,
-/// navmesh parameters (tile size, origin, table size) that differ from the first file's, or a tile in two
-/// files.
-Result<std::unique_ptr<NavMesh>> MergeShards(const std::vector<std::filesystem::path>& shard_files);
+/// which, saved with the returned coverage, gives the bytes one whole bake saves. Fails, naming the file, for
+/// a file that does not load, navmesh parameters (tile size, origin, table size) or a level that differ from
+/// the first file's, a tile or shard in two files, and (unless `allow_partial`) a set that lacks a shard or
+/// whose files do not say which shard they are; the error lists the missing tiles.
+Result<MergedShards> MergeShards(const std::vector<std::filesystem::path>& shard_files, bool allow_partial = false);
+
+/// "(x, z), (x, z), ... and N more": tiles for a message.
+std::string DescribeTiles(const std::vector<TileCoord>& tiles, std::size_t shown = 8);
 
 }  // namespace strata::navmesh

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <iterator>
 #include <map>
@@ -15,6 +16,7 @@
 #include <tuple>
 
 #include "physics/core/InputFile.h"
+#include "navmesh/SetChecksums.h"
 #include "physics/core/OutputFile.h"
 
 namespace strata::navmesh {
@@ -39,6 +41,10 @@ static_assert(sizeof(SetHeader) == 40 && sizeof(SetTileHeader) == 8, "must match
 
 // A navmesh set of the most tiles Detour's references allow, each of a large tile's size, is far below this.
 constexpr std::uint64_t kMaxFileBytes = std::uint64_t{1} << 30;
+
+std::span<const unsigned char> AsBytes(const std::string& bytes) {
+  return {reinterpret_cast<const unsigned char*>(bytes.data()), bytes.size()};
+}
 
 Error FileError(const std::filesystem::path& path, const std::string& why) {
   return MakeError(ErrorCode::kParseError, path.string() + ": " + why);
@@ -335,8 +341,9 @@ double NavMesh::WalkableArea() const {
   });
 }
 
-Status NavMesh::Save(const std::filesystem::path& path) const {
+Status NavMesh::Save(const std::filesystem::path& path, std::optional<SetCoverage> coverage) const {
   std::string bytes;
+  std::vector<std::uint32_t> tile_crcs;
   auto append = [&](const void* data, std::size_t size) {
     bytes.append(static_cast<const char*>(data), size);
   };
@@ -349,17 +356,21 @@ Status NavMesh::Save(const std::filesystem::path& path) const {
     // Detour's own origin stays zero (it works relative to ours); the file records ours there.
     for (int k = 0; k < 3; ++k) header.params.orig[k] = static_cast<float>(origin_[k]);
     append(&header, sizeof(header));
+    tile_crcs.reserve(tiles.size());
     for (std::size_t i = 0; i < tiles.size(); ++i) {
       const dtMeshTile& tile = *tiles[i];
       constexpr unsigned int kFreshSalt = 1;  // what dtNavMesh::init gives every tile slot
       const SetTileHeader tile_header{mesh.encodePolyId(kFreshSalt, static_cast<unsigned int>(i), 0),
                                       tile.dataSize};
+      const std::size_t tile_start = bytes.size();
       append(&tile_header, sizeof(tile_header));
-      const std::size_t data_start = bytes.size();
       append(tile.data, static_cast<std::size_t>(tile.dataSize));
-      ClearRuntimeLinks(tile, bytes.data() + data_start);
+      ClearRuntimeLinks(tile, bytes.data() + tile_start + sizeof(tile_header));
+      tile_crcs.push_back(Crc32(AsBytes(bytes).subspan(tile_start)));
     }
   });
+  bytes += EncodeSetChecksums({Crc32(AsBytes(bytes).first(sizeof(SetHeader))),
+                               coverage.value_or(coverage_), std::move(tile_crcs)});
   // Beside the target and renamed over it: a kill or a full disk never leaves half a navmesh there.
   return WriteOutputFile(path, bytes);
 }
@@ -396,18 +407,38 @@ Result<std::unique_ptr<NavMesh>> NavMesh::Load(const std::filesystem::path& path
   if (!mesh || dtStatusFailed(mesh->init(&local_params)))
     return FileError(path, "Detour rejected the navmesh parameters");
 
+  // Where each tile lies, then the checksums (when the file has them) before Detour sees a byte.
   std::size_t offset = sizeof(SetHeader);
+  std::vector<std::size_t> tile_starts;
   for (int i = 0; i < header.tile_count; ++i) {
     SetTileHeader tile_header;
     if (bytes.size() - offset < sizeof(tile_header)) return FileError(path, "truncated (tile header)");
     std::memcpy(&tile_header, bytes.data() + offset, sizeof(tile_header));
-    offset += sizeof(tile_header);
     if (tile_header.ref == 0 || tile_header.size <= 0 ||
-        static_cast<std::size_t>(tile_header.size) > bytes.size() - offset)
+        static_cast<std::size_t>(tile_header.size) > bytes.size() - offset - sizeof(tile_header))
       return FileError(path, "truncated or corrupt tile " + std::to_string(i));
-    const std::span<const unsigned char> tile_bytes(bytes.data() + offset,
-                                                    static_cast<std::size_t>(tile_header.size));
-    offset += static_cast<std::size_t>(tile_header.size);
+    tile_starts.push_back(offset);
+    offset += sizeof(tile_header) + static_cast<std::size_t>(tile_header.size);
+  }
+  tile_starts.push_back(offset);
+  if (offset != bytes.size()) {
+    std::string problem;
+    const std::optional<SetChecksums> checksums =
+        DecodeSetChecksums(bytes.subspan(offset), tile_starts.size() - 1, problem);
+    if (!checksums) return FileError(path, problem);
+    if (Crc32(bytes.first(sizeof(SetHeader))) != checksums->header_crc)
+      return FileError(path, "the set header does not match its checksum (the file is damaged)");
+    for (std::size_t i = 0; i + 1 < tile_starts.size(); ++i)
+      if (Crc32(bytes.subspan(tile_starts[i], tile_starts[i + 1] - tile_starts[i])) != checksums->tile_crcs[i])
+        return FileError(path, "tile " + std::to_string(i) + " does not match its checksum (the file is damaged)");
+    navmesh->coverage_ = checksums->coverage;
+  }
+  for (int i = 0; i < header.tile_count; ++i) {
+    SetTileHeader tile_header;
+    std::memcpy(&tile_header, bytes.data() + tile_starts[static_cast<std::size_t>(i)], sizeof(tile_header));
+    const std::span<const unsigned char> tile_bytes(
+        bytes.data() + tile_starts[static_cast<std::size_t>(i)] + sizeof(tile_header),
+        static_cast<std::size_t>(tile_header.size));
     if (const std::string problem = TileProblem(tile_bytes, local_params); !problem.empty())
       return FileError(path, "corrupt tile " + std::to_string(i) + ": " + problem);
     TileData data = TileData::CopyOf(tile_bytes);
@@ -418,7 +449,6 @@ Result<std::unique_ptr<NavMesh>> NavMesh::Load(const std::filesystem::path& path
                        "tile " + std::to_string(i) + " was refused by Detour (duplicate or bad reference)");
     }
   }
-  if (offset != bytes.size()) return FileError(path, "unexpected bytes after the last tile");
   return navmesh;
 }
 
@@ -433,8 +463,12 @@ Status NavMesh::WriteObj(const std::filesystem::path& path) const {
         if (tile.polys[p].getType() != DT_POLYTYPE_GROUND) continue;
         for (int t = 0; t < tile.detailMeshes[p].triCount; ++t) {
           for (int k = 0; k < 3; ++k) {
-            const Vec3 world = ToWorld(DetailTriangleCorner(tile, p, t, k));
-            file << "v " << world.x() << ' ' << world.y() << ' ' << world.z() << '\n';
+            // In double and with 12 digits: a level 10,000 km out keeps its millimetres (a float there has
+            // metres, and six digits would collapse it to one point).
+            const Vec3d world = DetailTriangleCorner(tile, p, t, k).cast<double>() + origin_;
+            char line[128];
+            std::snprintf(line, sizeof(line), "v %.12g %.12g %.12g\n", world.x(), world.y(), world.z());
+            file << line;
           }
           file << "f " << written + 1 << ' ' << written + 2 << ' ' << written + 3 << '\n';
           written += 3;

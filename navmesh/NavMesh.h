@@ -7,9 +7,11 @@
 
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <shared_mutex>
 #include <vector>
 
+#include "navmesh/SetChecksums.h"
 #include "navmesh/TileData.h"
 #include "navmesh/TileGrid.h"
 #include "physics/core/Result.h"
@@ -26,7 +28,8 @@ class NavMesh {
   static Result<std::unique_ptr<NavMesh>> Create(float tile_size, int max_tiles = 1024,
                                                  TileCoord origin_tile = {});
   /// Reads a file in RecastDemo's tiled navmesh set format ("MSET", version 1). Fails, naming the file and
-  /// the reason, for a missing, truncated or corrupt file.
+  /// the reason, for a missing, truncated or corrupt file, or one whose checksums (SetChecksums, which Save
+  /// appends) do not match; a file without checksums (RecastDemo's own) loads unchecked.
   static Result<std::unique_ptr<NavMesh>> Load(const std::filesystem::path& path);
   ~NavMesh();
   NavMesh(const NavMesh&) = delete;
@@ -60,9 +63,13 @@ class NavMesh {
   /// Sum of the walkable polygons' areas projected on the x-z plane (m^2).
   double WalkableArea() const;
 
-  /// Writes RecastDemo's tiled navmesh set format; the set header's origin is origin() (zero for a navmesh at
-  /// the world origin, where the file is exactly RecastDemo's).
-  Status Save(const std::filesystem::path& path) const;
+  /// Writes RecastDemo's tiled navmesh set format with a checksum per tile after the last one (RecastDemo
+  /// stops reading before it); the set header's origin is origin() (zero for a navmesh at the world origin,
+  /// where RecastDemo reads the file as its own).
+  /// `coverage`: which share of a level the file holds (coverage() when not given).
+  Status Save(const std::filesystem::path& path, std::optional<SetCoverage> coverage = std::nullopt) const;
+  /// The share of a level this navmesh was loaded with (not known for one built here or a RecastDemo file).
+  const SetCoverage& coverage() const { return coverage_; }
   /// Writes the polygons as a Wavefront OBJ (one face per polygon).
   Status WriteObj(const std::filesystem::path& path) const;
 
@@ -75,6 +82,7 @@ class NavMesh {
   dtNavMesh* mesh_;
   float tile_size_;
   TileCoord origin_tile_;
+  SetCoverage coverage_;  // set by Load; written only there, before the navmesh is shared
   Vec3d origin_;
 };
 

@@ -69,8 +69,9 @@ const char* ToString(TileState state) {
 
 Status NavMeshServiceConfig::Validate() const {
   if (Status status = settings.Validate(); !status.ok()) return status;
-  if (worker_threads < 1 || worker_threads > 64)
-    return MakeError(ErrorCode::kInvalidArgument, "navmesh service: worker_threads must be in [1, 64]");
+  if (worker_threads < 1 || worker_threads > kMaxWorkerThreads)
+    return MakeError(ErrorCode::kInvalidArgument, "navmesh service: worker_threads must be in [1, " +
+                                                      std::to_string(kMaxWorkerThreads) + "]");
   if (!std::isfinite(move_threshold) || move_threshold < 0.0f)
     return MakeError(ErrorCode::kInvalidArgument, "navmesh service: move_threshold must be >= 0");
   if (std::isnan(filter.min_dynamic_size) || filter.min_dynamic_size < 0.0f)

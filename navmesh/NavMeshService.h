@@ -36,7 +36,8 @@ const char* ToString(TileState state);
 struct NavMeshServiceConfig {
   NavMeshSettings settings;
   NavMeshBodyFilter filter;
-  int worker_threads = 1;  ///< background build threads
+  static constexpr int kMaxWorkerThreads = 64;
+  int worker_threads = 1;  ///< background build threads, at most kMaxWorkerThreads
   /// The tile budget: at most this many tiles hold navmesh data at once (Detour's tile table). When a new
   /// tile needs a slot, the published tile requested longest ago (farthest from its requester among equals)
   /// is evicted, so agents can walk across a world of any size.

@@ -60,6 +60,8 @@ void CollisionFinder::BeginStep(const Input& input, std::uint32_t job_count) {
     replay_min_half_angle_cosine_ = std::cos(0.5f * replay_max_angle_ * kPi / 180.0f);
   }
   next_body_.store(0, std::memory_order_relaxed);
+  pairs_claimed_.store(0, std::memory_order_relaxed);
+  constraints_claimed_.store(0, std::memory_order_relaxed);
   if (jobs_.size() < job_count) {
     jobs_.resize(job_count);
     for (Job& job : jobs_) job.arena.SetPool(pool_);
@@ -79,6 +81,7 @@ void CollisionFinder::BeginStep(const Input& input, std::uint32_t job_count) {
     ReserveWithSlack(job.island_body, last.constraints);
     ReserveWithSlack(job.pairs, last.pairs);
     job.stats = {};
+    job.constraint_allowance = 0;
     if (!several_jobs) {
       job.manifolds.reserve(kMinManifoldsPerJob);
       continue;
@@ -130,6 +133,7 @@ void CollisionFinder::RunJob(std::uint32_t job_index, std::uint32_t width) {
                                   *input_.layers, job.pairs);
     // Tree order depends on which generation the query saw; pair order must not.
     std::sort(job.pairs.begin(), job.pairs.end());
+    ClaimPairs(job);
     std::size_t next_pair = 0;
     for (std::uint32_t active = begin; active < end; ++active) {
       const BodyID owner = input_.active[active];
@@ -143,6 +147,31 @@ void CollisionFinder::RunJob(std::uint32_t job_index, std::uint32_t width) {
       contacts.end = static_cast<std::uint32_t>(job.constraints.size());
     }
   });
+}
+
+void CollisionFinder::ClaimPairs(Job& job) {
+  const std::size_t wanted = job.pairs.size();
+  if (wanted == 0) return;
+  const std::size_t before = pairs_claimed_.fetch_add(wanted, std::memory_order_relaxed);
+  const std::size_t granted = before >= input_.max_pairs ? 0 : std::min(wanted, input_.max_pairs - before);
+  if (granted == wanted) return;
+  job.stats.pairs_dropped += wanted - granted;
+  job.pairs.resize(granted);
+}
+
+bool CollisionFinder::ClaimConstraint(Job& job) {
+  // Lots keep the shared counter off the per-manifold path; a job holds at most one lot unused.
+  constexpr std::size_t kLot = 64;
+  if (job.constraint_allowance == 0) {
+    const std::size_t before = constraints_claimed_.fetch_add(kLot, std::memory_order_relaxed);
+    if (before >= input_.max_constraints) {
+      ++job.stats.constraints_dropped;
+      return false;
+    }
+    job.constraint_allowance = std::min(kLot, input_.max_constraints - before);
+  }
+  --job.constraint_allowance;
+  return true;
 }
 
 bool CollisionFinder::Jointed(std::uint32_t a, std::uint32_t b) const {
@@ -330,6 +359,7 @@ void CollisionFinder::AddConstraint(const Vec3& normal, std::span<const ContactA
     if (cached.reports) Report(normal, arms, a, b, nullptr, cached, job);
     return;
   }
+  if (!ClaimConstraint(job)) return;
   ContactConstraint* constraint =
       BuildContactConstraint(job.arena, normal, arms, ContactInputSide(a), ContactInputSide(b),
                              std::sqrt(a.body->friction() * b.body->friction()),
@@ -429,6 +459,8 @@ CollisionStats CollisionFinder::stats() const {
     total.pairs += s.pairs;
     total.pairs_replayed += s.pairs_replayed;
     total.pairs_slid += s.pairs_slid;
+    total.pairs_dropped += s.pairs_dropped;
+    total.constraints_dropped += s.constraints_dropped;
     total.manifolds += s.manifolds;
     total.contact_points += s.contact_points;
     total.constraints += s.constraints;

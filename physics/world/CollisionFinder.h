@@ -12,6 +12,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <cstddef>
 #include <span>
 #include <vector>
 
@@ -37,6 +38,8 @@ struct CollisionStats {
   std::size_t constraints = 0;  ///< manifolds with a body the solver moves
   std::uint64_t link_hops = 0;  ///< union-find links followed by IslandBuilder::Link
   std::size_t links = 0;
+  std::size_t pairs_dropped = 0;        ///< past Input::max_pairs
+  std::size_t constraints_dropped = 0;  ///< past Input::max_constraints
 };
 
 /// Broad phase + narrow phase + contact constraints, in parallel jobs.
@@ -61,6 +64,9 @@ class CollisionFinder {
     std::span<const std::uint64_t> jointed_pairs;
     /// Asked about contacts of bodies created with validate_contacts; null: none is set.
     const ContactValidator* validator = nullptr;
+    /// The step's budgets: broad-phase pairs taken and constraints built; the rest are dropped and counted.
+    std::size_t max_pairs = SIZE_MAX;
+    std::size_t max_constraints = SIZE_MAX;
   };
 
   /// Constraints go into blocks from `pool`.
@@ -100,6 +106,7 @@ class CollisionFinder {
     std::vector<std::uint32_t> wake_keys;
     std::vector<ReportedManifold> reported;
     std::vector<ReportedGeometry> reported_geometry;
+    std::size_t constraint_allowance = 0;  // constraints claimed from the step's budget, not yet built
     CollisionStats stats;
   };
   // A posed side of a pair as the narrow phase and the constraint builder need it.
@@ -112,6 +119,10 @@ class CollisionFinder {
     Mat3 rotation_matrix;
   };
 
+  // Takes pairs from the step's budget: the first `wanted` of those the job holds, or as many as are left.
+  void ClaimPairs(Job& job);
+  // Takes one constraint from the step's budget (claimed in small lots per job); false when it is spent.
+  bool ClaimConstraint(Job& job);
   // Whether bodies `a` and `b` (indices) are joined by a joint that keeps them from colliding.
   bool Jointed(std::uint32_t a, std::uint32_t b) const;
   void CollidePair(BodyPair pair, BodyPairCache::PreviousPairs& previous_pairs, std::uint32_t job_index);
@@ -149,6 +160,8 @@ class CollisionFinder {
   float replay_max_angle_ = 0.0f;  // degrees, what the cosine above was computed from
   bool slides_ = false;
   std::atomic<std::uint32_t> next_body_{0};
+  alignas(64) std::atomic<std::size_t> pairs_claimed_{0};
+  alignas(64) std::atomic<std::size_t> constraints_claimed_{0};
   std::vector<Job> jobs_;
   std::vector<BodyContacts> body_contacts_;  // by active index
 };

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cassert>
 #include <chrono>
+#include <cstdio>
 #include <shared_mutex>
 #include <string>
 
@@ -80,7 +81,9 @@ Status PhysicsSystemConfig::Validate() const {
     return MakeError(ErrorCode::kInvalidArgument, "max_bodies must be in [1, 2^30]");
   if (body_mutex_count == 0 || body_mutex_count > 4096)
     return MakeError(ErrorCode::kInvalidArgument, "body_mutex_count must be in [1, 4096]");
-  if (thread_count < 0) return MakeError(ErrorCode::kInvalidArgument, "thread_count must be >= 0");
+  if (thread_count < 0 || thread_count > kMaxThreads)
+    return MakeError(ErrorCode::kInvalidArgument,
+                     "thread_count must be in [0, " + std::to_string(kMaxThreads) + "] (0 = all cores)");
   if (!broad_phase && layers && layers->BroadPhaseLayerCount() > QuadTreeBroadPhase::kMaxBroadPhaseLayers)
     return MakeError(ErrorCode::kInvalidArgument,
                      "the quad-tree broad phase supports at most " +
@@ -117,6 +120,11 @@ PhysicsSystem::PhysicsSystem(const PhysicsSystemConfig& config, const PhysicsSet
       collisions_(step_blocks_),
       constraint_solver_(step_blocks_, {&contact_user_, &joint_user_}) {
   job_count_ = static_cast<std::uint32_t>(std::max(1, jobs_->ThreadCount()));
+  constexpr std::size_t kBudgetPerBody = 16;
+  max_body_pairs_ = config.max_body_pairs ? config.max_body_pairs : kBudgetPerBody * config.max_bodies;
+  max_contact_constraints_ =
+      config.max_contact_constraints ? config.max_contact_constraints : kBudgetPerBody * config.max_bodies;
+  warning_ = config.warning;
   finish_counters_.resize(job_count_);
   cast_scratch_.resize(job_count_);
   BuildStepGraphs();
@@ -126,6 +134,24 @@ PhysicsSystem::PhysicsSystem(const PhysicsSystemConfig& config, const PhysicsSet
 }
 
 PhysicsSystem::~PhysicsSystem() = default;
+
+void PhysicsSystem::WarnAboutBudgets() {
+  const auto warn = [&](bool& warned, std::size_t dropped, const char* what, std::size_t budget, const char* setting) {
+    if (warned || dropped == 0) return;
+    warned = true;
+    const std::string message = "strata physics: warning: " + std::to_string(dropped) + " " + what +
+                                " past the budget of " + std::to_string(budget) + " were dropped this step (" +
+                                setting + "; further steps over it are counted in StepStats, not reported)";
+    if (warning_) {
+      warning_(message);
+    } else {
+      std::fprintf(stderr, "%s\n", message.c_str());
+    }
+  };
+  warn(warned_pairs_, stats_.pairs_dropped, "body pairs", max_body_pairs_, "PhysicsSystemConfig::max_body_pairs");
+  warn(warned_constraints_, stats_.constraints_dropped, "contact constraints", max_contact_constraints_,
+       "PhysicsSystemConfig::max_contact_constraints");
+}
 
 void PhysicsSystem::BuildStepGraphs() {
   const JobGraph::StageId prepare =
@@ -336,6 +362,8 @@ void PhysicsSystem::PrepareStep() {
   input.islands = &islands_;
   input.jointed_pairs = jointed_pairs_;
   input.validator = validator_ ? &validator_ : nullptr;
+  input.max_pairs = max_body_pairs_;
+  input.max_constraints = max_contact_constraints_;
   collisions_.BeginStep(input, job_count_);
   SensorTracker::Input sensor_input;
   sensor_input.bodies = &body_manager_;
@@ -642,6 +670,9 @@ void PhysicsSystem::FinishStep() {
   stats_.pairs = collision.pairs;
   stats_.pairs_replayed = collision.pairs_replayed;
   stats_.pairs_slid = collision.pairs_slid;
+  stats_.pairs_dropped = collision.pairs_dropped;
+  stats_.constraints_dropped = collision.constraints_dropped;
+  WarnAboutBudgets();
   stats_.manifolds = collision.manifolds;
   stats_.contact_points = collision.contact_points;
   stats_.island_links = collision.links;

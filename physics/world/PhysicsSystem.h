@@ -9,8 +9,10 @@
 #pragma once
 
 #include <atomic>
+#include <functional>
 #include <memory>
 #include <mutex>
+#include <string>
 #include <vector>
 
 #include "physics/body/BodyManager.h"
@@ -48,6 +50,17 @@ struct PhysicsSystemConfig {
   /// Time the step and every stage's jobs for last_step_profile(). Off, no clock is read: two reads per job
   /// were about 16% of a one-body step.
   bool stage_timings = true;
+  /// Step memory budgets, as Jolt's: body pairs the broad phase may hand the narrow phase in one step, and
+  /// contact constraints (manifolds the solver takes). Past either, the step drops the rest (StepStats counts
+  /// them), warns once and goes on: 10,000 bodies spawned at one point would otherwise want 50 million pairs.
+  /// 0: 16 per body slot (max_bodies), which no scene of ours comes near. Which pairs are dropped depends on
+  /// the threads' timing: a step over budget is not deterministic.
+  std::size_t max_body_pairs = 0;
+  std::size_t max_contact_constraints = 0;
+  /// Where the world's warnings go (a budget exceeded, once per world and kind); null: standard error.
+  std::function<void(const std::string&)> warning;
+
+  static constexpr int kMaxThreads = 256;  ///< thread_count's limit
 
   Status Validate() const;
 };
@@ -74,6 +87,8 @@ struct StepStats {
   std::size_t linear_cast_hits = 0;         ///< linear-cast bodies stopped at a first impact
   std::size_t constraints = 0;              ///< joints solved (at least one of their bodies awake)
   std::size_t constraints_broken = 0;       ///< joints that broke this step
+  std::size_t pairs_dropped = 0;        ///< body pairs past PhysicsSystemConfig::max_body_pairs
+  std::size_t constraints_dropped = 0;  ///< contact constraints past max_contact_constraints
 };
 
 /// Where the last step's time went: the stages in order, with their start, end and summed job time.
@@ -141,6 +156,8 @@ class PhysicsSystem {
 
   PhysicsSystem(const PhysicsSystemConfig& config, const PhysicsSettings& settings);
   void BuildStepGraphs();
+  /// Reports the first step over each budget (PhysicsSystemConfig::max_body_pairs, max_contact_constraints).
+  void WarnAboutBudgets();
 
   // Stages of Step, in order. Each runs as jobs of the step's graphs (see BuildStepGraphs); a parallel
   // stage's job knows how many jobs (`width`) run it.
@@ -194,6 +211,12 @@ class PhysicsSystem {
   JobGraph::StageId sensors_stage_ = 0;
   JobGraph::StageId prepare_islands_stage_ = 0;
   std::uint32_t job_count_ = 1;
+  // Step budgets (PhysicsSystemConfig) and whether each was reported.
+  std::size_t max_body_pairs_ = 0;
+  std::size_t max_contact_constraints_ = 0;
+  std::function<void(const std::string&)> warning_;
+  bool warned_pairs_ = false;
+  bool warned_constraints_ = false;
   float step_dt_ = 0.0f;
   std::atomic<std::uint32_t> next_chunk_{0};  // work claimed by the current parallel stage
   std::vector<std::uint32_t> wake_keys_;

@@ -39,9 +39,10 @@ std::string ReadBytes(const std::filesystem::path& path) {
   return {std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>()};
 }
 
-std::string SavedBytes(const navmesh::NavMesh& navmesh, const std::string& name) {
+std::string SavedBytes(const navmesh::NavMesh& navmesh, const std::string& name,
+                       std::optional<navmesh::SetCoverage> coverage = std::nullopt) {
   const std::filesystem::path path = std::filesystem::path(::testing::TempDir()) / (name + ".bin");
-  EXPECT_TRUE(navmesh.Save(path).ok());
+  EXPECT_TRUE(navmesh.Save(path, coverage).ok());
   return ReadBytes(path);
 }
 
@@ -323,7 +324,7 @@ TEST(LevelBake, ShardsMergeIntoTheBytesOfOneBake) {
   const AABB bounds = SlabBounds(-41.3f, 38.9f, 7.7f, 97.9f);
   Result<navmesh::LevelBake> whole = navmesh::BakeLevel(*world, bounds, Options(2));
   ASSERT_TRUE(whole.ok()) << whole.error().message;
-  const std::string expected = SavedBytes(whole->service->navmesh(), "whole");
+  const std::string expected = SavedBytes(whole->service->navmesh(), "whole", whole->coverage);
   for (const int count : {3, 8}) {
     std::vector<std::filesystem::path> files;
     std::size_t tiles = 0;
@@ -338,24 +339,26 @@ TEST(LevelBake, ShardsMergeIntoTheBytesOfOneBake) {
       stored += part->service->navmesh().tile_count();
       files.push_back(std::filesystem::path(::testing::TempDir()) /
                       ("shard" + std::to_string(shard) + "of" + std::to_string(count) + ".bin"));
-      ASSERT_TRUE(part->service->navmesh().Save(files.back()).ok());
+      ASSERT_TRUE(part->service->navmesh().Save(files.back(), part->coverage).ok());
     }
     EXPECT_EQ(tiles, whole->tiles) << "the shards share the tiles out";
     EXPECT_EQ(stored, whole->service->navmesh().tile_count());
     std::reverse(files.begin(), files.end());  // the order of the files does not matter
-    Result<std::unique_ptr<navmesh::NavMesh>> merged = navmesh::MergeShards(files);
+    Result<navmesh::MergedShards> merged = navmesh::MergeShards(files);
     ASSERT_TRUE(merged.ok()) << merged.error().message;
-    EXPECT_EQ(SavedBytes(**merged, "merged" + std::to_string(count)), expected) << count << " shards";
+    EXPECT_EQ(SavedBytes(*merged->navmesh, "merged" + std::to_string(count), merged->coverage), expected)
+        << count << " shards";
     // The same shard twice, or a shard of another level, is refused.
     EXPECT_FALSE(navmesh::MergeShards({files[0], files[0]}).ok());
   }
+
   auto other = MakeWorld();
   AddSlab(*other, 0.0f, 20.0f, 0.0f, 20.0f, 0.0f);
   Result<navmesh::LevelBake> small = navmesh::BakeLevel(*other, SlabBounds(0, 20, 0, 20), Options(1));
   ASSERT_TRUE(small.ok());
   const std::string small_file = (std::filesystem::path(::testing::TempDir()) / "small.bin").string();
   ASSERT_TRUE(small->service->navmesh().Save(small_file).ok());
-  const Result<std::unique_ptr<navmesh::NavMesh>> mixed =
+  const Result<navmesh::MergedShards> mixed =
       navmesh::MergeShards({std::filesystem::path(::testing::TempDir()) / "shard0of3.bin", small_file});
   ASSERT_FALSE(mixed.ok());
   EXPECT_NE(mixed.error().message.find("small.bin"), std::string::npos) << mixed.error().message;
@@ -366,6 +369,35 @@ TEST(LevelBake, ShardsMergeIntoTheBytesOfOneBake) {
     options.shard_count = count;
     EXPECT_FALSE(navmesh::BakeLevel(*other, SlabBounds(0, 20, 0, 20), options).ok()) << shard << "/" << count;
   }
+}
+
+TEST(LevelBake, MergingAnIncompleteShardSetFailsAndListsTheMissingTiles) {
+  auto world = MakeWorld();
+  AddSlab(*world, 0.0f, 38.4f, 0.0f, 38.4f, 0.0f);
+  const AABB bounds = SlabBounds(0.5f, 37.9f, 0.5f, 37.9f);  // 3 x 3 tiles
+  std::vector<std::filesystem::path> files;
+  std::size_t tiles_in_files = 0;
+  for (int shard = 0; shard < 2; ++shard) {  // shards 0 and 1 of 3: shard 2 is lost
+    navmesh::LevelBakeOptions options = Options(1);
+    options.shard = shard;
+    options.shard_count = 3;
+    Result<navmesh::LevelBake> part = navmesh::BakeLevel(*world, bounds, options);
+    ASSERT_TRUE(part.ok()) << part.error().message;
+    tiles_in_files += part->tiles;
+    files.push_back(std::filesystem::path(::testing::TempDir()) / ("partial" + std::to_string(shard) + ".bin"));
+    ASSERT_TRUE(part->service->navmesh().Save(files.back(), part->coverage).ok());
+  }
+  const Result<navmesh::MergedShards> refused = navmesh::MergeShards(files);
+  ASSERT_FALSE(refused.ok());
+  EXPECT_NE(refused.error().message.find("1 of 3 shards are missing (shard 2)"), std::string::npos)
+      << refused.error().message;
+  EXPECT_NE(refused.error().message.find("3 tiles are in no file"), std::string::npos) << refused.error().message;
+  const Result<navmesh::MergedShards> partial = navmesh::MergeShards(files, /*allow_partial=*/true);
+  ASSERT_TRUE(partial.ok()) << partial.error().message;
+  EXPECT_EQ(tiles_in_files, 6u);
+  EXPECT_EQ(partial->missing_shards, std::vector<int>{2});
+  EXPECT_EQ(partial->missing_tiles.size(), 3u);
+  EXPECT_FALSE(partial->coverage.known()) << "a partial merge does not claim the whole level";
 }
 
 }  // namespace

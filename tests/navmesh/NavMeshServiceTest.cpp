@@ -249,6 +249,18 @@ class NavMeshFile : public ::testing::Test {
     std::ifstream file(path_, std::ios::binary);
     bytes_.assign(std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>());
   }
+  /// The saved file as RecastDemo writes it: the same tiles without Strata's checksum trailer.
+  std::vector<char> RecastDemoBytes() const {
+    std::int32_t tiles = 0;
+    std::memcpy(&tiles, bytes_.data() + 8, sizeof(tiles));
+    std::size_t end = 40;
+    for (std::int32_t i = 0; i < tiles; ++i) {
+      std::int32_t size = 0;
+      std::memcpy(&size, bytes_.data() + end + 4, sizeof(size));
+      end += 8 + static_cast<std::size_t>(size);
+    }
+    return {bytes_.begin(), bytes_.begin() + static_cast<std::ptrdiff_t>(end)};
+  }
   void Write(const std::vector<char>& bytes) const {
     std::ofstream file(path_, std::ios::binary | std::ios::trunc);
     file.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
@@ -291,8 +303,11 @@ TEST_F(NavMeshFile, BadFilesGiveClearErrors) {
   Write(bytes);
   expect_error("magic", "bad magic");
   ASSERT_GT(bytes_.size(), 100u);
-  Write(std::vector<char>(bytes_.begin(), bytes_.end() - 10));
+  const std::vector<char> recast_demo = RecastDemoBytes();
+  Write(std::vector<char>(recast_demo.begin(), recast_demo.end() - 10));
   expect_error("truncated", "truncated");
+  Write(std::vector<char>(bytes_.begin(), bytes_.end() - 10));
+  expect_error("trailer cut short", "unexpected bytes after the last tile");
   bytes = bytes_;
   bytes.push_back(0);
   Write(bytes);
@@ -306,8 +321,10 @@ TEST_F(NavMeshFile, TilesWithBadGeometryAreRefused) {
   // the third int, bmin starts at byte 72, and the vertices follow the 100-byte header.
   constexpr std::size_t kFirstTile = 48, kCellX = kFirstTile + 8, kBoundsMin = kFirstTile + 72,
                         kFirstVertex = kFirstTile + 100;
+  // Without checksums (RecastDemo's form), so that what is checked is the tile's geometry.
+  const std::vector<char> recast_demo = RecastDemoBytes();
   const auto with = [&](std::size_t offset, auto value) {
-    std::vector<char> bytes = bytes_;
+    std::vector<char> bytes = recast_demo;
     std::memcpy(bytes.data() + offset, &value, sizeof(value));
     Write(bytes);
     const auto loaded = navmesh::NavMesh::Load(path_);
@@ -322,6 +339,40 @@ TEST_F(NavMeshFile, TilesWithBadGeometryAreRefused) {
   std::memcpy(&cell_x, bytes_.data() + kCellX, sizeof(cell_x));
   EXPECT_NE(with(kCellX, cell_x - 1).find("but its bounds lie elsewhere"), std::string::npos);
   EXPECT_EQ(with(kCellX, cell_x), "loaded");  // the offsets are right: the unchanged file loads
+}
+
+TEST_F(NavMeshFile, AFlippedBitInATileIsAnError) {
+  // A flip that keeps the tile's structure valid (a detail height, an area byte) loaded before checksums and
+  // changed paths silently; every byte of the first tile and the set header is tried.
+  const auto loaded_after_flip = [&](std::size_t byte, int bit) {
+    std::vector<char> bytes = bytes_;
+    bytes[byte] = static_cast<char>(bytes[byte] ^ (1 << bit));
+    Write(bytes);
+    return navmesh::NavMesh::Load(path_);
+  };
+  std::int32_t first_tile_size = 0;
+  std::memcpy(&first_tile_size, bytes_.data() + 44, sizeof(first_tile_size));
+  const std::size_t checked = 48 + static_cast<std::size_t>(first_tile_size);
+  for (std::size_t byte = 0; byte < checked; ++byte) {
+    const auto loaded = loaded_after_flip(byte, static_cast<int>(byte % 8));
+    ASSERT_FALSE(loaded.ok()) << "byte " << byte << " flipped, and the file loaded";
+  }
+  const auto in_tile = loaded_after_flip(48 + 200, 3);
+  ASSERT_FALSE(in_tile.ok());
+  EXPECT_NE(in_tile.error().message.find("tile 0 does not match its checksum"), std::string::npos)
+      << in_tile.error().message;
+}
+
+TEST_F(NavMeshFile, ARecastDemoFileWithoutChecksumsStillLoads) {
+  Write(RecastDemoBytes());
+  const auto loaded = navmesh::NavMesh::Load(path_);
+  ASSERT_TRUE(loaded.ok()) << loaded.error().message;
+  EXPECT_FALSE((*loaded)->coverage().known());
+  const Vec3 from(2, 0, 2), to(23, 0, 23);
+  const auto original = MakeQuery(service_->navmesh())->FindPath(from, to);
+  const auto reloaded = MakeQuery(**loaded)->FindPath(from, to);
+  ASSERT_TRUE(original.ok() && reloaded.ok());
+  EXPECT_EQ(reloaded->points, original->points);
 }
 
 // What fuzz_navmesh found, each as the one change to the baked arena (tests/fuzz/seeds) that matters; the

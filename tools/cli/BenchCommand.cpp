@@ -17,6 +17,7 @@
 #include "tools/bench/JsonReport.h"
 #include "tools/bench/Progress.h"
 #include "tools/cli/Commands.h"
+#include "tools/cli/Validators.h"
 
 namespace strata::cli {
 
@@ -222,12 +223,12 @@ std::function<int()> AddBenchCommand(CLI::App& app) {
       "Run the pyramid and convex_vs_mesh benchmarks at several thread counts (Bullet side by side)");
   command->add_option("--scene", options->scene, "pyramid, convex_vs_mesh, ragdolls, chains or all");
   command->add_option("--steps", options->steps, "Steps per scene (default: the scene's 500)")
-      ->check(CLI::PositiveNumber);
+      ->check(CountIn(1, 1000000, "--steps"));
   command
       ->add_option("--threads", options->threads,
                    "Thread counts to run Strata at, comma separated (default: 1, 2, 4, ... up to all cores)")
       ->delimiter(',')
-      ->check(CLI::Range(1, 1024));
+      ->check(CountIn(1, kMaxThreads, "--threads"));
   command->add_option("--json", options->json, "Also write the figures to this JSON file");
   command->add_option("--job-system", options->job_system,
                       "default (oneTBB when built with it) or pool (Strata's std::thread pool)");

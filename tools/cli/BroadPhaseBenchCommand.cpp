@@ -11,6 +11,7 @@
 #include "tools/bench/JsonReport.h"
 #include "tools/bench/Progress.h"
 #include "tools/cli/Commands.h"
+#include "tools/cli/Validators.h"
 
 namespace strata::cli {
 
@@ -184,7 +185,7 @@ std::function<int()> AddBroadPhaseBenchCommand(CLI::App& app) {
       ->check(CLI::Range(1, 100000));
   command
       ->add_option("--max-threads", options->max_threads, "Most game-object threads (0 = hardware threads)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(CountIn(0, kMaxThreads, "--max-threads"));
   command->add_option("--object-work-us", options->object_work_us, "Game logic per object in the second run")
       ->check(CLI::Range(0.0, 1000.0));
   command->add_flag("!--no-bullet", options->bullet, "Skip the Bullet peer");

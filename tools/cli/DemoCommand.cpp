@@ -60,7 +60,9 @@ struct DemoOptions {
 
 // Option ranges: beyond them a run would take hours or the world's body table would be enormous.
 constexpr int kMaxSteps = 10'000'000;
-constexpr int kMaxSpawned = 1'000'000;
+// Spawned bodies: the world's slots, broad phase and step budgets grow with them; 50,000 crates step in
+// about 2 GB.
+constexpr int kMaxSpawned = 50'000;
 constexpr int kMaxAgents = 10'000;
 
 struct Agent {
@@ -527,10 +529,10 @@ std::function<int()> AddDemoCommand(CLI::App& app) {
       ->check(FiniteIn(0.0, 1.0e4))
       ->capture_default_str();
   demo->add_option("--threads", options->physics_threads, "physics threads")
-      ->check(CLI::Range(1, 1024))
+      ->check(CountIn(1, kMaxThreads, "--threads"))
       ->capture_default_str();
   demo->add_option("--navmesh-threads", options->navmesh_threads, "background navmesh threads")
-      ->check(CLI::Range(1, 1024))
+      ->check(CountIn(1, kMaxNavMeshThreads, "--navmesh-threads"))
       ->capture_default_str();
   demo->add_option("--out-dir", options->out_dir, "where navmesh.obj, navmesh.png and scene.glb go")
       ->capture_default_str();

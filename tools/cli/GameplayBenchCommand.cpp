@@ -8,6 +8,7 @@
 #include "tools/bench/GameplayBench.h"
 #include "tools/bench/JsonReport.h"
 #include "tools/cli/Commands.h"
+#include "tools/cli/Validators.h"
 #include "tools/cli/NavMeshOptions.h"
 
 namespace strata::cli {
@@ -185,7 +186,7 @@ std::function<int()> AddGameplayBenchCommand(CLI::App& app) {
       ->capture_default_str();
   command->add_option("--event-threads", options->event_threads, "Thread counts for the events' cost")
       ->delimiter(',')
-      ->check(CLI::Range(1, 1024));
+      ->check(CountIn(1, kMaxThreads, "--event-threads"));
   command->add_option("--event-steps", options->event_steps, "Pyramid steps a run")
       ->check(CLI::Range(1, 100000))
       ->capture_default_str();

@@ -7,6 +7,7 @@
 #include "tools/bench/OpenWorldBench.h"
 #include "tools/cli/Commands.h"
 #include "tools/cli/NavMeshOptions.h"
+#include "tools/cli/Validators.h"
 
 namespace strata::cli {
 
@@ -15,12 +16,23 @@ std::function<int()> AddNavMeshBenchCommand(CLI::App& app) {
   options->level = DefaultLevelPath();
   CLI::App* command = app.add_subcommand("bench-navmesh", "background navmesh cost against the physics step");
   command->add_option("level", options->level, "level mesh file")->capture_default_str();
-  command->add_option("--crates", options->crates, "dynamic bodies stepping")->capture_default_str();
-  command->add_option("--repeats", options->repeats, "builds per tile")->capture_default_str();
-  command->add_option("--blocks", options->step_blocks, "alternating step blocks")->capture_default_str();
-  command->add_option("--steps", options->steps_per_block, "steps per block")->capture_default_str();
-  command->add_option("--threads", options->physics_threads, "physics threads")->capture_default_str();
+  command->add_option("--crates", options->crates, "dynamic bodies stepping")
+      ->check(CountIn(0, 50000, "--crates"))
+      ->capture_default_str();
+  command->add_option("--repeats", options->repeats, "builds per tile")
+      ->check(CountIn(1, 1000, "--repeats"))
+      ->capture_default_str();
+  command->add_option("--blocks", options->step_blocks, "alternating step blocks")
+      ->check(CountIn(2, 1000, "--blocks"))
+      ->capture_default_str();
+  command->add_option("--steps", options->steps_per_block, "steps per block")
+      ->check(CountIn(1, 100000, "--steps"))
+      ->capture_default_str();
+  command->add_option("--threads", options->physics_threads, "physics threads")
+      ->check(CountIn(1, kMaxThreads, "--threads"))
+      ->capture_default_str();
   command->add_option("--navmesh-threads", options->navmesh_threads, "navmesh threads")
+      ->check(CountIn(1, kMaxNavMeshThreads, "--navmesh-threads"))
       ->capture_default_str();
   command->add_option("--json", options->json, "Also write the figures to this JSON file");
   AddNavMeshSettingsOptions(*command, options->settings);

@@ -23,6 +23,7 @@
 #include "tools/bench/Progress.h"
 #include "tools/cli/Commands.h"
 #include "tools/cli/NavMeshOptions.h"
+#include "tools/cli/Validators.h"
 
 namespace strata::cli {
 
@@ -42,6 +43,7 @@ struct BakeOptions {
 struct MergeOptions {
   std::vector<std::string> shards;
   std::string out;
+  bool allow_partial = false;
 };
 
 struct PathOptions {
@@ -107,6 +109,12 @@ int RunBake(const BakeOptions& options) {
     bake_options.shard = shard->first;
     bake_options.shard_count = shard->second;
   }
+  if (Status distinct = DistinctFiles({{"the level", options.level},
+                                      {"--out", options.out},
+                                      {"--obj", options.obj},
+                                      {"--report", options.report}});
+      !distinct)
+    return Fail("bake", distinct.message());
   bake_options.service.settings = options.settings;
   bake_options.service.worker_threads = options.threads;
   if (Status status = bake_options.service.Validate(); !status.ok()) return Fail("bake", status.message());
@@ -130,7 +138,8 @@ int RunBake(const BakeOptions& options) {
   const double wall_ms = bake->wall_ms;
 
   const navmesh::NavMesh& navmesh = service.navmesh();
-  if (Status status = navmesh.Save(options.out); !status.ok()) return Fail("bake", status.message());
+  if (Status status = navmesh.Save(options.out, bake->coverage); !status.ok())
+    return Fail("bake", status.message());
   if (!options.obj.empty())
     if (Status status = navmesh.WriteObj(options.obj); !status.ok()) return Fail("bake", status.message());
   const nlohmann::json report = Report(options, *level, service, wall_ms);
@@ -151,14 +160,22 @@ int RunBake(const BakeOptions& options) {
 
 int RunMerge(const MergeOptions& options) {
   const std::vector<std::filesystem::path> files(options.shards.begin(), options.shards.end());
-  Result<std::unique_ptr<navmesh::NavMesh>> merged = navmesh::MergeShards(files);
+  std::vector<std::pair<std::string, std::string>> named{{"--out", options.out}};
+  for (const std::string& shard : options.shards) named.emplace_back("shard " + shard, shard);
+  if (Status distinct = DistinctFiles(named); !distinct) return Fail("merge", distinct.message());
+  Result<navmesh::MergedShards> merged = navmesh::MergeShards(files, options.allow_partial);
   if (!merged) {
     std::cerr << "strata " << merged.error().message << "\n";  // it names the command and the file
     return 2;
   }
-  if (Status saved = (*merged)->Save(options.out); !saved) return Fail("merge", saved.message());
-  std::printf("merged %zu shards: %d tiles, %d polygons; wrote %s\n", files.size(), (*merged)->tile_count(),
-              (*merged)->polygon_count(), options.out.c_str());
+  if (!merged->missing_tiles.empty())
+    std::fprintf(stderr, "strata navmesh merge: warning: %zu shards missing, %zu tiles left out: %s\n",
+                 merged->missing_shards.size(), merged->missing_tiles.size(),
+                 navmesh::DescribeTiles(merged->missing_tiles).c_str());
+  const navmesh::NavMesh& navmesh = *merged->navmesh;
+  if (Status saved = navmesh.Save(options.out, merged->coverage); !saved) return Fail("merge", saved.message());
+  std::printf("merged %zu shards: %d tiles, %d polygons; wrote %s\n", files.size(), navmesh.tile_count(),
+              navmesh.polygon_count(), options.out.c_str());
   return 0;
 }
 
@@ -212,7 +229,9 @@ std::function<int()> AddNavMeshCommand(CLI::App& app) {
       ->required();
   bake_command->add_option("--obj", bake->obj, "also write the navmesh as OBJ");
   bake_command->add_option("--report,--json", bake->report, "write build figures as JSON");
-  bake_command->add_option("--threads", bake->threads, "background build threads")->capture_default_str();
+  bake_command->add_option("--threads", bake->threads, "background build threads")
+      ->check(CountIn(1, kMaxThreads, "--threads"))
+      ->capture_default_str();
   bake_command->add_option("--shard", bake->shard,
                            "K/N: build only share K of N of the tiles (coordinate order, every N-th); "
                            "`navmesh merge` joins the shards' files into what one bake writes");
@@ -224,6 +243,8 @@ std::function<int()> AddNavMeshCommand(CLI::App& app) {
       command->add_subcommand("merge", "join the files of a sharded bake into one navmesh set file");
   merge_command->add_option("shards", merge->shards, "the shards' navmesh set files")->required();
   merge_command->add_option("--out", merge->out, "navmesh set file to write")->required();
+  merge_command->add_flag("--allow-partial", merge->allow_partial,
+                          "write the tiles there are even when shards are missing (listed on stderr)");
 
   auto path = std::make_shared<PathOptions>();
   CLI::App* path_command = command->add_subcommand("path", "find a path on a saved navmesh");

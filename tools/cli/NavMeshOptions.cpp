@@ -1,6 +1,8 @@
 #include "tools/cli/NavMeshOptions.h"
 
 #include <algorithm>
+#include <cstdlib>
+#include <filesystem>
 #include <sstream>
 
 namespace strata::cli {
@@ -66,8 +68,32 @@ std::pair<double, double> MedianAndMax(std::vector<double> values) {
   return {median, values.back()};
 }
 
+std::filesystem::path ExecutableDirectory() {
+  std::error_code error;
+  const std::filesystem::path executable = std::filesystem::read_symlink("/proc/self/exe", error);
+  return error ? std::filesystem::path() : executable.parent_path();
+}
+
+std::vector<std::filesystem::path> LevelFolders() {
+  std::vector<std::filesystem::path> folders;
+  if (const char* data = std::getenv("STRATA_DATA_DIR"); data != nullptr && *data != '\0')
+    folders.push_back(std::filesystem::path(data) / "levels");
+  // An installed binary: <prefix>/bin/strata beside <prefix>/share/strata/levels.
+  if (const std::filesystem::path bin = ExecutableDirectory(); !bin.empty())
+    folders.push_back(bin.parent_path() / "share" / "strata" / "levels");
+  folders.emplace_back(STRATA_LEVELS_DIR);  // the source tree this binary was built from
+  return folders;
+}
+
 std::string DefaultLevelPath() {
-  return std::string(STRATA_LEVELS_DIR) + "/courtyard.obj";
+  const std::vector<std::filesystem::path> folders = LevelFolders();
+  for (const std::filesystem::path& folder : folders) {
+    std::error_code error;
+    if (std::filesystem::is_regular_file(folder / "courtyard.obj", error))
+      return (folder / "courtyard.obj").string();
+  }
+  // None there: the installed place, so that the loader's error says where the level was expected.
+  return ((folders.size() > 1 ? folders[folders.size() - 2] : folders.back()) / "courtyard.obj").string();
 }
 
 }  // namespace strata::cli

@@ -17,6 +17,7 @@
 #include "physics/core/OutputFile.h"
 #include "tools/bench/Progress.h"
 #include "tools/cli/Commands.h"
+#include "tools/cli/Validators.h"
 #include "tools/view/Recording.h"
 
 namespace strata::cli {
@@ -265,14 +266,14 @@ std::function<int()> AddSimulateCommand(CLI::App& app) {
   auto options = std::make_shared<SimulateOptions>();
   CLI::App* command = app.add_subcommand("simulate", "Run a JSON scene and write body states as JSON lines");
   command->add_option("scene", options->scene, "Scene file (see assets/scenes/README.md)")->required();
-  command->add_option("--steps", options->steps, "Number of steps")->check(CLI::PositiveNumber);
+  command->add_option("--steps", options->steps, "Number of steps")->check(CountIn(1, 100000000, "--steps"));
   command->add_option("--out", options->out, "Write JSON lines here instead of standard output");
   command->add_option("--every", options->every, "Record every K-th step (and the last)")
-      ->check(CLI::PositiveNumber);
+      ->check(CountIn(1, 100000000, "--every"));
   command->add_flag("--constraint-forces", options->constraint_forces,
                     "Add each joint's force and torque (and whether it broke) to every state line");
   command->add_option("--threads", options->threads, "Worker threads (0 = all cores)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(CountIn(0, kMaxThreads, "--threads"));
   command->add_option("--record", options->record, "Also write a recording of the run for `strata view`");
   command->add_option("--events", options->events,
                       "Write the contact and sensor events of bodies that ask for them (scene keys "

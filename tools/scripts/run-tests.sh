@@ -7,7 +7,7 @@
 set -euo pipefail
 root="$(cd "$(dirname "$0")/../.." && pwd)"
 jobs="$(nproc)"
-bash "$root/tools/scripts/install-deps.sh"
+bash "$root/tools/scripts/install-deps.sh" test
 
 build_and_test() {  # build dir, build targets ("all" for everything), ctest label regex, cmake args...
   local dir="$1" targets="$2" labels="$3"
