@@ -6,6 +6,7 @@
 #include <sstream>
 #include <string>
 
+#include "assets/json/StrictJson.h"
 #include "physics/core/InputFile.h"
 
 namespace strata {
@@ -98,8 +99,12 @@ std::int64_t AvailableBytes(const nlohmann::json& buffer, const std::filesystem:
 }
 
 Status CheckGltfJson(const std::filesystem::path& path, const std::string& text, std::int64_t binary_chunk) {
-  const nlohmann::json document = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
-  if (document.is_discarded() || !document.is_object()) return Status::Ok();  // assimp says what is wrong
+  // Strictly, and refused here when it is not: assimp's own JSON reader recurses, and a deeply nested
+  // file would exhaust its stack.
+  const Result<nlohmann::json> parsed = ParseStrictJson(text, path.string() + " (glTF JSON)");
+  if (!parsed) return parsed.error();
+  const nlohmann::json& document = *parsed;
+  if (!document.is_object()) return CountError(path, "glTF JSON must be an object");
   const auto list = [&](const char* key) {
     return document.contains(key) && document[key].is_array() ? document[key] : nlohmann::json::array();
   };

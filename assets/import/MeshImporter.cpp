@@ -3,18 +3,34 @@
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
+#include <sys/stat.h>
+
+#include <algorithm>
 #include <array>
+#include <assimp/BaseImporter.h>
+#include <assimp/IOSystem.hpp>
 #include <assimp/Importer.hpp>
+#include <assimp/MemoryIOWrapper.h>
+#include <assimp/ProgressHandler.hpp>
+#include <cctype>
+#include <cerrno>
+#include <chrono>
+#include <cstring>
+#include <fstream>
 #include <map>
 #include <new>
 #include <string>
 
 #include "assets/import/DeclaredCounts.h"
+#include "assets/import/PlyReader.h"
 #include "physics/core/InputFile.h"
 
 namespace strata {
 
 namespace {
+
+// An import that takes longer is abandoned: no level of ours takes a second.
+constexpr std::chrono::seconds kMaxImportTime{60};
 
 Error ImportError(const std::filesystem::path& path, const std::string& why) {
   return MakeError(ErrorCode::kParseError, path.string() + ": " + why);
@@ -78,9 +94,73 @@ void WeldAndDropDegenerates(ImportedMesh& mesh) {
   mesh.triangles = std::move(kept);
 }
 
+// Every file assimp opens, the named one and those it refers to (an OBJ's mtllib, a glTF buffer's uri), goes
+// through the input policy: regular files only, and all of them together within kMaxMeshFileBytes. Each is
+// read whole and handed to assimp from memory, so a file cannot change under it either.
+class PolicyIOSystem : public Assimp::IOSystem {
+ public:
+  bool Exists(const char* file) const override {
+    struct stat info {};
+    return ::stat(file, &info) == 0 && S_ISREG(info.st_mode);
+  }
+  char getOsSeparator() const override { return '/'; }
+  Assimp::IOStream* Open(const char* file, const char* mode) override {
+    if (mode == nullptr || std::strchr(mode, 'w') != nullptr || std::strchr(mode, 'a') != nullptr) return nullptr;
+    struct stat info {};
+    if (::lstat(file, &info) != 0 && errno == ENOENT) return nullptr;  // missing: assimp decides (an OBJ's
+                                                                        // absent .mtl is no error)
+    Result<std::string> bytes = ReadInputFile(file, kMaxMeshFileBytes - read_bytes_);
+    if (!bytes) {
+      if (refusal_.empty()) refusal_ = bytes.error().message;
+      return nullptr;
+    }
+    read_bytes_ += bytes->size();
+    auto* copy = new std::uint8_t[std::max<std::size_t>(bytes->size(), 1)];
+    std::memcpy(copy, bytes->data(), bytes->size());
+    return new Assimp::MemoryIOStream(copy, bytes->size(), /*own=*/true);
+  }
+  void Close(Assimp::IOStream* stream) override { delete stream; }
+  /// Why the policy refused a file assimp asked for (empty when it refused none).
+  const std::string& refusal() const { return refusal_; }
+
+ private:
+  std::uint64_t read_bytes_ = 0;
+  std::string refusal_;
+};
+
+// Aborts an import that runs past its deadline (assimp asks between its stages and during long reads).
+class DeadlineProgress : public Assimp::ProgressHandler {
+ public:
+  explicit DeadlineProgress(std::chrono::steady_clock::time_point deadline) : deadline_(deadline) {}
+  bool Update(float) override { return std::chrono::steady_clock::now() < deadline_; }
+  bool expired() const { return std::chrono::steady_clock::now() >= deadline_; }
+
+ private:
+  std::chrono::steady_clock::time_point deadline_;
+};
+
+ImportedMesh InStrataFrame(ImportedMesh mesh, const MeshImportOptions& options) {
+  for (Vec3& v : mesh.vertices) v = (options.z_up ? Vec3(v.x(), v.z(), -v.y()) : v) * options.scale;
+  return mesh;
+}
+
+Result<ImportedMesh> Finish(const std::filesystem::path& path, ImportedMesh mesh) {
+  for (const Vec3& v : mesh.vertices)
+    if (!IsFinite(v)) return ImportError(path, "has non-finite vertex coordinates");
+  WeldAndDropDegenerates(mesh);
+  if (mesh.triangles.empty()) return ImportError(path, "contains no triangles");
+  return mesh;
+}
+
 // The import itself, once the file passed the input policy.
 Result<ImportedMesh> Import(const std::filesystem::path& path, const MeshImportOptions& options) {
   Assimp::Importer importer;
+  // PLY files are read by PlyReader; assimp's reader never sees one, even under another extension.
+  if (Assimp::BaseImporter* ply = importer.GetImporter("ply"); ply != nullptr) importer.UnregisterLoader(ply);
+  auto* io = new PolicyIOSystem();
+  importer.SetIOHandler(io);  // the importer owns both
+  auto* progress = new DeadlineProgress(std::chrono::steady_clock::now() + kMaxImportTime);
+  importer.SetProgressHandler(progress);
   // Drop normals, colours and UVs before welding so vertices differing only in those still merge.
   importer.SetPropertyInteger(AI_CONFIG_PP_RVC_FLAGS, aiComponent_NORMALS |
                                                           aiComponent_TANGENTS_AND_BITANGENTS |
@@ -89,15 +169,27 @@ Result<ImportedMesh> Import(const std::filesystem::path& path, const MeshImportO
       path.string(), aiProcess_Triangulate | aiProcess_RemoveComponent | aiProcess_JoinIdenticalVertices |
                          aiProcess_FindDegenerates | aiProcess_SortByPType);
   // No aiProcess_FindInvalidData: it silently drops meshes with NaN vertices, and we want to say so.
+  if (!io->refusal().empty()) return ImportError(path, "refers to a file that cannot be read: " + io->refusal());
+  if (progress->expired())
+    return ImportError(path, "took longer than " + std::to_string(kMaxImportTime.count()) + " s to import");
   if (!scene || !scene->mRootNode)
     return ImportError(path, std::string("cannot import: ") + importer.GetErrorString());
   ImportedMesh mesh;
   AppendNode(*scene, *scene->mRootNode, aiMatrix4x4(), options, mesh);
-  for (const Vec3& v : mesh.vertices)
-    if (!IsFinite(v)) return ImportError(path, "has non-finite vertex coordinates");
-  WeldAndDropDegenerates(mesh);
-  if (mesh.triangles.empty()) return ImportError(path, "contains no triangles");
-  return mesh;
+  return Finish(path, std::move(mesh));
+}
+
+bool LooksLikePlyFile(const std::filesystem::path& path) {
+  char start[4] = {};
+  std::ifstream(path, std::ios::binary).read(start, sizeof(start));
+  return LooksLikePly(std::string_view(start, sizeof(start)));
+}
+
+bool HasPlyExtension(const std::filesystem::path& path) {
+  std::string extension = path.extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return extension == ".ply";
 }
 
 }  // namespace
@@ -107,6 +199,13 @@ Result<ImportedMesh> ImportMesh(const std::filesystem::path& path, const MeshImp
     return ImportError(path, "scale must be a positive number");
   const Result<std::uint64_t> size = CheckInputFile(path, kMaxMeshFileBytes);
   if (!size) return size.error();
+  if (HasPlyExtension(path) || LooksLikePlyFile(path)) {
+    Result<std::string> bytes = ReadInputFile(path, kMaxMeshFileBytes);
+    if (!bytes) return bytes.error();
+    Result<ImportedMesh> mesh = ReadPly(*bytes, path);
+    if (!mesh) return mesh.error();
+    return Finish(path, InStrataFrame(std::move(*mesh), options));
+  }
   if (Status counts = CheckDeclaredCounts(path, *size); !counts) return counts.error();
   // Assimp reports most bad files through its error string, but throws on some (and allocation fails on
   // others): an import never takes the process down.

@@ -1,5 +1,7 @@
-// MeshImporter: reads a level or prop mesh file through assimp (OBJ, glTF/GLB, FBX, PLY, STL, DAE, ...)
-// into one welded, triangulated triangle list with the scene graph's transforms applied.
+// MeshImporter: reads a level or prop mesh file through assimp (OBJ, glTF/GLB, FBX, STL, DAE, ...; PLY through
+// PlyReader) into one welded, triangulated triangle list with the scene graph's transforms applied. Every file
+// an import opens, the named one and those it refers to, passes the input policy (InputFile), and an import
+// that runs past a minute is abandoned.
 // Stateless; safe to call from any thread (each call owns its assimp importer).
 #pragma once
 
@@ -28,8 +30,8 @@ struct MeshImportOptions {
 constexpr std::uint64_t kMaxMeshFileBytes = std::uint64_t{1} << 30;
 
 /// Loads every mesh of `path`. Fails (naming the file and why) for a missing, unsupported or corrupt file,
-/// anything but a regular file, a file over kMaxMeshFileBytes, a PLY header declaring more elements than
-/// the file could hold, a file with no triangles, or non-finite vertices.
+/// anything but a regular file (it or a file it refers to), files over kMaxMeshFileBytes together, counts
+/// declared beyond what the file holds, a file with no triangles, or non-finite vertices.
 Result<ImportedMesh> ImportMesh(const std::filesystem::path& path, const MeshImportOptions& options = {});
 
 }  // namespace strata

@@ -1,3 +1,4 @@
+#include "assets/json/StrictJson.h"
 #include "assets/scene/SceneLoader.h"
 
 #include <cmath>
@@ -574,13 +575,9 @@ Status ParseSettings(const Reader& reader, const Json& json, Scene& scene) {
 
 Result<Scene> ParseScene(const std::string& text, const std::string& source,
                          const std::filesystem::path& base_directory) {
-  Json json;
-  try {
-    json = Json::parse(text);
-  } catch (const Json::exception& error) {
-    // parse_error, and out_of_range for numbers beyond a double (1e400).
-    return MakeError(ErrorCode::kParseError, source + ": invalid JSON: " + error.what());
-  }
+  Result<Json> parsed = ParseStrictJson(text, source);
+  if (!parsed) return parsed.error();
+  const Json json = std::move(*parsed);
   const Reader root(source, "");
   if (!json.is_object()) return root.Fail("", "the scene must be a JSON object");
   if (Status keys = root.OnlyKeys(json, {"settings", "bodies", "constraints"}); !keys) return keys.error();

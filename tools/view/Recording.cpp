@@ -1,3 +1,4 @@
+#include "assets/json/StrictJson.h"
 #include "tools/view/Recording.h"
 
 #include <cmath>
@@ -15,7 +16,10 @@ namespace {
 
 constexpr int kFormatVersion = 1;
 // Recordings of big worlds run to hundreds of megabytes; past this a file is not one we wrote.
-constexpr std::uint64_t kMaxRecordingBytes = std::uint64_t{2} << 30;
+// A recording's text, and what its parsed document may take: `strata view` holds it, a copy with the
+// coordinates moved and the page's text at once, so the document gets a third of a 3 GB budget.
+constexpr std::uint64_t kMaxRecordingBytes = std::uint64_t{512} << 20;
+constexpr std::uint64_t kMaxRecordingMemory = std::uint64_t{1} << 30;
 
 // Millimetres and ten-thousandths are all a viewer shows; fewer digits keep the file small.
 double Rounded(float value) {
@@ -225,10 +229,12 @@ class RecordingChecker {
 };
 
 Status CheckRecording(const nlohmann::json& document, const RecordingChecker& check) {
-  if (!document.is_object() || document.value("format", "") != "strata-recording")
-    return check.Fail("format", "not a strata recording");
-  if (document.value("version", 0) != kFormatVersion)
-    return check.Fail("version", "version " + std::to_string(kFormatVersion) + " expected");
+  const nlohmann::json& format = Member(document, "format");
+  if (!format.is_string() || format.get<std::string>() != "strata-recording")
+    return check.Fail("format", "not a strata recording (\"format\": \"strata-recording\" expected)");
+  const nlohmann::json& version = Member(document, "version");
+  if (!version.is_number_integer() || version.get<std::int64_t>() != kFormatVersion)
+    return check.Fail("version", "version " + std::to_string(kFormatVersion) + " expected (a whole number)");
   if (!Member(document, "title").is_string()) return check.Fail("title", "must be a string");
   if (Status status = check.Mesh(Member(document, "static"), "static"); !status) return status;
   const nlohmann::json& shapes = Member(document, "shapes");
@@ -295,7 +301,8 @@ Status CheckRecording(const nlohmann::json& document, const RecordingChecker& ch
       if (!states.is_array() || states.size() != tile_count)
         return check.Fail(field + ".tiles", "must hold one state a tile");
       for (const nlohmann::json& state : states)
-        if (!state.is_number_unsigned() || state.get<int>() > StateCode(navmesh::TileState::kStale))
+        if (!state.is_number_unsigned() ||
+            state.get<std::uint64_t>() > static_cast<std::uint64_t>(StateCode(navmesh::TileState::kStale)))
           return check.Fail(field + ".tiles", "holds an unknown tile state");
     }
   }
@@ -308,7 +315,8 @@ Status CheckRecording(const nlohmann::json& document, const RecordingChecker& ch
     if (!islands.is_array() || islands.size() != surface["positions"].size() / 9)
       return check.Fail("navmesh.island", "must hold one island a triangle");
     for (const nlohmann::json& island : islands)
-      if (!island.is_number_unsigned()) return check.Fail("navmesh.island", "must be whole numbers");
+      if (!island.is_number_unsigned() || island.get<std::uint64_t>() > std::uint64_t{1} << 30)
+        return check.Fail("navmesh.island", "must be whole numbers up to 2^30");
   }
   const nlohmann::json& agents = Member(document, "agents", Missing::kEmptyArray);
   if (!agents.is_array()) return check.Fail("agents", "must be an array");
@@ -334,9 +342,10 @@ Status CheckRecording(const nlohmann::json& document, const RecordingChecker& ch
 Result<nlohmann::json> ReadRecording(const std::filesystem::path& path) {
   Result<std::string> text = ReadInputFile(path, kMaxRecordingBytes);
   if (!text) return text.error();
-  nlohmann::json document = nlohmann::json::parse(*text, nullptr, /*allow_exceptions=*/false);
+  Result<nlohmann::json> parsed = ParseStrictJson(*text, path.string(), {64, kMaxRecordingMemory});
+  if (!parsed) return parsed.error();
+  const nlohmann::json document = std::move(*parsed);
   const RecordingChecker check(path.string());
-  if (document.is_discarded()) return check.Fail("(file)", "not valid JSON").error();
   if (Status status = CheckRecording(document, check); !status) return status.error();
   return document;
 }
