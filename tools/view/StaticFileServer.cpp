@@ -1,19 +1,14 @@
 #include "tools/view/StaticFileServer.h"
 
-#include <arpa/inet.h>
-#include <netinet/in.h>
-#include <poll.h>
-#include <sys/socket.h>
-#include <unistd.h>
+#include <httplib.h>
+#include <sys/stat.h>
 
 #include <atomic>
 #include <csignal>
-#include <cstring>
-#include <fstream>
-#include <iterator>
 #include <string>
+#include <thread>
 
-#include "physics/core/FileDescriptor.h"
+#include "physics/core/InputFile.h"
 
 namespace strata::view {
 
@@ -25,6 +20,9 @@ extern "C" void RequestStop(int) {
   g_stop_requested.store(true);
 }
 
+// The viewer's folder holds its page, its script, the scene and the recording's data: far below this.
+constexpr std::uint64_t kMaxServedBytes = std::uint64_t{1} << 30;
+
 const char* ContentType(const std::filesystem::path& path) {
   const std::string extension = path.extension().string();
   if (extension == ".html") return "text/html; charset=utf-8";
@@ -35,69 +33,33 @@ const char* ContentType(const std::filesystem::path& path) {
   return "application/octet-stream";
 }
 
-void SendAll(int fd, const std::string& bytes) {
-  std::size_t sent = 0;
-  while (sent < bytes.size()) {
-    const ssize_t n = ::send(fd, bytes.data() + sent, bytes.size() - sent, MSG_NOSIGNAL);
-    if (n <= 0) return;  // the browser went away
-    sent += static_cast<std::size_t>(n);
-  }
-}
-
-std::string Response(int code, const char* reason, const char* type, const std::string& body, bool head) {
-  std::string response = "HTTP/1.1 " + std::to_string(code) + " " + reason + "\r\nContent-Type: " + type +
-                         "\r\nContent-Length: " + std::to_string(body.size()) +
-                         "\r\nCache-Control: no-store\r\nConnection: close\r\n\r\n";
-  if (!head) response += body;
-  return response;
-}
-
-// The file a request line names, if it is a plain file directly in the folder.
-std::filesystem::path Resolve(const std::filesystem::path& folder, std::string target) {
-  target = target.substr(0, target.find_first_of("?#"));
-  if (target == "/") target = "/index.html";
-  if (target.size() < 2 || target[0] != '/') return {};
-  const std::string name = target.substr(1);
-  // Only names of the folder's own files: no separators, no "..", nothing escaped.
+// The file a request names, if it is a regular file directly in the folder and not a link (a link could
+// lead anywhere, /etc/passwd included).
+std::filesystem::path Resolve(const std::filesystem::path& folder, std::string name) {
+  if (name.empty()) name = "index.html";
   if (name.find_first_of("/\\%") != std::string::npos || name == "." || name == "..") return {};
   const std::filesystem::path path = folder / name;
-  std::error_code error;
-  return std::filesystem::is_regular_file(path, error) ? path : std::filesystem::path();
+  struct stat info {};
+  if (::lstat(path.c_str(), &info) != 0 || !S_ISREG(info.st_mode)) return {};
+  return path;
 }
 
-void Handle(int client, const std::filesystem::path& folder) {
-  std::string request;
-  char buffer[4096];
-  // The request line is all that matters; read until it is complete (or the client stops).
-  while (request.find("\r\n") == std::string::npos && request.size() < 16384) {
-    pollfd ready{client, POLLIN, 0};
-    if (::poll(&ready, 1, 2000) <= 0) return;
-    const ssize_t n = ::recv(client, buffer, sizeof(buffer), 0);
-    if (n <= 0) return;
-    request.append(buffer, static_cast<std::size_t>(n));
-  }
-  const std::string line = request.substr(0, request.find("\r\n"));
-  const std::size_t first_space = line.find(' ');
-  const std::size_t second_space = line.find(' ', first_space + 1);
-  if (first_space == std::string::npos || second_space == std::string::npos) {
-    SendAll(client, Response(400, "Bad Request", "text/plain", "bad request\n", false));
-    return;
-  }
-  const std::string method = line.substr(0, first_space);
-  const bool head = method == "HEAD";
-  if (method != "GET" && !head) {
-    SendAll(client, Response(405, "Method Not Allowed", "text/plain", "GET or HEAD only\n", false));
-    return;
-  }
-  const std::filesystem::path path =
-      Resolve(folder, line.substr(first_space + 1, second_space - first_space - 1));
+void Serve(const std::filesystem::path& folder, const httplib::Request& request, httplib::Response& response) {
+  const std::filesystem::path path = Resolve(folder, request.matches[1].str());
+  response.set_header("Cache-Control", "no-store");
   if (path.empty()) {
-    SendAll(client, Response(404, "Not Found", "text/plain", "not found\n", head));
+    response.status = 404;
+    response.set_content("not found\n", "text/plain");
     return;
   }
-  std::ifstream file(path, std::ios::binary);
-  const std::string body((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
-  SendAll(client, Response(200, "OK", ContentType(path), body, head));
+  // ReadInputFile opens without following a link swapped in since Resolve, and re-checks the type.
+  Result<std::string> bytes = ReadInputFile(path, kMaxServedBytes);
+  if (!bytes) {
+    response.status = 404;
+    response.set_content("not found\n", "text/plain");
+    return;
+  }
+  response.set_content(std::move(*bytes), ContentType(path));
 }
 
 }  // namespace
@@ -106,41 +68,43 @@ Status ServeFolder(const std::filesystem::path& folder, const ServeOptions& opti
   if (options.port < 0 || options.port > 65535)
     return MakeError(ErrorCode::kInvalidArgument,
                      "port must be in [0, 65535], got " + std::to_string(options.port));
-  const FileDescriptor listener(::socket(AF_INET, SOCK_STREAM, 0));
-  if (listener.get() < 0)
-    return MakeError(ErrorCode::kInvalidState, std::string("socket: ") + std::strerror(errno));
-  const int reuse = 1;
-  ::setsockopt(listener.get(), SOL_SOCKET, SO_REUSEADDR, &reuse, sizeof(reuse));
-  sockaddr_in address{};
-  address.sin_family = AF_INET;
-  address.sin_port = htons(static_cast<std::uint16_t>(options.port));
-  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  if (::bind(listener.get(), reinterpret_cast<const sockaddr*>(&address), sizeof(address)) != 0 ||
-      ::listen(listener.get(), 16) != 0)
-    return MakeError(
-        ErrorCode::kInvalidArgument,
-        "cannot listen on 127.0.0.1:" + std::to_string(options.port) + ": " + std::strerror(errno));
-  socklen_t length = sizeof(address);
-  ::getsockname(listener.get(), reinterpret_cast<sockaddr*>(&address), &length);
-  if (options.on_listening) options.on_listening(ntohs(address.sin_port));
+  httplib::Server server;
+  server.new_task_queue = [] { return new httplib::ThreadPool(ServeOptions::kConnections); };
+  server.set_read_timeout(ServeOptions::kClientTimeout);
+  server.set_write_timeout(ServeOptions::kClientTimeout);
+  server.set_keep_alive_timeout(ServeOptions::kClientTimeout.count());
+  server.set_payload_max_length(16 * 1024);  // requests carry no bodies worth having
+  const auto serve = [&folder](const httplib::Request& request, httplib::Response& response) {
+    Serve(folder, request, response);
+  };
+  server.Get(R"(/([^/]*))", serve);
+  server.set_error_handler([](const httplib::Request&, httplib::Response& response) {
+    if (response.body.empty()) response.set_content(std::to_string(response.status) + "\n", "text/plain");
+  });
+  int port = options.port;
+  if (port == 0) {
+    port = server.bind_to_any_port("127.0.0.1");
+  } else if (!server.bind_to_port("127.0.0.1", port)) {
+    port = -1;
+  }
+  if (port <= 0)
+    return MakeError(ErrorCode::kInvalidArgument,
+                     "cannot listen on 127.0.0.1:" + std::to_string(options.port) + ": " + std::strerror(errno));
+  if (options.on_listening) options.on_listening(port);
 
   g_stop_requested.store(false);
   std::signal(SIGINT, RequestStop);
   std::signal(SIGTERM, RequestStop);
-  const auto end = std::chrono::steady_clock::now() + options.duration;
-  while (!g_stop_requested.load()) {
-    int wait_ms = 200;
-    if (options.duration.count() > 0) {
-      const auto left =
-          std::chrono::duration_cast<std::chrono::milliseconds>(end - std::chrono::steady_clock::now());
-      if (left.count() <= 0) break;
-      wait_ms = static_cast<int>(std::min<std::int64_t>(left.count(), 200));
-    }
-    pollfd ready{listener.get(), POLLIN, 0};
-    if (::poll(&ready, 1, wait_ms) <= 0) continue;
-    const FileDescriptor client(::accept(listener.get(), nullptr, nullptr));
-    if (client.get() >= 0) Handle(client.get(), folder);
-  }
+  std::thread stopper([&] {
+    const auto end = std::chrono::steady_clock::now() + options.duration;
+    while (!g_stop_requested.load() &&
+           (options.duration.count() == 0 || std::chrono::steady_clock::now() < end))
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    server.stop();
+  });
+  server.listen_after_bind();
+  g_stop_requested.store(true);
+  stopper.join();
   std::signal(SIGINT, SIG_DFL);
   std::signal(SIGTERM, SIG_DFL);
   return Status::Ok();

@@ -1,7 +1,10 @@
 // StaticFileServer: serves one folder's files over HTTP on 127.0.0.1, for `strata view --serve` (a browser
 // may refuse scripts and files opened from disk, and a remote machine's folder is easier to look at through
-// an SSH tunnel to a port). GET and HEAD of files directly in the folder; anything else is 404 or 405.
-// Only the loopback address is bound: nothing off the machine reaches it. One thread serves; Serve blocks.
+// an SSH tunnel to a port). GET and HEAD of regular files directly in the folder (never through a link);
+// anything else is 404 or 405. Only the loopback address is bound: nothing off the machine reaches it.
+// cpp-httplib serves; up to kConnections connections at once, each on its own worker, and a client silent for
+// kClientTimeout (reading its request or taking our reply) is dropped, so slow or stalled clients cannot hold
+// up the others. Serve blocks its caller.
 #pragma once
 
 #include <chrono>
@@ -13,6 +16,8 @@
 namespace strata::view {
 
 struct ServeOptions {
+  static constexpr int kConnections = 256;
+  static constexpr std::chrono::seconds kClientTimeout{1};
   int port = 8080;  ///< 0: any free port
   /// Stop after this long (0: until the process is interrupted).
   std::chrono::milliseconds duration{0};
