@@ -129,6 +129,17 @@ void CollisionFinder::RunJob(std::uint32_t job_index, std::uint32_t width) {
   const auto active_count = static_cast<std::uint32_t>(input_.active.size());
   ForEachChunk(next_body_, active_count, kBodyBatch, width, [&](std::uint32_t begin, std::uint32_t end) {
     job.pairs.clear();
+    // Once the pair budget is spent, the rest of the bodies' pairs are not even looked for: a pile of
+    // thousands of bodies at one point would spend seconds a step finding pairs only to drop them.
+    if (pairs_claimed_.load(std::memory_order_relaxed) >= input_.max_pairs) {
+      job.stats.bodies_skipped += end - begin;
+      for (std::uint32_t active = begin; active < end; ++active) {
+        body_contacts_[active] = {job_index, static_cast<std::uint32_t>(job.constraints.size()),
+                                  static_cast<std::uint32_t>(job.constraints.size())};
+        input_.cache->BeginOwner(input_.active[active]);
+      }
+      return;
+    }
     input_.broad_phase->FindPairs(input_.active.subspan(begin, end - begin), input_.active_flags,
                                   *input_.layers, job.pairs);
     // Tree order depends on which generation the query saw; pair order must not.
@@ -460,6 +471,7 @@ CollisionStats CollisionFinder::stats() const {
     total.pairs_replayed += s.pairs_replayed;
     total.pairs_slid += s.pairs_slid;
     total.pairs_dropped += s.pairs_dropped;
+    total.bodies_skipped += s.bodies_skipped;
     total.constraints_dropped += s.constraints_dropped;
     total.manifolds += s.manifolds;
     total.contact_points += s.contact_points;

@@ -39,6 +39,7 @@ struct CollisionStats {
   std::uint64_t link_hops = 0;  ///< union-find links followed by IslandBuilder::Link
   std::size_t links = 0;
   std::size_t pairs_dropped = 0;        ///< past Input::max_pairs
+  std::size_t bodies_skipped = 0;       ///< active bodies whose pairs were not looked for (budget spent)
   std::size_t constraints_dropped = 0;  ///< past Input::max_constraints
 };
 

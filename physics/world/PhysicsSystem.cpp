@@ -136,21 +136,28 @@ PhysicsSystem::PhysicsSystem(const PhysicsSystemConfig& config, const PhysicsSet
 PhysicsSystem::~PhysicsSystem() = default;
 
 void PhysicsSystem::WarnAboutBudgets() {
-  const auto warn = [&](bool& warned, std::size_t dropped, const char* what, std::size_t budget, const char* setting) {
-    if (warned || dropped == 0) return;
+  const auto warn = [&](bool& warned, const std::string& what, std::size_t budget, const char* setting) {
+    if (warned) return;
     warned = true;
-    const std::string message = "strata physics: warning: " + std::to_string(dropped) + " " + what +
-                                " past the budget of " + std::to_string(budget) + " were dropped this step (" +
-                                setting + "; further steps over it are counted in StepStats, not reported)";
+    const std::string message = "strata physics: warning: " + what + " past the budget of " +
+                                std::to_string(budget) + " were dropped this step (" + setting +
+                                "; later steps over it are counted in StepStats, not reported)";
     if (warning_) {
       warning_(message);
     } else {
       std::fprintf(stderr, "%s\n", message.c_str());
     }
   };
-  warn(warned_pairs_, stats_.pairs_dropped, "body pairs", max_body_pairs_, "PhysicsSystemConfig::max_body_pairs");
-  warn(warned_constraints_, stats_.constraints_dropped, "contact constraints", max_contact_constraints_,
-       "PhysicsSystemConfig::max_contact_constraints");
+  if (stats_.pairs_dropped > 0 || stats_.bodies_skipped > 0)
+    warn(warned_pairs_,
+         std::to_string(stats_.pairs_dropped) + " body pairs" +
+             (stats_.bodies_skipped ? " (and the pairs of " + std::to_string(stats_.bodies_skipped) +
+                                          " bodies, not looked for)"
+                                    : std::string()),
+         max_body_pairs_, "PhysicsSystemConfig::max_body_pairs");
+  if (stats_.constraints_dropped > 0)
+    warn(warned_constraints_, std::to_string(stats_.constraints_dropped) + " contact constraints",
+         max_contact_constraints_, "PhysicsSystemConfig::max_contact_constraints");
 }
 
 void PhysicsSystem::BuildStepGraphs() {
@@ -671,6 +678,7 @@ void PhysicsSystem::FinishStep() {
   stats_.pairs_replayed = collision.pairs_replayed;
   stats_.pairs_slid = collision.pairs_slid;
   stats_.pairs_dropped = collision.pairs_dropped;
+  stats_.bodies_skipped = collision.bodies_skipped;
   stats_.constraints_dropped = collision.constraints_dropped;
   WarnAboutBudgets();
   stats_.manifolds = collision.manifolds;

@@ -5,6 +5,8 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <sys/resource.h>
+
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -23,6 +25,12 @@
 namespace strata::cli {
 
 namespace {
+
+// The most this process has held in memory so far (resident set), for the run's summary.
+long PeakMemoryMegabytes() {
+  rusage usage{};
+  return ::getrusage(RUSAGE_SELF, &usage) == 0 ? usage.ru_maxrss / 1024 : 0;
+}
 
 struct SimulateOptions {
   std::string scene;
@@ -249,7 +257,8 @@ int RunSimulate(const SimulateOptions& options) {
   }
   progress.Finish(std::to_string(options.steps) + " steps, " + std::to_string(lines) + " state lines" +
                   (events_file ? ", " + std::to_string(event_lines) + " event lines" : "") +
-                  (recorder ? ", " + std::to_string(recorder->frame_count()) + " frames recorded" : ""));
+                  (recorder ? ", " + std::to_string(recorder->frame_count()) + " frames recorded" : "") +
+                  ", peak memory " + std::to_string(PeakMemoryMegabytes()) + " MB");
   if (!options.out.empty()) PrintSummary(*scene, *world, options, lines, total_ms, slowest_ms);
   // Limits are never silent: a body that hit its max_linear_velocity or max_angular_velocity is reported.
   if (linear_clamps + angular_clamps > 0)
