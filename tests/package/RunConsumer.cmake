@@ -28,3 +28,20 @@ run("configuring the consumer" ${CMAKE_COMMAND} -S ${CONSUMER_SOURCE_DIR} -B ${W
     -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH=${prefix} "-DSTRATA_CONSUMER_COMPONENTS=${component_text}")
 run("building the consumer" ${CMAKE_COMMAND} --build ${WORK_DIR}/build)
 run("the consumer" ${WORK_DIR}/build/strata_consumer)
+
+# The installed CLI, run from another folder with no level named: it must find the installed sample level
+# beside its prefix (share/strata/levels), not the source tree it was built from.
+if(EXISTS ${prefix}/bin/strata)
+  set(elsewhere ${WORK_DIR}/elsewhere)
+  file(MAKE_DIRECTORY ${elsewhere})
+  execute_process(COMMAND ${prefix}/bin/strata demo --steps 30 --crates 2 --agents 2 --no-player --out-dir out
+                  WORKING_DIRECTORY ${elsewhere} RESULT_VARIABLE result OUTPUT_VARIABLE output ERROR_VARIABLE errors)
+  if(NOT result EQUAL 0)
+    message(FATAL_ERROR "the installed strata demo failed (${result}):\n${output}\n${errors}")
+  endif()
+  string(FIND "${output}" "level ${prefix}/share/strata/levels/courtyard.obj" found)
+  if(found EQUAL -1)
+    message(FATAL_ERROR "the installed strata demo did not use the installed level:\n${output}")
+  endif()
+  message(STATUS "installed strata demo ran from ${elsewhere} on ${prefix}/share/strata/levels/courtyard.obj")
+endif()
