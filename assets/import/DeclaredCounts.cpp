@@ -3,7 +3,6 @@
 #include <cstring>
 #include <fstream>
 #include <nlohmann/json.hpp>
-#include <sstream>
 #include <string>
 
 #include "assets/json/StrictJson.h"
@@ -13,8 +12,6 @@ namespace strata {
 
 namespace {
 
-// Far beyond any PLY header we know of; a header that runs on is corrupt anyway.
-constexpr int kMaxPlyHeaderLines = 10000;
 constexpr std::uint32_t kGlbJson = 0x4E4F534A;  // "JSON"
 constexpr std::uint32_t kGlbBin = 0x004E4942;   // "BIN\0"
 // Accessors without a buffer view are zeros assimp allocates: allowed up to this many bytes.
@@ -22,29 +19,6 @@ constexpr std::uint64_t kMaxUnbackedAccessorBytes = std::uint64_t{64} << 20;
 
 Error CountError(const std::filesystem::path& path, const std::string& why) {
   return {ErrorCode::kParseError, path.string() + ": " + why};
-}
-
-// Every element needs at least one byte, whatever the PLY encoding.
-Status CheckPly(const std::filesystem::path& path, std::uint64_t file_size) {
-  std::ifstream file(path, std::ios::binary);
-  std::string line;
-  if (!std::getline(file, line) || line.rfind("ply", 0) != 0) return Status::Ok();
-  std::uint64_t declared = 0;
-  for (int lines = 0; lines < kMaxPlyHeaderLines && std::getline(file, line); ++lines) {
-    if (line.rfind("end_header", 0) == 0) break;
-    std::istringstream words(line);
-    std::string keyword, name, count;
-    if (!(words >> keyword) || keyword != "element") continue;
-    if (!(words >> name >> count) || count.empty() || count.size() > 19 ||
-        count.find_first_not_of("0123456789") != std::string::npos)
-      return CountError(path, "PLY header: element '" + name + "' has no valid count ('" + count + "')");
-    declared += std::stoull(count);
-    if (declared > file_size)
-      return CountError(path, "PLY header declares " + std::to_string(declared) +
-                                  " elements, more than the file's " + std::to_string(file_size) +
-                                  " bytes could hold");
-  }
-  return Status::Ok();
 }
 
 // A non-negative integer field of `object`, or `fallback` when absent; nullopt-like -1 when invalid.
@@ -183,7 +157,6 @@ Status CheckGlb(const std::filesystem::path& path, const std::string& bytes) {
 Status CheckDeclaredCounts(const std::filesystem::path& path, std::uint64_t file_size) {
   char magic[4] = {};
   std::ifstream(path, std::ios::binary).read(magic, sizeof(magic));
-  if (std::memcmp(magic, "ply", 3) == 0) return CheckPly(path, file_size);
   const bool glb = std::memcmp(magic, "glTF", 4) == 0;
   if (!glb && path.extension() != ".gltf") return Status::Ok();
   const Result<std::string> bytes = ReadInputFile(path, file_size);

@@ -338,7 +338,7 @@ TEST(Cli, CorruptCountsAndCoordinatesAreRefusedBeforeAllocating) {
     return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   };
   EXPECT_EQ(stderr_of("navmesh bake " + ply.string() + " --out " + TempFile("ply.bin").string()), 2);
-  EXPECT_NE(errors.find("PLY header declares 1000000000 elements"), std::string::npos) << errors;
+  EXPECT_NE(errors.find("declares 1000000000 entries"), std::string::npos) << errors;
   const auto glb = TempFile("flipped.glb");
   std::filesystem::copy_file(kLevels / "arena.glb", glb, std::filesystem::copy_options::overwrite_existing);
   {
