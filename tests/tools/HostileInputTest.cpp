@@ -165,6 +165,8 @@ TEST(HostileInput, SizeAndThreadOptionsNameTheirLimits) {
       {"bench-broadphase --max-threads 100000", "--max-threads must be from 0 to 256"},
       {"bench-navmesh --blocks -1 --steps -5", "--blocks must be from 2 to 1000"},
       {"navmesh bake x.obj --out y.bin --threads 100000", "--threads must be from 1 to 256"},
+      {"demo --steps 10000000 --record-every 1 --record " + Temp("huge_recording.json").string(),
+       "record fewer frames"},
   };
   for (const Case& c : cases) {
     const CliRun run = Strata(c.arguments);

@@ -194,14 +194,19 @@ int RunSimulate(const SimulateOptions& options) {
       names[world->ids[i].index] = scene->bodies[i].name;
     }
   }
+  // Frames about 30 times a simulated second, whatever the scene's dt.
+  const int record_every = std::max(1, static_cast<int>(std::lround(1.0f / (30.0f * scene->dt))));
   std::optional<view::Recorder> recorder;
   if (!options.record.empty()) {
     recorder.emplace(*world->system, "simulate",
                      "strata simulate: " + std::filesystem::path(options.scene).filename().string());
+    if (Status fits = recorder->CheckFrameBudget(static_cast<std::uint64_t>(options.steps / record_every) + 2);
+        !fits) {
+      std::cerr << "strata simulate: --record: " << fits.message() << "\n";
+      return 2;
+    }
     recorder->Capture(0, 0.0f);
   }
-  // Frames about 30 times a simulated second, whatever the scene's dt.
-  const int record_every = std::max(1, static_cast<int>(std::lround(1.0f / (30.0f * scene->dt))));
   std::ostream& out = file ? file->stream() : std::cout;
   double slowest_ms = 0.0, total_ms = 0.0;
   int lines = 0, event_lines = 0;

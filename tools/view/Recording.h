@@ -45,6 +45,13 @@ class Recorder {
   void Finish(const navmesh::NavMesh* navmesh, const std::vector<RecordedAgent>& agents);
 
   std::size_t frame_count() const { return frames_.size(); }
+  /// The most numbers a recording's frames may hold together: what `strata view` reads back within its
+  /// memory budget (ReadRecording).
+  static constexpr std::uint64_t kMaxFrameValues = 20'000'000;
+  /// Fails, saying what to change, when `frames` frames of what this recorder tracks would pass
+  /// kMaxFrameValues: a run checks before it starts rather than filling the memory or writing a file that
+  /// cannot be viewed.
+  Status CheckFrameBudget(std::uint64_t frames) const;
   /// Writes the file (everything so far, frames included) whole or not at all.
   Status Write(const std::filesystem::path& path) const;
 
