@@ -369,8 +369,9 @@ Status NavMesh::Save(const std::filesystem::path& path, std::optional<SetCoverag
       tile_crcs.push_back(Crc32(AsBytes(bytes).subspan(tile_start)));
     }
   });
-  bytes += EncodeSetChecksums({Crc32(AsBytes(bytes).first(sizeof(SetHeader))),
-                               coverage.value_or(coverage_), std::move(tile_crcs)});
+  const SetCoverage saved_coverage = coverage.value_or(coverage_);
+  bytes += EncodeSetChecksums({HeaderCrc(AsBytes(bytes).first(sizeof(SetHeader)), saved_coverage),
+                               saved_coverage, std::move(tile_crcs)});
   // Beside the target and renamed over it: a kill or a full disk never leaves half a navmesh there.
   return WriteOutputFile(path, bytes);
 }
@@ -426,7 +427,7 @@ Result<std::unique_ptr<NavMesh>> NavMesh::Load(const std::filesystem::path& path
     const std::optional<SetChecksums> checksums =
         DecodeSetChecksums(bytes.subspan(offset), tile_starts.size() - 1, problem);
     if (!checksums) return FileError(path, problem);
-    if (Crc32(bytes.first(sizeof(SetHeader))) != checksums->header_crc)
+    if (HeaderCrc(bytes.first(sizeof(SetHeader)), checksums->coverage) != checksums->header_crc)
       return FileError(path, "the set header does not match its checksum (the file is damaged)");
     for (std::size_t i = 0; i + 1 < tile_starts.size(); ++i)
       if (Crc32(bytes.subspan(tile_starts[i], tile_starts[i + 1] - tile_starts[i])) != checksums->tile_crcs[i])

@@ -38,10 +38,16 @@ std::uint32_t WordAt(std::span<const unsigned char> bytes, std::size_t index) {
 
 }  // namespace
 
-std::uint32_t Crc32(std::span<const unsigned char> bytes) {
-  std::uint32_t crc = 0xFFFFFFFFu;
+std::uint32_t Crc32(std::span<const unsigned char> bytes, std::uint32_t crc) {
+  crc ^= 0xFFFFFFFFu;
   for (const unsigned char byte : bytes) crc = kCrcTable[(crc ^ byte) & 0xFFu] ^ (crc >> 8);
   return crc ^ 0xFFFFFFFFu;
+}
+
+std::uint32_t HeaderCrc(std::span<const unsigned char> set_header, const SetCoverage& coverage) {
+  const std::int32_t words[6] = {coverage.shard, coverage.shard_count, coverage.first.x,
+                                 coverage.first.z, coverage.last.x, coverage.last.z};
+  return Crc32({reinterpret_cast<const unsigned char*>(words), sizeof(words)}, Crc32(set_header));
 }
 
 std::string EncodeSetChecksums(const SetChecksums& checksums) {

@@ -26,11 +26,14 @@ struct SetCoverage {
   bool operator==(const SetCoverage&) const = default;
 };
 
-/// CRC-32 (IEEE 802.3, as zlib and PNG compute it) of `bytes`.
-std::uint32_t Crc32(std::span<const unsigned char> bytes);
+/// CRC-32 (IEEE 802.3, as zlib and PNG compute it) of `bytes`, continuing from `crc` (a CRC of earlier bytes).
+std::uint32_t Crc32(std::span<const unsigned char> bytes, std::uint32_t crc = 0);
+
+/// The CRC of the set header's bytes and the coverage: what SetChecksums::header_crc holds.
+std::uint32_t HeaderCrc(std::span<const unsigned char> set_header, const SetCoverage& coverage);
 
 struct SetChecksums {
-  std::uint32_t header_crc = 0;
+  std::uint32_t header_crc = 0;  ///< HeaderCrc
   SetCoverage coverage;
   std::vector<std::uint32_t> tile_crcs;  ///< over each tile's header and data, as saved
 };
