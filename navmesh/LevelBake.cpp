@@ -71,7 +71,8 @@ Result<LevelBake> BakeLevel(const PhysicsSystem& world, const AABB& level_bounds
   if (!level_tiles.empty()) {
     bake.coverage.first = bake.coverage.last = level_tiles.front();
     for (const TileCoord tile : level_tiles) {
-      bake.coverage.first = {std::min(bake.coverage.first.x, tile.x), std::min(bake.coverage.first.z, tile.z)};
+      bake.coverage.first = {std::min(bake.coverage.first.x, tile.x),
+                             std::min(bake.coverage.first.z, tile.z)};
       bake.coverage.last = {std::max(bake.coverage.last.x, tile.x), std::max(bake.coverage.last.z, tile.z)};
     }
   }
@@ -136,8 +137,8 @@ std::vector<TileCoord> TilesOfShard(const SetCoverage& coverage, int shard) {
 }
 
 // Which shards the files hold, checked against each other; the missing ones in `merged`.
-Status CheckShardSet(const std::vector<std::filesystem::path>& files, const std::vector<SetCoverage>& coverages,
-                     bool allow_partial, MergedShards& merged) {
+Status CheckShardSet(const std::vector<std::filesystem::path>& files,
+                     const std::vector<SetCoverage>& coverages, bool allow_partial, MergedShards& merged) {
   const SetCoverage& first = coverages.front();
   for (std::size_t f = 0; f < files.size(); ++f) {
     if (!coverages[f].known()) {
@@ -148,12 +149,14 @@ Status CheckShardSet(const std::vector<std::filesystem::path>& files, const std:
     }
     if (coverages[f].shard_count != first.shard_count || coverages[f].first != first.first ||
         coverages[f].last != first.last)
-      return MergeError(files[f].string() + " is a shard of another split or level than " + files[0].string());
+      return MergeError(files[f].string() + " is a shard of another split or level than " +
+                        files[0].string());
   }
   std::vector<bool> present(static_cast<std::size_t>(first.shard_count), false);
   for (std::size_t f = 0; f < files.size(); ++f) {
     if (present[static_cast<std::size_t>(coverages[f].shard)])
-      return MergeError("shard " + std::to_string(coverages[f].shard) + " is given twice (" + files[f].string() + ")");
+      return MergeError("shard " + std::to_string(coverages[f].shard) + " is given twice (" +
+                        files[f].string() + ")");
     present[static_cast<std::size_t>(coverages[f].shard)] = true;
   }
   for (int shard = 0; shard < first.shard_count; ++shard) {
@@ -168,11 +171,12 @@ Status CheckShardSet(const std::vector<std::filesystem::path>& files, const std:
   }
   if (allow_partial) return Status::Ok();
   std::string shards;
-  for (const int shard : merged.missing_shards) shards += (shards.empty() ? "" : ", ") + std::to_string(shard);
-  return MergeError(std::to_string(merged.missing_shards.size()) + " of " + std::to_string(first.shard_count) +
-                    " shards are missing (shard " + shards + "): " + std::to_string(merged.missing_tiles.size()) +
-                    " tiles are in no file: " + DescribeTiles(merged.missing_tiles) +
-                    " (--allow-partial writes the others)");
+  for (const int shard : merged.missing_shards)
+    shards += (shards.empty() ? "" : ", ") + std::to_string(shard);
+  return MergeError(std::to_string(merged.missing_shards.size()) + " of " +
+                    std::to_string(first.shard_count) + " shards are missing (shard " + shards +
+                    "): " + std::to_string(merged.missing_tiles.size()) + " tiles are in no file: " +
+                    DescribeTiles(merged.missing_tiles) + " (--allow-partial writes the others)");
 }
 }  // namespace
 

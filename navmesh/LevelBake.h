@@ -63,7 +63,8 @@ struct MergedShards {
 /// a file that does not load, navmesh parameters (tile size, origin, table size) or a level that differ from
 /// the first file's, a tile or shard in two files, and (unless `allow_partial`) a set that lacks a shard or
 /// whose files do not say which shard they are; the error lists the missing tiles.
-Result<MergedShards> MergeShards(const std::vector<std::filesystem::path>& shard_files, bool allow_partial = false);
+Result<MergedShards> MergeShards(const std::vector<std::filesystem::path>& shard_files,
+                                 bool allow_partial = false);
 
 /// "(x, z), (x, z), ... and N more": tiles for a message.
 std::string DescribeTiles(const std::vector<TileCoord>& tiles, std::size_t shown = 8);

@@ -15,8 +15,8 @@
 #include <string>
 #include <tuple>
 
-#include "physics/core/InputFile.h"
 #include "navmesh/SetChecksums.h"
+#include "physics/core/InputFile.h"
 #include "physics/core/OutputFile.h"
 
 namespace strata::navmesh {
@@ -430,8 +430,10 @@ Result<std::unique_ptr<NavMesh>> NavMesh::Load(const std::filesystem::path& path
     if (HeaderCrc(bytes.first(sizeof(SetHeader)), checksums->coverage) != checksums->header_crc)
       return FileError(path, "the set header does not match its checksum (the file is damaged)");
     for (std::size_t i = 0; i + 1 < tile_starts.size(); ++i)
-      if (Crc32(bytes.subspan(tile_starts[i], tile_starts[i + 1] - tile_starts[i])) != checksums->tile_crcs[i])
-        return FileError(path, "tile " + std::to_string(i) + " does not match its checksum (the file is damaged)");
+      if (Crc32(bytes.subspan(tile_starts[i], tile_starts[i + 1] - tile_starts[i])) !=
+          checksums->tile_crcs[i])
+        return FileError(path,
+                         "tile " + std::to_string(i) + " does not match its checksum (the file is damaged)");
     navmesh->coverage_ = checksums->coverage;
   }
   for (int i = 0; i < header.tile_count; ++i) {

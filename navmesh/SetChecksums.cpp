@@ -45,8 +45,8 @@ std::uint32_t Crc32(std::span<const unsigned char> bytes, std::uint32_t crc) {
 }
 
 std::uint32_t HeaderCrc(std::span<const unsigned char> set_header, const SetCoverage& coverage) {
-  const std::int32_t words[6] = {coverage.shard, coverage.shard_count, coverage.first.x,
-                                 coverage.first.z, coverage.last.x, coverage.last.z};
+  const std::int32_t words[6] = {coverage.shard,   coverage.shard_count, coverage.first.x,
+                                 coverage.first.z, coverage.last.x,      coverage.last.z};
   return Crc32({reinterpret_cast<const unsigned char*>(words), sizeof(words)}, Crc32(set_header));
 }
 
@@ -74,9 +74,11 @@ std::optional<SetChecksums> DecodeSetChecksums(std::span<const unsigned char> by
   checksums.header_crc = WordAt(bytes, 3);
   const auto signed_word = [&](std::size_t index) { return static_cast<std::int32_t>(WordAt(bytes, index)); };
   SetCoverage& coverage = checksums.coverage;
-  coverage = {signed_word(4), signed_word(5), {signed_word(6), signed_word(7)}, {signed_word(8), signed_word(9)}};
-  if (coverage.shard_count < 0 || coverage.shard < 0 || (coverage.known() && coverage.shard >= coverage.shard_count) ||
-      coverage.first.x > coverage.last.x || coverage.first.z > coverage.last.z) {
+  coverage = {
+      signed_word(4), signed_word(5), {signed_word(6), signed_word(7)}, {signed_word(8), signed_word(9)}};
+  if (coverage.shard_count < 0 || coverage.shard < 0 ||
+      (coverage.known() && coverage.shard >= coverage.shard_count) || coverage.first.x > coverage.last.x ||
+      coverage.first.z > coverage.last.z) {
     problem = "corrupt coverage in the checksum trailer";
     return std::nullopt;
   }

@@ -26,7 +26,8 @@ struct SetCoverage {
   bool operator==(const SetCoverage&) const = default;
 };
 
-/// CRC-32 (IEEE 802.3, as zlib and PNG compute it) of `bytes`, continuing from `crc` (a CRC of earlier bytes).
+/// CRC-32 (IEEE 802.3, as zlib and PNG compute it) of `bytes`, continuing from `crc` (a CRC of earlier
+/// bytes).
 std::uint32_t Crc32(std::span<const unsigned char> bytes, std::uint32_t crc = 0);
 
 /// The CRC of the set header's bytes and the coverage: what SetChecksums::header_crc holds.

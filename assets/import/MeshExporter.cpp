@@ -2,8 +2,8 @@
 
 #include <assimp/scene.h>
 
-#include <assimp/Exporter.hpp>
 #include <stdlib.h>
+#include <assimp/Exporter.hpp>
 
 #include <cstdio>
 #include <string>
@@ -94,7 +94,8 @@ Status ExportMesh(const ImportedMesh& mesh, const std::filesystem::path& path, c
   for (std::filesystem::directory_iterator it(staging, error), end; status && !error && it != end;
        it.increment(error))
     if (std::rename(it->path().c_str(), (folder / it->path().filename()).c_str()) != 0)
-      status = MakeError(ErrorCode::kInvalidArgument, path.string() + ": cannot move the written file into place");
+      status =
+          MakeError(ErrorCode::kInvalidArgument, path.string() + ": cannot move the written file into place");
   std::filesystem::remove_all(staging, error);
   return status;
 }

@@ -5,12 +5,12 @@
 
 #include <sys/stat.h>
 
+#include <assimp/BaseImporter.h>
+#include <assimp/MemoryIOWrapper.h>
 #include <algorithm>
 #include <array>
-#include <assimp/BaseImporter.h>
 #include <assimp/IOSystem.hpp>
 #include <assimp/Importer.hpp>
-#include <assimp/MemoryIOWrapper.h>
 #include <assimp/ProgressHandler.hpp>
 #include <cctype>
 #include <cerrno>
@@ -105,10 +105,11 @@ class PolicyIOSystem : public Assimp::IOSystem {
   }
   char getOsSeparator() const override { return '/'; }
   Assimp::IOStream* Open(const char* file, const char* mode) override {
-    if (mode == nullptr || std::strchr(mode, 'w') != nullptr || std::strchr(mode, 'a') != nullptr) return nullptr;
+    if (mode == nullptr || std::strchr(mode, 'w') != nullptr || std::strchr(mode, 'a') != nullptr)
+      return nullptr;
     struct stat info {};
-    if (::lstat(file, &info) != 0 && errno == ENOENT) return nullptr;  // missing: assimp decides (an OBJ's
-                                                                        // absent .mtl is no error)
+    // A missing file is assimp's to judge: an OBJ's absent .mtl is no error.
+    if (::lstat(file, &info) != 0 && errno == ENOENT) return nullptr;
     Result<std::string> bytes = ReadInputFile(file, kMaxMeshFileBytes - read_bytes_);
     if (!bytes) {
       if (refusal_.empty()) refusal_ = bytes.error().message;
@@ -169,7 +170,8 @@ Result<ImportedMesh> Import(const std::filesystem::path& path, const MeshImportO
       path.string(), aiProcess_Triangulate | aiProcess_RemoveComponent | aiProcess_JoinIdenticalVertices |
                          aiProcess_FindDegenerates | aiProcess_SortByPType);
   // No aiProcess_FindInvalidData: it silently drops meshes with NaN vertices, and we want to say so.
-  if (!io->refusal().empty()) return ImportError(path, "refers to a file that cannot be read: " + io->refusal());
+  if (!io->refusal().empty())
+    return ImportError(path, "refers to a file that cannot be read: " + io->refusal());
   if (progress->expired())
     return ImportError(path, "took longer than " + std::to_string(kMaxImportTime.count()) + " s to import");
   if (!scene || !scene->mRootNode)

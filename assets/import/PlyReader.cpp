@@ -16,7 +16,7 @@ namespace strata {
 namespace {
 
 constexpr std::size_t kMaxHeaderBytes = 64 * 1024;
-constexpr std::size_t kMaxProperties = 256;  // per element
+constexpr std::size_t kMaxProperties = 256;     // per element
 constexpr std::uint64_t kMaxListLength = 1024;  // vertices of one face
 
 enum class Encoding { kAscii, kLittleEndian, kBigEndian };
@@ -110,16 +110,22 @@ Result<Header> ReadHeader(std::string_view bytes, const std::filesystem::path& p
     const std::string where = "header line " + std::to_string(line_number) + ": ";
     if (words[0] == "end_header") break;
     if (words[0] == "format") {
-      if (words.size() != 3 || words[2] != "1.0") return PlyError(path, where + "format must be '<encoding> 1.0'");
-      if (words[1] == "ascii") header.encoding = Encoding::kAscii;
-      else if (words[1] == "binary_little_endian") header.encoding = Encoding::kLittleEndian;
-      else if (words[1] == "binary_big_endian") header.encoding = Encoding::kBigEndian;
-      else return PlyError(path, where + "unknown encoding '" + std::string(words[1]) + "'");
+      if (words.size() != 3 || words[2] != "1.0")
+        return PlyError(path, where + "format must be '<encoding> 1.0'");
+      if (words[1] == "ascii")
+        header.encoding = Encoding::kAscii;
+      else if (words[1] == "binary_little_endian")
+        header.encoding = Encoding::kLittleEndian;
+      else if (words[1] == "binary_big_endian")
+        header.encoding = Encoding::kBigEndian;
+      else
+        return PlyError(path, where + "unknown encoding '" + std::string(words[1]) + "'");
       has_format = true;
     } else if (words[0] == "element") {
       Element element;
       if (words.size() != 3 ||
-          std::from_chars(words[2].data(), words[2].data() + words[2].size(), element.count).ec != std::errc() ||
+          std::from_chars(words[2].data(), words[2].data() + words[2].size(), element.count).ec !=
+              std::errc() ||
           std::to_string(element.count).size() != words[2].size())
         return PlyError(path, where + "an element needs a name and a whole count");
       element.name = words[1];
@@ -201,14 +207,22 @@ class BodyReader {
   std::optional<double> ReadBinary(Type type) {
     if (left() < SizeOf(type)) return std::nullopt;
     switch (type) {
-      case Type::kInt8: return Take<std::int8_t>();
-      case Type::kUInt8: return Take<std::uint8_t>();
-      case Type::kInt16: return Take<std::int16_t>();
-      case Type::kUInt16: return Take<std::uint16_t>();
-      case Type::kInt32: return Take<std::int32_t>();
-      case Type::kUInt32: return Take<std::uint32_t>();
-      case Type::kFloat32: return static_cast<double>(Take<float>());
-      case Type::kFloat64: return Take<double>();
+      case Type::kInt8:
+        return Take<std::int8_t>();
+      case Type::kUInt8:
+        return Take<std::uint8_t>();
+      case Type::kInt16:
+        return Take<std::int16_t>();
+      case Type::kUInt16:
+        return Take<std::uint16_t>();
+      case Type::kInt32:
+        return Take<std::int32_t>();
+      case Type::kUInt32:
+        return Take<std::uint32_t>();
+      case Type::kFloat32:
+        return static_cast<double>(Take<float>());
+      case Type::kFloat64:
+        return Take<double>();
     }
     return std::nullopt;
   }
@@ -271,7 +285,8 @@ Status ReadElement(const Element& element, BodyReader& reader, const std::filesy
       }
       const std::optional<double> length = reader.Read(property.count_type);
       if (!length || *length < 0 || *length > static_cast<double>(kMaxListLength))
-        return fail("list '" + property.name + "' has no valid length (0 to " + std::to_string(kMaxListLength) + ")");
+        return fail("list '" + property.name + "' has no valid length (0 to " +
+                    std::to_string(kMaxListLength) + ")");
       polygon.clear();
       for (int i = 0; i < static_cast<int>(*length); ++i) {
         const std::optional<double> item = reader.Read(property.type);
@@ -282,7 +297,8 @@ Status ReadElement(const Element& element, BodyReader& reader, const std::filesy
                       std::to_string(mesh.vertices.size()) + " vertices read before the faces");
         polygon.push_back(static_cast<std::uint32_t>(*item));
       }
-      for (std::size_t i = 2; i < polygon.size(); ++i) mesh.triangles.push_back({polygon[0], polygon[i - 1], polygon[i]});
+      for (std::size_t i = 2; i < polygon.size(); ++i)
+        mesh.triangles.push_back({polygon[0], polygon[i - 1], polygon[i]});
     }
     if (vertices)
       mesh.vertices.emplace_back(static_cast<float>(values[static_cast<std::size_t>(x)]),

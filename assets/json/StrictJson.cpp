@@ -79,14 +79,16 @@ std::uint64_t EstimateJsonMemory(std::string_view text) {
   return Estimate(ShapeOf(text, SIZE_MAX - 1));
 }
 
-Result<nlohmann::json> ParseStrictJson(std::string_view text, const std::string& source, const JsonLimits& limits) {
+Result<nlohmann::json> ParseStrictJson(std::string_view text, const std::string& source,
+                                       const JsonLimits& limits) {
   const TextShape shape = ShapeOf(text, limits.max_depth);
   if (shape.deepest > limits.max_depth)
     return JsonError(source, "nests deeper than " + std::to_string(limits.max_depth) + " levels (at byte " +
                                  std::to_string(shape.deepest_at) + ")");
   const std::uint64_t estimate = Estimate(shape);
   if (estimate > limits.max_memory_bytes)
-    return JsonError(source, "would take about " + std::to_string(estimate >> 20) + " MB in memory, more than the " +
+    return JsonError(source, "would take about " + std::to_string(estimate >> 20) +
+                                 " MB in memory, more than the " +
                                  std::to_string(limits.max_memory_bytes >> 20) + " MB allowed for it");
   // Keys seen in each open object, innermost last; the first key given twice is the error.
   std::vector<std::set<std::string>> open_objects;
@@ -99,13 +101,15 @@ Result<nlohmann::json> ParseStrictJson(std::string_view text, const std::string&
     } else if (event == Event::object_end) {
       if (!open_objects.empty()) open_objects.pop_back();
     } else if (event == Event::key && !open_objects.empty() && duplicate.empty()) {
-      if (!open_objects.back().insert(parsed.get<std::string>()).second) duplicate = parsed.get<std::string>();
+      if (!open_objects.back().insert(parsed.get<std::string>()).second)
+        duplicate = parsed.get<std::string>();
     }
     return true;
   };
   try {
     nlohmann::json document = nlohmann::json::parse(text.begin(), text.end(), callback);
-    if (!duplicate.empty()) return JsonError(source, "the key \"" + duplicate + "\" appears twice in one object");
+    if (!duplicate.empty())
+      return JsonError(source, "the key \"" + duplicate + "\" appears twice in one object");
     return document;
   } catch (const nlohmann::json::exception& error) {
     // parse_error, and out_of_range for numbers beyond a double (1e400).

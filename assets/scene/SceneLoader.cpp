@@ -1,5 +1,5 @@
-#include "assets/json/StrictJson.h"
 #include "assets/scene/SceneLoader.h"
+#include "assets/json/StrictJson.h"
 
 #include <cmath>
 #include <cstdint>

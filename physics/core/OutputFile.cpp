@@ -60,7 +60,8 @@ void RemoveStaleTemporaries(const std::filesystem::path& target) {
     const std::string name = it->path().filename().string();
     if (!IsOutputTemporaryOf(name, target_name)) continue;
     const long owner = TemporaryOwner(name, target_name);
-    if (owner <= 0 || owner == ::getpid() || ::kill(static_cast<pid_t>(owner), 0) == 0 || errno != ESRCH) continue;
+    if (owner <= 0 || owner == ::getpid() || ::kill(static_cast<pid_t>(owner), 0) == 0 || errno != ESRCH)
+      continue;
     struct stat info {};
     if (::lstat(it->path().c_str(), &info) == 0 && S_ISREG(info.st_mode)) ::unlink(it->path().c_str());
   }
@@ -77,7 +78,9 @@ bool IsOutputTemporaryOf(std::string_view name, std::string_view target_name) {
 /// A stream buffer over a file descriptor that remembers the first failed write.
 class DescriptorBuffer : public std::streambuf {
  public:
-  explicit DescriptorBuffer(int descriptor) : descriptor_(descriptor) { setp(buffer_.data(), buffer_.data() + buffer_.size()); }
+  explicit DescriptorBuffer(int descriptor) : descriptor_(descriptor) {
+    setp(buffer_.data(), buffer_.data() + buffer_.size());
+  }
   ~DescriptorBuffer() override {
     if (descriptor_ >= 0) ::close(descriptor_);
   }

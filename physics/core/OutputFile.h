@@ -1,10 +1,10 @@
 // OutputFile: how the tools write their result files. The bytes go to a temporary created exclusively beside
 // the target (a fresh name each time, never following a link), are synced to disk and renamed over the
 // target, so a failed or killed write never leaves half a file, or an empty one, where the old one was. A
-// target that exists and is not a regular file (/dev/stdout, a pipe, a link to one) is written in place, never
-// replaced. A write that fails (a full disk, /dev/full) is an error, never a silent short file. Temporaries
-// left by a killed writer are removed by the next writer of the same target.
-// Any thread, one writer per target at a time.
+// target that exists and is not a regular file (/dev/stdout, a pipe, a link to one) is written in place,
+// never replaced. A write that fails (a full disk, /dev/full) is an error, never a silent short file.
+// Temporaries left by a killed writer are removed by the next writer of the same target. Any thread, one
+// writer per target at a time.
 #pragma once
 
 #include <filesystem>

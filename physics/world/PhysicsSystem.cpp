@@ -151,9 +151,9 @@ void PhysicsSystem::WarnAboutBudgets() {
   if (stats_.pairs_dropped > 0 || stats_.bodies_skipped > 0)
     warn(warned_pairs_,
          std::to_string(stats_.pairs_dropped) + " body pairs" +
-             (stats_.bodies_skipped ? " (and the pairs of " + std::to_string(stats_.bodies_skipped) +
-                                          " bodies, not looked for)"
-                                    : std::string()),
+             (stats_.bodies_skipped
+                  ? " (and the pairs of " + std::to_string(stats_.bodies_skipped) + " bodies, not looked for)"
+                  : std::string()),
          max_body_pairs_, "PhysicsSystemConfig::max_body_pairs");
   if (stats_.constraints_dropped > 0)
     warn(warned_constraints_, std::to_string(stats_.constraints_dropped) + " contact constraints",

@@ -87,7 +87,7 @@ struct StepStats {
   std::size_t linear_cast_hits = 0;         ///< linear-cast bodies stopped at a first impact
   std::size_t constraints = 0;              ///< joints solved (at least one of their bodies awake)
   std::size_t constraints_broken = 0;       ///< joints that broke this step
-  std::size_t pairs_dropped = 0;        ///< body pairs past PhysicsSystemConfig::max_body_pairs
+  std::size_t pairs_dropped = 0;            ///< body pairs past PhysicsSystemConfig::max_body_pairs
   std::size_t bodies_skipped = 0;       ///< active bodies whose pairs were not looked for (pair budget spent)
   std::size_t constraints_dropped = 0;  ///< contact constraints past max_contact_constraints
 };

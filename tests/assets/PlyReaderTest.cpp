@@ -47,7 +47,8 @@ std::string Binary(bool big_endian) {
 }
 
 std::string Ascii() {
-  return Header("ascii") + "0 0 0 200\n0 0 2 200\n3 0 2 200\n3 1 0 200\n4 0 1 2 3 0.5\n0 1";  // no last newline
+  return Header("ascii") +
+         "0 0 0 200\n0 0 2 200\n3 0 2 200\n3 1 0 200\n4 0 1 2 3 0.5\n0 1";  // no last newline
 }
 
 TEST(PlyReader, EveryEncodingGivesTheSameMesh) {
@@ -112,9 +113,10 @@ TEST(PlyReader, DamageIsAnErrorNamingWhatIsWrong) {
 }
 
 TEST(PlyReader, AnElementWithoutPropertiesCostsNothingHoweverManyItDeclares) {
-  const std::string ply = "ply\nformat ascii 1.0\nelement nothing 18446744073709551615\nelement vertex 3\n"
-                          "property float x\nproperty float y\nproperty float z\nelement face 1\n"
-                          "property list uchar uint vertex_index\nend_header\n0 0 0 1 0 0 0 0 1 3 0 1 2\n";
+  const std::string ply =
+      "ply\nformat ascii 1.0\nelement nothing 18446744073709551615\nelement vertex 3\n"
+      "property float x\nproperty float y\nproperty float z\nelement face 1\n"
+      "property list uchar uint vertex_index\nend_header\n0 0 0 1 0 0 0 0 1 3 0 1 2\n";
   const Result<ImportedMesh> mesh = ReadPly(ply, "n.ply");
   ASSERT_TRUE(mesh.ok()) << mesh.error().message;
   EXPECT_EQ(mesh->triangles.size(), 1u);

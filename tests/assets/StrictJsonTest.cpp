@@ -21,13 +21,17 @@ TEST(StrictJson, RefusesDeepNestingDuplicateKeysAndHugeNumbers) {
   EXPECT_TRUE(ParseStrictJson(allowed, "d.json").ok());
   const Result<nlohmann::json> too_deep = ParseStrictJson(deep, "d.json");
   ASSERT_FALSE(too_deep.ok());
-  EXPECT_NE(too_deep.error().message.find("d.json: nests deeper than 64 levels (at byte 64)"), std::string::npos)
+  EXPECT_NE(too_deep.error().message.find("d.json: nests deeper than 64 levels (at byte 64)"),
+            std::string::npos)
       << too_deep.error().message;
-  EXPECT_TRUE(ParseStrictJson("[\"[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[\"]", "s.json").ok())
+  EXPECT_TRUE(
+      ParseStrictJson("[\"[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[\"]", "s.json")
+          .ok())
       << "brackets inside strings do not nest";
   const Result<nlohmann::json> twice = ParseStrictJson(R"({"x": {"k": 1, "k": 2}})", "t.json");
   ASSERT_FALSE(twice.ok());
-  EXPECT_NE(twice.error().message.find("the key \"k\" appears twice"), std::string::npos) << twice.error().message;
+  EXPECT_NE(twice.error().message.find("the key \"k\" appears twice"), std::string::npos)
+      << twice.error().message;
   const Result<nlohmann::json> escaped = ParseStrictJson(R"({"k": 1, "\u006b": 2})", "e.json");
   EXPECT_FALSE(escaped.ok()) << "the same key spelled with an escape";
   EXPECT_FALSE(ParseStrictJson("[1e400]", "n.json").ok());

@@ -6,8 +6,8 @@
 #include <unistd.h>
 
 #include <cstddef>
-#include <cstdio>
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -22,7 +22,7 @@ namespace {
 constexpr std::string_view kNextFile = "\n#strata-fuzz-next-file\n";
 
 struct Family {
-  std::string extension;  ///< of the main file
+  std::string extension;   ///< of the main file
   std::string referenced;  ///< name of the second file, empty: none
 };
 
@@ -50,7 +50,8 @@ const Family& ThisFamily() {
 }
 
 void Write(const std::filesystem::path& path, std::string_view bytes) {
-  std::ofstream(path, std::ios::binary | std::ios::trunc).write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  std::ofstream(path, std::ios::binary | std::ios::trunc)
+      .write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
 }
 
 }  // namespace
@@ -58,13 +59,15 @@ void Write(const std::filesystem::path& path, std::string_view bytes) {
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const Family& family = ThisFamily();
   static const std::filesystem::path folder = [] {
-    const auto made = std::filesystem::temp_directory_path() / ("strata_fuzz_mesh_" + std::to_string(::getpid()));
+    const auto made =
+        std::filesystem::temp_directory_path() / ("strata_fuzz_mesh_" + std::to_string(::getpid()));
     std::filesystem::create_directories(made);
     return made;
   }();
   const std::string_view input(reinterpret_cast<const char*>(data), size);
   std::string_view main_file = input, referenced;
-  if (const std::size_t split = input.find(kNextFile); !family.referenced.empty() && split != std::string_view::npos) {
+  if (const std::size_t split = input.find(kNextFile);
+      !family.referenced.empty() && split != std::string_view::npos) {
     main_file = input.substr(0, split);
     referenced = input.substr(split + kNextFile.size());
   }

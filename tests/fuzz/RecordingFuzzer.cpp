@@ -1,5 +1,6 @@
 // libFuzzer target: recordings as `strata view` reads them (tools/view/Recording.h). Any input must be a
-// checked recording or an error, never a crash, an uncaught exception, a stack overflow or a sanitizer report.
+// checked recording or an error, never a crash, an uncaught exception, a stack overflow or a sanitizer
+// report.
 #include <cstddef>
 #include <cstdint>
 

@@ -384,14 +384,16 @@ TEST(LevelBake, MergingAnIncompleteShardSetFailsAndListsTheMissingTiles) {
     Result<navmesh::LevelBake> part = navmesh::BakeLevel(*world, bounds, options);
     ASSERT_TRUE(part.ok()) << part.error().message;
     tiles_in_files += part->tiles;
-    files.push_back(std::filesystem::path(::testing::TempDir()) / ("partial" + std::to_string(shard) + ".bin"));
+    files.push_back(std::filesystem::path(::testing::TempDir()) /
+                    ("partial" + std::to_string(shard) + ".bin"));
     ASSERT_TRUE(part->service->navmesh().Save(files.back(), part->coverage).ok());
   }
   const Result<navmesh::MergedShards> refused = navmesh::MergeShards(files);
   ASSERT_FALSE(refused.ok());
   EXPECT_NE(refused.error().message.find("1 of 3 shards are missing (shard 2)"), std::string::npos)
       << refused.error().message;
-  EXPECT_NE(refused.error().message.find("3 tiles are in no file"), std::string::npos) << refused.error().message;
+  EXPECT_NE(refused.error().message.find("3 tiles are in no file"), std::string::npos)
+      << refused.error().message;
   const Result<navmesh::MergedShards> partial = navmesh::MergeShards(files, /*allow_partial=*/true);
   ASSERT_TRUE(partial.ok()) << partial.error().message;
   EXPECT_EQ(tiles_in_files, 6u);

@@ -54,7 +54,8 @@ TEST(StepBudget, BodiesAtOnePointStepWithinTheBudgetAndWarnOnce) {
     EXPECT_LE(most_manifolds, kMaxPairs) << "manifolds come from pairs taken";
     EXPECT_GT(dropped, 0u);
     ASSERT_EQ(pile->warnings.size(), 2u) << "one warning per budget, however many steps exceed it";
-    EXPECT_NE(pile->warnings[0].find("PhysicsSystemConfig::max_body_pairs"), std::string::npos) << pile->warnings[0];
+    EXPECT_NE(pile->warnings[0].find("PhysicsSystemConfig::max_body_pairs"), std::string::npos)
+        << pile->warnings[0];
     EXPECT_NE(pile->warnings[1].find("PhysicsSystemConfig::max_contact_constraints"), std::string::npos)
         << pile->warnings[1];
     for (const BodyID id : pile->bodies) ASSERT_TRUE(IsFinite(Position(*pile->world, id)));

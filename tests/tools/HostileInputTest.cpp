@@ -32,7 +32,8 @@ const std::filesystem::path kScenes = STRATA_SCENES_DIR;
 const std::filesystem::path kLevels = STRATA_LEVELS_DIR;
 
 std::filesystem::path Temp(const std::string& name) {
-  return std::filesystem::temp_directory_path() / ("strata_hostile_" + std::to_string(::getpid()) + "_" + name);
+  return std::filesystem::temp_directory_path() /
+         ("strata_hostile_" + std::to_string(::getpid()) + "_" + name);
 }
 
 std::string ReadBytes(const std::filesystem::path& path) {
@@ -53,8 +54,8 @@ struct CliRun {
 /// Runs `strata arguments` under a 60 s timeout (a hang is a failure, never a stuck test).
 CliRun Strata(const std::string& arguments) {
   const std::filesystem::path out = Temp("stdout"), err = Temp("stderr");
-  const int status = std::system(("timeout 60 " + std::string(STRATA_CLI) + " " + arguments + " > " + out.string() +
-                                  " 2> " + err.string())
+  const int status = std::system(("timeout 60 " + std::string(STRATA_CLI) + " " + arguments + " > " +
+                                  out.string() + " 2> " + err.string())
                                      .c_str());
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, ReadBytes(out), ReadBytes(err)};
 }
@@ -90,12 +91,14 @@ TEST(HostileInput, APlyWithoutItsLastNewlineBakesThroughEveryRoute) {
   ASSERT_EQ(bake.status, 0) << bake.err;
   EXPECT_NE(bake.out.find("2 triangles"), std::string::npos) << bake.out;
   EXPECT_NE(bake.out.find("-> 4 tiles"), std::string::npos) << bake.out;
-  WriteBytes(scene, R"({"bodies": [{"name": "floor", "motion": "static", "shape": {"type": "mesh", "file": ")" +
-                        ply.filename().string() + R"("}}]})");
+  WriteBytes(scene,
+             R"({"bodies": [{"name": "floor", "motion": "static", "shape": {"type": "mesh", "file": ")" +
+                 ply.filename().string() + R"("}}]})");
   const CliRun simulate = Strata("simulate " + scene.string() + " --steps 2 --out /dev/null");
   EXPECT_EQ(simulate.status, 0) << simulate.err;
-  const CliRun demo = Strata("demo " + ply.string() + " --steps 30 --crates 2 --boulders 0 --agents 2 --no-player --out-dir " +
-                          Temp("ply_demo").string());
+  const CliRun demo = Strata("demo " + ply.string() +
+                             " --steps 30 --crates 2 --boulders 0 --agents 2 --no-player --out-dir " +
+                             Temp("ply_demo").string());
   EXPECT_EQ(demo.status, 0) << demo.err;
 }
 
@@ -112,12 +115,14 @@ TEST(HostileInput, DamagedPlyFilesAreErrorsNotCrashesOrSpins) {
       {"binary one byte short", binary.substr(0, binary.size() - 1), "face 1"},
       {"header without end_header", header_only + std::string(100000, 'x'), "no end_header line"},
       {"a billion vertices declared",
-       "ply\nformat ascii 1.0\nelement vertex 1000000000\nproperty float x\nproperty float y\nproperty float z\n"
+       "ply\nformat ascii 1.0\nelement vertex 1000000000\nproperty float x\nproperty float y\nproperty float "
+       "z\n"
        "end_header\n0 0 0\n",
        "declares 1000000000 entries"},
-      {"a face past the vertices", AsciiPlyFloor(true).replace(AsciiPlyFloor(true).find("3 0 2 3"), 7, "3 0 2 9"),
-       "vertex index 9"},
-      {"not a number", AsciiPlyFloor(true).replace(AsciiPlyFloor(true).find("-10 0 10"), 3, "abc"), "not a number"},
+      {"a face past the vertices",
+       AsciiPlyFloor(true).replace(AsciiPlyFloor(true).find("3 0 2 3"), 7, "3 0 2 9"), "vertex index 9"},
+      {"not a number", AsciiPlyFloor(true).replace(AsciiPlyFloor(true).find("-10 0 10"), 3, "abc"),
+       "not a number"},
   };
   for (const Case& c : cases) {
     WriteBytes(ply, c.bytes);
@@ -136,7 +141,8 @@ TEST(HostileInput, APipeALevelRefersToIsRefusedNotWaitedOn) {
   ASSERT_EQ(::mkfifo((folder / "materials.mtl").c_str(), 0600), 0);
   ASSERT_EQ(::mkfifo((folder / "buffer.bin").c_str(), 0600), 0);
   WriteBytes(folder / "level.obj", "mtllib materials.mtl\nv -10 0 -10\nv -10 0 10\nv 10 0 10\nf 1 2 3\n");
-  const CliRun obj = Strata("navmesh bake " + (folder / "level.obj").string() + " --out " + Temp("ref.bin").string());
+  const CliRun obj =
+      Strata("navmesh bake " + (folder / "level.obj").string() + " --out " + Temp("ref.bin").string());
   EXPECT_EQ(obj.status, 2) << obj.err;
   EXPECT_NE(obj.err.find("materials.mtl: is a pipe, not a regular file"), std::string::npos) << obj.err;
   WriteBytes(folder / "level.gltf",
@@ -145,7 +151,8 @@ TEST(HostileInput, APipeALevelRefersToIsRefusedNotWaitedOn) {
                  "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3"}],
                  "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}], "nodes": [{"mesh": 0}],
                  "scenes": [{"nodes": [0]}], "scene": 0})");
-  const CliRun gltf = Strata("navmesh bake " + (folder / "level.gltf").string() + " --out " + Temp("ref.bin").string());
+  const CliRun gltf =
+      Strata("navmesh bake " + (folder / "level.gltf").string() + " --out " + Temp("ref.bin").string());
   EXPECT_EQ(gltf.status, 2) << gltf.err;
   EXPECT_NE(gltf.err.find("buffer.bin"), std::string::npos) << gltf.err;
   EXPECT_NE(gltf.status, 124) << "the bake waited on the pipe";
@@ -172,16 +179,19 @@ TEST(HostileInput, SizeAndThreadOptionsNameTheirLimits) {
   for (const Case& c : cases) {
     const CliRun run = Strata(c.arguments);
     EXPECT_EQ(run.status, 2) << c.arguments << "\n" << run.err;
-    EXPECT_NE((run.err + run.out).find(c.message), std::string::npos) << c.arguments << "\n" << run.err << run.out;
+    EXPECT_NE((run.err + run.out).find(c.message), std::string::npos) << c.arguments << "\n"
+                                                                      << run.err << run.out;
   }
 }
 
 TEST(HostileInput, TenThousandBodiesAtOnePointStepWithinBudgetWithAWarning) {
   const auto scene = Temp("pile.json");
-  std::string bodies = R"({"name": "ground", "motion": "static", "shape": {"type": "box", "half_extents": [50, 0.5, 50]},
+  std::string bodies =
+      R"({"name": "ground", "motion": "static", "shape": {"type": "box", "half_extents": [50, 0.5, 50]},
                            "position": [0, -0.5, 0]})";
   for (int i = 0; i < 10000; ++i)
-    bodies += R"(, {"name": "s)" + std::to_string(i) + R"(", "shape": {"type": "sphere", "radius": 0.5}, "position": [0, 5, 0]})";
+    bodies += R"(, {"name": "s)" + std::to_string(i) +
+              R"(", "shape": {"type": "sphere", "radius": 0.5}, "position": [0, 5, 0]})";
   WriteBytes(scene, R"({"bodies": [)" + bodies + "]}");
   const CliRun run = Strata("simulate " + scene.string() + " --steps 5 --out /dev/null");
   ASSERT_EQ(run.status, 0) << run.err;
@@ -189,7 +199,8 @@ TEST(HostileInput, TenThousandBodiesAtOnePointStepWithinBudgetWithAWarning) {
   EXPECT_NE(run.err.find("PhysicsSystemConfig::max_body_pairs"), std::string::npos) << run.err;
   const std::size_t peak = run.err.find("peak memory ");
   ASSERT_NE(peak, std::string::npos) << run.err;
-  std::printf("10,000 spheres at one point, 5 steps: peak memory %ld MB\n", std::atol(run.err.c_str() + peak + 12));
+  std::printf("10,000 spheres at one point, 5 steps: peak memory %ld MB\n",
+              std::atol(run.err.c_str() + peak + 12));
   EXPECT_LT(std::atol(run.err.c_str() + peak + 12), 2048) << "bounded by the budget, not by the machine";
 }
 
@@ -199,7 +210,8 @@ TEST(HostileInput, OutputsThatCannotBeWrittenAreErrors) {
   std::filesystem::create_symlink("/dev/full", full);
   const std::string navmesh = Temp("path.bin").string();
   ASSERT_EQ(Strata("navmesh bake " + (kLevels / "arena.glb").string() + " --out " + navmesh).status, 0);
-  const CliRun to_link = Strata("navmesh bake " + (kLevels / "arena.glb").string() + " --out " + full.string());
+  const CliRun to_link =
+      Strata("navmesh bake " + (kLevels / "arena.glb").string() + " --out " + full.string());
   EXPECT_NE(to_link.status, 0);
   EXPECT_NE(to_link.err.find("No space left on device"), std::string::npos) << to_link.err;
   // Standard output to a full device.
@@ -211,7 +223,8 @@ TEST(HostileInput, OutputsThatCannotBeWrittenAreErrors) {
 
 TEST(HostileInput, OneFileGivenForTwoOutputsIsRefused) {
   const auto out = Temp("same.bin"), level = Temp("level_copy.obj");
-  std::filesystem::copy_file(kLevels / "courtyard.obj", level, std::filesystem::copy_options::overwrite_existing);
+  std::filesystem::copy_file(kLevels / "courtyard.obj", level,
+                             std::filesystem::copy_options::overwrite_existing);
   const std::string before = ReadBytes(level);
   CliRun run = Strata("navmesh bake " + level.string() + " --out " + out.string() + " --obj " + out.string());
   EXPECT_EQ(run.status, 2);
@@ -223,7 +236,9 @@ TEST(HostileInput, OneFileGivenForTwoOutputsIsRefused) {
   std::filesystem::remove(link);
   std::filesystem::create_symlink(out, link);
   WriteBytes(out, "x");
-  EXPECT_EQ(Strata("navmesh bake " + level.string() + " --out " + out.string() + " --report " + link.string()).status, 2)
+  EXPECT_EQ(Strata("navmesh bake " + level.string() + " --out " + out.string() + " --report " + link.string())
+                .status,
+            2)
       << "the same file through a link";
 }
 
@@ -248,7 +263,8 @@ TEST(HostileInput, ALevelFarFromTheOriginKeepsItsShapeInTheObjExport) {
     text += line;
   }
   WriteBytes(level, text + "f 1 2 3\nf 1 3 4\n");
-  const CliRun run = Strata("navmesh bake " + level.string() + " --out " + navmesh.string() + " --obj " + obj.string());
+  const CliRun run =
+      Strata("navmesh bake " + level.string() + " --out " + navmesh.string() + " --obj " + obj.string());
   ASSERT_EQ(run.status, 0) << run.err;
   std::ifstream exported(obj);
   double min_x = 1e300, max_x = -1e300;
@@ -278,7 +294,8 @@ TEST(HostileInput, MergingTwoOfThreeShardsFailsAndListsWhatIsMissing) {
   std::vector<std::string> shards;
   for (int shard = 0; shard < 2; ++shard) {
     shards.push_back(Temp("merge_shard" + std::to_string(shard) + ".bin").string());
-    ASSERT_EQ(Strata("navmesh bake " + level.string() + " --shard " + std::to_string(shard) + "/3 --out " + shards.back())
+    ASSERT_EQ(Strata("navmesh bake " + level.string() + " --shard " + std::to_string(shard) + "/3 --out " +
+                     shards.back())
                   .status,
               0);
   }
@@ -288,7 +305,8 @@ TEST(HostileInput, MergingTwoOfThreeShardsFailsAndListsWhatIsMissing) {
   EXPECT_EQ(run.status, 2);
   EXPECT_NE(run.err.find("1 of 3 shards are missing (shard 2)"), std::string::npos) << run.err;
   EXPECT_FALSE(std::filesystem::exists(merged));
-  run = Strata("navmesh merge " + shards[0] + " " + shards[1] + " --out " + merged.string() + " --allow-partial");
+  run = Strata("navmesh merge " + shards[0] + " " + shards[1] + " --out " + merged.string() +
+               " --allow-partial");
   EXPECT_EQ(run.status, 0) << run.err;
   EXPECT_NE(run.err.find("tiles left out"), std::string::npos) << run.err;
 }
@@ -321,24 +339,34 @@ void KillDuringEveryWriter(int tries) {
       {"level field", "level field --size 400 --seed 5 --out {out}", ".obj"},
       {"level field glb", "level field --size 400 --seed 5 --out {out}", ".glb"},
       {"navmesh bake", "navmesh bake " + (kLevels / "courtyard.obj").string() + " --out {out}", ".bin"},
-      {"navmesh bake --obj", "navmesh bake " + (kLevels / "arena.glb").string() + " --out " + Temp("k.bin").string() + " --obj {out}", ".obj"},
-      {"simulate --out", "simulate " + (kScenes / "stack.json").string() + " --steps 200 --out {out}", ".jsonl"},
-      {"demo --record", "demo --steps 60 --crates 10 --no-player --out-dir " + Temp("kill_demo").string() + " --record {out}", ".json", false},
-      {"bench --json", "bench --scene pyramid --steps 20 --threads 1 --no-bullet --json {out}", ".json", false},
+      {"navmesh bake --obj",
+       "navmesh bake " + (kLevels / "arena.glb").string() + " --out " + Temp("k.bin").string() +
+           " --obj {out}",
+       ".obj"},
+      {"simulate --out", "simulate " + (kScenes / "stack.json").string() + " --steps 200 --out {out}",
+       ".jsonl"},
+      {"demo --record",
+       "demo --steps 60 --crates 10 --no-player --out-dir " + Temp("kill_demo").string() + " --record {out}",
+       ".json", false},
+      {"bench --json", "bench --scene pyramid --steps 20 --threads 1 --no-bullet --json {out}", ".json",
+       false},
   };
   std::mt19937 random(20261127);
   for (const Writer& writer : writers) {
     const auto out = Temp("killed" + writer.extension);
-    const std::string command = "exec " + std::string(STRATA_CLI) + " " + Expand(writer.arguments, out) + " > /dev/null 2>&1";
+    const std::string command =
+        "exec " + std::string(STRATA_CLI) + " " + Expand(writer.arguments, out) + " > /dev/null 2>&1";
     const auto start = std::chrono::steady_clock::now();
     ASSERT_EQ(std::system(command.c_str()), 0) << writer.name;
-    const double whole_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    const double whole_ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     const std::string complete = ReadBytes(out);
     ASSERT_FALSE(complete.empty()) << writer.name;
     for (int attempt = 0; attempt < tries; ++attempt) {
       const pid_t pid = Spawn(command);
       ASSERT_GT(pid, 0);
-      const auto delay = std::chrono::microseconds(static_cast<long>(std::uniform_real_distribution<double>(0.0, 1.1)(random) * whole_ms * 1000.0));
+      const auto delay = std::chrono::microseconds(
+          static_cast<long>(std::uniform_real_distribution<double>(0.0, 1.1)(random) * whole_ms * 1000.0));
       std::this_thread::sleep_for(delay);
       ::kill(pid, SIGKILL);
       int status = 0;
@@ -348,7 +376,8 @@ void KillDuringEveryWriter(int tries) {
         EXPECT_TRUE(nlohmann::json::accept(left)) << writer.name << " attempt " << attempt << ": "
                                                   << left.size() << " bytes left, not one whole document";
       } else {
-        EXPECT_EQ(left.size(), complete.size()) << writer.name << " attempt " << attempt << " killed after " << delay.count() << " us";
+        EXPECT_EQ(left.size(), complete.size())
+            << writer.name << " attempt " << attempt << " killed after " << delay.count() << " us";
         EXPECT_TRUE(left == complete) << writer.name << " attempt " << attempt;
       }
     }

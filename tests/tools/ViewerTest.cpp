@@ -208,9 +208,9 @@ class BackgroundServer {
  public:
   BackgroundServer(const std::filesystem::path& recording, const std::string& name)
       : log_(TempPath(name + ".log")), pid_(TempPath(name + ".pid")), folder_(TempPath(name)) {
-    started_ = RunShell(std::string(STRATA_CLI) + " view " + recording.string() + " --out " + folder_.string() +
-                        " --serve --port 0 --serve-seconds 120 > " + log_.string() + " 2>&1 & echo $! > " +
-                        pid_.string()) == 0;
+    started_ = RunShell(std::string(STRATA_CLI) + " view " + recording.string() + " --out " +
+                        folder_.string() + " --serve --port 0 --serve-seconds 120 > " + log_.string() +
+                        " 2>&1 & echo $! > " + pid_.string()) == 0;
     for (int attempt = 0; started_ && attempt < 200 && port_ == 0; ++attempt) {
       const std::string text = ReadText(log_);
       const std::size_t at = text.find("http://127.0.0.1:");
@@ -342,7 +342,8 @@ TEST(View, SlowAndStalledClientsDoNotHoldUpOthers) {
   const int stalled = Connect(port);
   ASSERT_GE(stalled, 0);
   const std::string big_request = "GET /big.bin HTTP/1.1\r\nHost: localhost\r\n\r\n";
-  ASSERT_EQ(::send(stalled, big_request.data(), big_request.size(), 0), static_cast<ssize_t>(big_request.size()));
+  ASSERT_EQ(::send(stalled, big_request.data(), big_request.size(), 0),
+            static_cast<ssize_t>(big_request.size()));
   // 200 clients that send their request a byte every 0.5 s, faster than the server drops a silent one: each
   // holds a connection for as long as they trickle.
   constexpr int kSlowClients = 200;
@@ -357,7 +358,8 @@ TEST(View, SlowAndStalledClientsDoNotHoldUpOthers) {
     const std::string request = "GET /index.html HTTP/1.1\r\nHost: localhost\r\n";
     for (std::size_t byte = 0; trickling.load() && byte < request.size(); ++byte) {
       for (const int fd : slow) (void)::send(fd, request.data() + byte, 1, MSG_NOSIGNAL);
-      for (int wait = 0; wait < 5 && trickling.load(); ++wait) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+      for (int wait = 0; wait < 5 && trickling.load(); ++wait)
+        std::this_thread::sleep_for(std::chrono::milliseconds(100));
     }
   });
   std::this_thread::sleep_for(std::chrono::milliseconds(1500));  // all of them connected and trickling
@@ -373,8 +375,8 @@ TEST(View, SlowAndStalledClientsDoNotHoldUpOthers) {
   EXPECT_EQ(page.rfind("HTTP/1.1 200 OK", 0), 0u) << page.substr(0, 200);
   EXPECT_TRUE(still_trickling) << "the normal request waited until the slow clients were done";
   // The figure, not a target: a timed assertion would fail on a loaded machine for the wrong reason.
-  std::printf("a normal request took %.1f ms with %d slow clients and a stalled reader connected\n", served_ms,
-              kSlowClients);
+  std::printf("a normal request took %.1f ms with %d slow clients and a stalled reader connected\n",
+              served_ms, kSlowClients);
 }
 
 TEST(View, BadRecordingsAreRefusedWithTheFieldNamedAndNothingWritten) {

@@ -391,7 +391,8 @@ int RunDemo(const DemoOptions& options) {
                      "strata demo: " + std::filesystem::path(options.level).filename().string());
     recorder->TrackTiles(**service, level->bounds);
     if (*player) recorder->TrackCharacter((*player)->character(), "player", (*player)->route());
-    if (Status fits = recorder->CheckFrameBudget(static_cast<std::uint64_t>(options.steps / options.record_every) + 2);
+    if (Status fits =
+            recorder->CheckFrameBudget(static_cast<std::uint64_t>(options.steps / options.record_every) + 2);
         !fits) {
       std::cerr << "strata demo: --record: " << fits.message() << "\n";
       return 2;

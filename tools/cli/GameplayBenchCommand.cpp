@@ -8,8 +8,8 @@
 #include "tools/bench/GameplayBench.h"
 #include "tools/bench/JsonReport.h"
 #include "tools/cli/Commands.h"
-#include "tools/cli/Validators.h"
 #include "tools/cli/NavMeshOptions.h"
+#include "tools/cli/Validators.h"
 
 namespace strata::cli {
 

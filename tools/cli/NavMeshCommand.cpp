@@ -110,9 +110,9 @@ int RunBake(const BakeOptions& options) {
     bake_options.shard_count = shard->second;
   }
   if (Status distinct = DistinctFiles({{"the level", options.level},
-                                      {"--out", options.out},
-                                      {"--obj", options.obj},
-                                      {"--report", options.report}});
+                                       {"--out", options.out},
+                                       {"--obj", options.obj},
+                                       {"--report", options.report}});
       !distinct)
     return Fail("bake", distinct.message());
   bake_options.service.settings = options.settings;
@@ -173,7 +173,8 @@ int RunMerge(const MergeOptions& options) {
                  merged->missing_shards.size(), merged->missing_tiles.size(),
                  navmesh::DescribeTiles(merged->missing_tiles).c_str());
   const navmesh::NavMesh& navmesh = *merged->navmesh;
-  if (Status saved = navmesh.Save(options.out, merged->coverage); !saved) return Fail("merge", saved.message());
+  if (Status saved = navmesh.Save(options.out, merged->coverage); !saved)
+    return Fail("merge", saved.message());
   std::printf("merged %zu shards: %d tiles, %d polygons; wrote %s\n", files.size(), navmesh.tile_count(),
               navmesh.polygon_count(), options.out.c_str());
   return 0;

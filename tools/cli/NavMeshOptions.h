@@ -21,7 +21,8 @@ std::optional<Vec3> ParsePoint(const std::string& text);
 /// Median and maximum of `values` (0, 0 when empty).
 std::pair<double, double> MedianAndMax(std::vector<double> values);
 /// The default level the main job and bake use when none is given: courtyard.obj in $STRATA_DATA_DIR/levels,
-/// else beside the executable's install prefix (share/strata/levels), else in the source tree it was built from.
+/// else beside the executable's install prefix (share/strata/levels), else in the source tree it was built
+/// from.
 std::string DefaultLevelPath();
 
 }  // namespace strata::cli

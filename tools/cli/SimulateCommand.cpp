@@ -4,8 +4,8 @@
 // anything is written.
 #include <unistd.h>
 
-#include <chrono>
 #include <sys/resource.h>
+#include <chrono>
 
 #include <cstdio>
 #include <filesystem>
@@ -200,7 +200,8 @@ int RunSimulate(const SimulateOptions& options) {
   if (!options.record.empty()) {
     recorder.emplace(*world->system, "simulate",
                      "strata simulate: " + std::filesystem::path(options.scene).filename().string());
-    if (Status fits = recorder->CheckFrameBudget(static_cast<std::uint64_t>(options.steps / record_every) + 2);
+    if (Status fits =
+            recorder->CheckFrameBudget(static_cast<std::uint64_t>(options.steps / record_every) + 2);
         !fits) {
       std::cerr << "strata simulate: --record: " << fits.message() << "\n";
       return 2;

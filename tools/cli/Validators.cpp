@@ -30,7 +30,8 @@ CLI::Validator CountIn(long min, long max, const std::string& what) {
         long value = 0;
         if (!CLI::detail::lexical_cast(text, value)) return "not a whole number: " + text;
         if (value < min || value > max)
-          return what + " must be from " + std::to_string(min) + " to " + std::to_string(max) + ", got " + text;
+          return what + " must be from " + std::to_string(min) + " to " + std::to_string(max) + ", got " +
+                 text;
         return {};
       },
       "INT in [" + std::to_string(min) + " - " + std::to_string(max) + "]");

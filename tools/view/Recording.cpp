@@ -1,5 +1,5 @@
-#include "assets/json/StrictJson.h"
 #include "tools/view/Recording.h"
+#include "assets/json/StrictJson.h"
 
 #include <cmath>
 #include <map>
@@ -129,10 +129,11 @@ void Recorder::TrackCharacter(const Character& character, const std::string& nam
 Status Recorder::CheckFrameBudget(std::uint64_t frames) const {
   const std::uint64_t per_frame = 2 + 7 * moving_.size() + 3 * characters_.size() + tiles_.size();
   if (frames * per_frame <= kMaxFrameValues) return Status::Ok();
-  return MakeError(ErrorCode::kInvalidArgument,
-                   "a recording of " + std::to_string(frames) + " frames of " + std::to_string(per_frame) +
-                       " numbers each would pass the " + std::to_string(kMaxFrameValues) +
-                       " numbers `strata view` reads; record fewer frames (fewer steps, or more steps a frame)");
+  return MakeError(
+      ErrorCode::kInvalidArgument,
+      "a recording of " + std::to_string(frames) + " frames of " + std::to_string(per_frame) +
+          " numbers each would pass the " + std::to_string(kMaxFrameValues) +
+          " numbers `strata view` reads; record fewer frames (fewer steps, or more steps a frame)");
 }
 
 void Recorder::Capture(int step, float time) {

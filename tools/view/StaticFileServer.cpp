@@ -44,7 +44,8 @@ std::filesystem::path Resolve(const std::filesystem::path& folder, std::string n
   return path;
 }
 
-void Serve(const std::filesystem::path& folder, const httplib::Request& request, httplib::Response& response) {
+void Serve(const std::filesystem::path& folder, const httplib::Request& request,
+           httplib::Response& response) {
   const std::filesystem::path path = Resolve(folder, request.matches[1].str());
   response.set_header("Cache-Control", "no-store");
   if (path.empty()) {
@@ -88,8 +89,9 @@ Status ServeFolder(const std::filesystem::path& folder, const ServeOptions& opti
     port = -1;
   }
   if (port <= 0)
-    return MakeError(ErrorCode::kInvalidArgument,
-                     "cannot listen on 127.0.0.1:" + std::to_string(options.port) + ": " + std::strerror(errno));
+    return MakeError(
+        ErrorCode::kInvalidArgument,
+        "cannot listen on 127.0.0.1:" + std::to_string(options.port) + ": " + std::strerror(errno));
   if (options.on_listening) options.on_listening(port);
 
   g_stop_requested.store(false);
