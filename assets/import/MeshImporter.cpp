@@ -157,7 +157,10 @@ Result<ImportedMesh> Finish(const std::filesystem::path& path, ImportedMesh mesh
 Result<ImportedMesh> Import(const std::filesystem::path& path, const MeshImportOptions& options) {
   Assimp::Importer importer;
   // PLY files are read by PlyReader; assimp's reader never sees one, even under another extension.
-  if (Assimp::BaseImporter* ply = importer.GetImporter("ply"); ply != nullptr) importer.UnregisterLoader(ply);
+  // Unregistered, the loader is ours to delete.
+  if (Assimp::BaseImporter* ply = importer.GetImporter("ply");
+      ply != nullptr && importer.UnregisterLoader(ply) == aiReturn_SUCCESS)
+    delete ply;
   auto* io = new PolicyIOSystem();
   importer.SetIOHandler(io);  // the importer owns both
   auto* progress = new DeadlineProgress(std::chrono::steady_clock::now() + kMaxImportTime);
