@@ -37,7 +37,7 @@ std::unique_ptr<PileWorld> Pile(int count, std::size_t max_pairs, std::size_t ma
   return pile;
 }
 
-TEST(StepBudget, BodiesAtOnePointStepWithinTheBudgetAndWarnOnce) {
+TEST(StepBudgetThreads, BodiesAtOnePointStepWithinTheBudgetAndWarnOnce) {
   constexpr int kBodies = 3000;  // 4.5 million pairs wanted
   constexpr std::size_t kMaxPairs = 20000, kMaxConstraints = 5000;
   for (const int threads : {1, 2}) {
