@@ -7,6 +7,7 @@
 
 #include <assimp/BaseImporter.h>
 #include <assimp/MemoryIOWrapper.h>
+#include <assimp/importerdesc.h>
 #include <algorithm>
 #include <array>
 #include <assimp/IOSystem.hpp>
@@ -20,8 +21,11 @@
 #include <map>
 #include <new>
 #include <string>
+#include <string_view>
+#include <vector>
 
 #include "assets/import/DeclaredCounts.h"
+#include "assets/import/ObjReader.h"
 #include "assets/import/PlyReader.h"
 #include "physics/core/InputFile.h"
 
@@ -153,14 +157,37 @@ Result<ImportedMesh> Finish(const std::filesystem::path& path, ImportedMesh mesh
   return mesh;
 }
 
+// Whether an assimp loader reads a format Strata takes through assimp: glTF/GLB, FBX, STL, Collada.
+bool Supported(const aiImporterDesc* description) {
+  if (description == nullptr || description->mFileExtensions == nullptr) return false;
+  const std::string_view extensions = description->mFileExtensions;
+  for (const std::string_view wanted : {"gltf", "glb", "fbx", "stl", "dae"}) {
+    for (std::size_t at = extensions.find(wanted); at != std::string_view::npos;
+         at = extensions.find(wanted, at + 1)) {
+      const std::size_t end = at + wanted.size();
+      if ((at == 0 || extensions[at - 1] == ' ') && (end == extensions.size() || extensions[end] == ' '))
+        return true;
+    }
+  }
+  return false;
+}
+
+// Assimp tries each of its forty-odd loaders on a file it cannot place by extension, by the file's bytes;
+// some allocate whatever a corrupt count says (Quick3D asked for 2 TB from a 57-byte file, found by
+// fuzz_mesh_glb). Only the loaders of the formats Strata supports stay; OBJ and PLY are read by ObjReader and
+// PlyReader. Unregistered, a loader is ours to delete.
+void KeepOnlySupportedLoaders(Assimp::Importer& importer) {
+  std::vector<Assimp::BaseImporter*> unsupported;
+  for (std::size_t i = 0; i < importer.GetImporterCount(); ++i)
+    if (!Supported(importer.GetImporterInfo(i))) unsupported.push_back(importer.GetImporter(i));
+  for (Assimp::BaseImporter* loader : unsupported)
+    if (importer.UnregisterLoader(loader) == aiReturn_SUCCESS) delete loader;
+}
+
 // The import itself, once the file passed the input policy.
 Result<ImportedMesh> Import(const std::filesystem::path& path, const MeshImportOptions& options) {
   Assimp::Importer importer;
-  // PLY files are read by PlyReader; assimp's reader never sees one, even under another extension.
-  // Unregistered, the loader is ours to delete.
-  if (Assimp::BaseImporter* ply = importer.GetImporter("ply");
-      ply != nullptr && importer.UnregisterLoader(ply) == aiReturn_SUCCESS)
-    delete ply;
+  KeepOnlySupportedLoaders(importer);
   auto* io = new PolicyIOSystem();
   importer.SetIOHandler(io);  // the importer owns both
   auto* progress = new DeadlineProgress(std::chrono::steady_clock::now() + kMaxImportTime);
@@ -190,11 +217,11 @@ bool LooksLikePlyFile(const std::filesystem::path& path) {
   return LooksLikePly(std::string_view(start, sizeof(start)));
 }
 
-bool HasPlyExtension(const std::filesystem::path& path) {
+bool HasExtension(const std::filesystem::path& path, std::string_view wanted) {
   std::string extension = path.extension().string();
   std::transform(extension.begin(), extension.end(), extension.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return extension == ".ply";
+  return extension == wanted;
 }
 
 }  // namespace
@@ -204,10 +231,11 @@ Result<ImportedMesh> ImportMesh(const std::filesystem::path& path, const MeshImp
     return ImportError(path, "scale must be a positive number");
   const Result<std::uint64_t> size = CheckInputFile(path, kMaxMeshFileBytes);
   if (!size) return size.error();
-  if (HasPlyExtension(path) || LooksLikePlyFile(path)) {
+  const bool ply = HasExtension(path, ".ply") || LooksLikePlyFile(path);
+  if (ply || HasExtension(path, ".obj")) {
     Result<std::string> bytes = ReadInputFile(path, kMaxMeshFileBytes);
     if (!bytes) return bytes.error();
-    Result<ImportedMesh> mesh = ReadPly(*bytes, path);
+    Result<ImportedMesh> mesh = ply ? ReadPly(*bytes, path) : ReadObj(*bytes, path);
     if (!mesh) return mesh.error();
     return Finish(path, InStrataFrame(std::move(*mesh), options));
   }

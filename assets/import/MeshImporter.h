@@ -1,8 +1,8 @@
-// MeshImporter: reads a level or prop mesh file through assimp (OBJ, glTF/GLB, FBX, STL, DAE, ...; PLY
-// through PlyReader) into one welded, triangulated triangle list with the scene graph's transforms applied.
-// Every file an import opens, the named one and those it refers to, passes the input policy (InputFile), and
-// an import that runs past a minute is abandoned. Stateless; safe to call from any thread (each call owns its
-// assimp importer).
+// MeshImporter: reads a level or prop mesh file through assimp (glTF/GLB, FBX, STL, DAE, ...; OBJ and PLY
+// through ObjReader and PlyReader) into one welded, triangulated triangle list with the scene graph's
+// transforms applied. Every file an import opens, the named one and those it refers to, passes the input
+// policy (InputFile), and an import that runs past a minute is abandoned. Stateless; safe to call from any
+// thread (each call owns its assimp importer).
 #pragma once
 
 #include <cstdint>

@@ -83,6 +83,24 @@ TEST_F(DeclaredCounts, AccessorsAndBuffersLargerThanTheirDataAreRefused) {
             std::string::npos);
 }
 
+TEST(MeshFuzzFindings, AnObjWhoseFacesNameNoVertexIsAnErrorNotACrash) {
+  // Crashed Debian's assimp 5.2 OBJ reader (fuzz_mesh_obj); ObjReader reads OBJ now.
+  const auto found = std::filesystem::path(STRATA_FUZZ_FOUND_DIR) / "obj_faces_without_vertices.obj";
+  const Result<ImportedMesh> mesh = ImportMesh(found);
+  ASSERT_FALSE(mesh.ok());
+  EXPECT_NE(mesh.error().message.find("OBJ line 2: face names vertex 1 of 0"), std::string::npos)
+      << mesh.error().message;
+}
+
+TEST(MeshFuzzFindings, AFileAssimpWouldReadAsAnotherFormatIsRefused) {
+  // A ".glb" that is a Quick3D file by its bytes: assimp's Quick3D loader asked for 2 TB (fuzz_mesh_glb).
+  // Only the loaders of the formats Strata supports are left to assimp.
+  const auto found = std::filesystem::path(STRATA_FUZZ_FOUND_DIR) / "glb_quick3d_claims_2tb.glb";
+  const Result<ImportedMesh> mesh = ImportMesh(found);
+  ASSERT_FALSE(mesh.ok());
+  EXPECT_NE(mesh.error().message.find("No suitable reader"), std::string::npos) << mesh.error().message;
+}
+
 TEST(MeshFuzzFindings, TheGlbClaimingAFourGigabyteChunkIsAnErrorAtOnce) {
   const auto found = std::filesystem::path(STRATA_FUZZ_FOUND_DIR) / "glb_chunk_claims_4gb.glb";
   const Result<ImportedMesh> mesh = ImportMesh(found);

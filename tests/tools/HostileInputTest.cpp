@@ -143,8 +143,8 @@ TEST(HostileInput, APipeALevelRefersToIsRefusedNotWaitedOn) {
   WriteBytes(folder / "level.obj", "mtllib materials.mtl\nv -10 0 -10\nv -10 0 10\nv 10 0 10\nf 1 2 3\n");
   const CliRun obj =
       Strata("navmesh bake " + (folder / "level.obj").string() + " --out " + Temp("ref.bin").string());
-  EXPECT_EQ(obj.status, 2) << obj.err;
-  EXPECT_NE(obj.err.find("materials.mtl: is a pipe, not a regular file"), std::string::npos) << obj.err;
+  // OBJ geometry is read by ObjReader, which never opens a material file: the pipe is not touched.
+  EXPECT_EQ(obj.status, 0) << obj.err;
   WriteBytes(folder / "level.gltf",
              R"({"asset": {"version": "2.0"}, "buffers": [{"uri": "buffer.bin", "byteLength": 36}],
                  "bufferViews": [{"buffer": 0, "byteLength": 36}],
