@@ -181,8 +181,17 @@ std::string TileProblem(std::span<const unsigned char> bytes, const dtNavMeshPar
         static_cast<long>(detail.triBase) + detail.triCount > header.detailTriCount)
       return which + " has detail ranges out of range";
     if (detail.triCount == 0) return which + " has no detail triangles";
+    int boundary_edges = 0;
     for (int t = 0; t < detail.triCount; ++t) {
       const unsigned char* corners = detail_tris + (detail.triBase + t) * 4;
+      // The fourth byte flags which of the triangle's edges lie on the polygon's outline (2 bits an edge,
+      // only the low one used). Detour's nearest point falls back to those edges and reads through a null
+      // pointer when a polygon has none (fuzz_navmesh found the flags of a triangle flipped): the outline
+      // needs at least one flagged edge a polygon side.
+      const unsigned char flags = corners[3];
+      if ((flags & 0xC0u) != 0 || (flags & 0x2Au) != 0)
+        return which + " has a detail triangle with bad edge flags";
+      boundary_edges += (flags & 1u) + ((flags >> 2) & 1u) + ((flags >> 4) & 1u);
       for (int k = 0; k < 3; ++k)
         if (corners[k] >= poly.vertCount + detail.vertCount)
           return which + " has a detail triangle index out of range";
@@ -191,6 +200,8 @@ std::string TileProblem(std::span<const unsigned char> bytes, const dtNavMeshPar
       if (corners[0] == corners[1] || corners[1] == corners[2] || corners[2] == corners[0])
         return which + " has a detail triangle with a repeated corner";
     }
+    if (boundary_edges < poly.vertCount)
+      return which + " has fewer outline edges in its detail mesh than sides";
   }
   // A neighbour inside the tile shares the edge and names the polygon back through it (checked once every
   // polygon's counts are known good): Detour's walks (raycasts, paths) follow these links, and a polygon that

@@ -429,6 +429,19 @@ TEST_F(NavMeshFuzzFindings, ADetailTriangleWithARepeatedCornerIsRefused) {
             std::string::npos);
 }
 
+TEST_F(NavMeshFuzzFindings, DetailTrianglesWithoutOutlineEdgesAreRefused) {
+  // The same triangle's edge flags (its fourth byte) turned from "all three on the outline" (21) to 234:
+  // no outline edge is left for Detour's nearest-point fallback, which then reads through a null pointer.
+  const std::size_t tile3 = 6188,
+                    first_triangle = tile3 + 100 + 18 * 12 + 12 * 32 + 46 * 12 + 12 * 12 + 15 * 12;
+  EXPECT_NE(LoadWith(first_triangle + 3, {234})
+                .find("corrupt tile 3: polygon 0 has a detail triangle with bad edge flags"),
+            std::string::npos);
+  EXPECT_NE(LoadWith(first_triangle + 3, {0})
+                .find("polygon 0 has fewer outline edges in its detail mesh than sides"),
+            std::string::npos);
+}
+
 TEST_F(NavMeshFuzzFindings, AnExternalLinkThroughNoSideIsRefused) {
   // A border edge of tile 0 (neighbour 0) made 0xffff, a link out of the tile through no side: Detour links
   // the tile to itself and a path query reads through a null pointer.
