@@ -62,6 +62,9 @@ bool ForEachLine(std::string_view text, Visit&& visit) {
 }  // namespace
 
 Result<ImportedMesh> ReadObj(std::string_view bytes, const std::filesystem::path& path) {
+  // A UTF-8 byte order mark (some Windows tools write one) would hide the first statement's keyword.
+  constexpr std::string_view kByteOrderMark = "\xEF\xBB\xBF";
+  if (bytes.substr(0, kByteOrderMark.size()) == kByteOrderMark) bytes.remove_prefix(kByteOrderMark.size());
   ImportedMesh mesh;
   // Faces may name vertices given later in the file (positive indices): checked once all are read.
   struct Face {

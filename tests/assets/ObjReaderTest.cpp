@@ -26,6 +26,15 @@ TEST(ObjReader, ReadsEveryFaceFormAndSkipsWhatIsNotGeometry) {
   EXPECT_EQ(mesh->triangles[3], (TriangleMeshShape::Indices{3, 0, 1}));
 }
 
+TEST(ObjReader, WindowsLineEndsAndAByteOrderMarkReadAsUnixOnes) {
+  const Result<ImportedMesh> unix_file = ReadObj("v 0 0 0\nv 1 0 0\nv 0 0 1\nf 1 2 3\n", "u.obj");
+  const Result<ImportedMesh> windows_file =
+      ReadObj("\xEF\xBB\xBFv 0 0 0\r\nv 1 0 0\r\nv 0 0 1\r\nf 1 2 3\r\n", "w.obj");
+  ASSERT_TRUE(unix_file.ok() && windows_file.ok()) << windows_file.error().message;
+  EXPECT_EQ(windows_file->vertices, unix_file->vertices);
+  EXPECT_EQ(windows_file->triangles, unix_file->triangles);
+}
+
 TEST(ObjReader, DamageIsAnErrorNamingTheLine) {
   struct Case {
     std::string text;
