@@ -403,6 +403,15 @@ Result<std::unique_ptr<NavMesh>> NavMesh::Load(const std::filesystem::path& path
       params.maxTiles > (1 << 16) || params.maxPolys < 1 || !std::isfinite(params.tileWidth) ||
       params.tileWidth <= 0.0f || params.tileWidth != params.tileHeight || !Finite3(params.orig))
     return FileError(path, "corrupt navmesh set header");
+  // A 32-bit polygon reference holds the tile, the polygon and at least 10 bits of salt. Detour computes
+  // the salt's bits unsigned, so tables too large for that wrap instead of failing, and every reference
+  // then decodes wrong (fuzz_navmesh: maxTiles 22,532 with 2^18 polygons read through a bad pointer).
+  if (std::bit_width(std::bit_ceil(static_cast<unsigned>(params.maxTiles))) - 1 +
+          std::bit_width(std::bit_ceil(static_cast<unsigned>(params.maxPolys))) - 1 >
+      22)
+    return FileError(path,
+                     "corrupt navmesh set header (its tile and polygon counts leave no room for the salt "
+                     "in a polygon reference)");
   // The origin is the lower corner of a tile (y = 0); Detour gets the rest relative to it.
   const double origin_tile[2] = {std::round(params.orig[0] / static_cast<double>(params.tileWidth)),
                                  std::round(params.orig[2] / static_cast<double>(params.tileWidth))};

@@ -442,6 +442,12 @@ TEST_F(NavMeshFuzzFindings, DetailTrianglesWithoutOutlineEdgesAreRefused) {
             std::string::npos);
 }
 
+TEST_F(NavMeshFuzzFindings, ATileTableTooLargeForAReferenceIsRefused) {
+  // maxTiles (bytes 32-35 of the set header) 4 made 22,532: 15 tile bits and the seed's 18 polygon bits leave
+  // no room for the salt, which Detour computes unsigned and wraps; its references then decode wrong.
+  EXPECT_NE(LoadWith(33, {88}).find("leave no room for the salt"), std::string::npos);
+}
+
 TEST_F(NavMeshFuzzFindings, AnExternalLinkThroughNoSideIsRefused) {
   // A border edge of tile 0 (neighbour 0) made 0xffff, a link out of the tile through no side: Detour links
   // the tile to itself and a path query reads through a null pointer.
