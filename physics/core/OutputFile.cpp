@@ -39,6 +39,13 @@ std::string TemporaryName(const std::string& target_name) {
   return "." + target_name + suffix + std::string(kTemporarySuffix);
 }
 
+// Whether `name` is the name TemporaryName gives a temporary of a target named `target_name`.
+bool IsTemporaryOf(std::string_view name, std::string_view target_name) {
+  return name.size() > target_name.size() + 2 + kTemporarySuffix.size() && name[0] == '.' &&
+         name.substr(1, target_name.size()) == target_name && name[target_name.size() + 1] == '.' &&
+         name.substr(name.size() - kTemporarySuffix.size()) == kTemporarySuffix;
+}
+
 // The pid in a temporary's name, or 0 when the name has none.
 long TemporaryOwner(std::string_view name, std::string_view target_name) {
   const std::string_view rest = name.substr(target_name.size() + 2);
@@ -58,7 +65,7 @@ void RemoveStaleTemporaries(const std::filesystem::path& target) {
   const std::filesystem::path folder = target.parent_path().empty() ? "." : target.parent_path();
   for (std::filesystem::directory_iterator it(folder, error), end; !error && it != end; it.increment(error)) {
     const std::string name = it->path().filename().string();
-    if (!IsOutputTemporaryOf(name, target_name)) continue;
+    if (!IsTemporaryOf(name, target_name)) continue;
     const long owner = TemporaryOwner(name, target_name);
     if (owner <= 0 || owner == ::getpid() || ::kill(static_cast<pid_t>(owner), 0) == 0 || errno != ESRCH)
       continue;
@@ -68,12 +75,6 @@ void RemoveStaleTemporaries(const std::filesystem::path& target) {
 }
 
 }  // namespace
-
-bool IsOutputTemporaryOf(std::string_view name, std::string_view target_name) {
-  return name.size() > target_name.size() + 2 + kTemporarySuffix.size() && name[0] == '.' &&
-         name.substr(1, target_name.size()) == target_name && name[target_name.size() + 1] == '.' &&
-         name.substr(name.size() - kTemporarySuffix.size()) == kTemporarySuffix;
-}
 
 /// A stream buffer over a file descriptor that remembers the first failed write.
 class DescriptorBuffer : public std::streambuf {

@@ -33,8 +33,6 @@ class OutputFile {
   std::ostream& stream() { return stream_; }
   /// Writes what is buffered, checks every write succeeded, syncs and renames the temporary over the target.
   Status Commit();
-  /// The temporary being written (empty when written in place): for tests of what a kill leaves.
-  const std::filesystem::path& temporary() const { return temporary_; }
 
  private:
   std::filesystem::path path_;
@@ -47,8 +45,5 @@ class OutputFile {
 
 /// Writes `bytes` to `path` as above; an error names the path and what failed.
 Status WriteOutputFile(const std::filesystem::path& path, std::string_view bytes);
-
-/// Whether `name` is the name OutputFile gives the temporaries of a target named `target_name`.
-bool IsOutputTemporaryOf(std::string_view name, std::string_view target_name);
 
 }  // namespace strata

@@ -68,32 +68,32 @@ std::pair<double, double> MedianAndMax(std::vector<double> values) {
   return {median, values.back()};
 }
 
-std::filesystem::path ExecutableDirectory() {
+namespace {
+
+// <prefix>/share/strata/levels for a binary at <prefix>/bin/strata; empty when the binary cannot be found.
+std::filesystem::path InstalledLevels() {
   std::error_code error;
   const std::filesystem::path executable = std::filesystem::read_symlink("/proc/self/exe", error);
-  return error ? std::filesystem::path() : executable.parent_path();
+  if (error) return {};
+  return executable.parent_path().parent_path() / "share" / "strata" / "levels";
 }
 
-std::vector<std::filesystem::path> LevelFolders() {
+}  // namespace
+
+std::string DefaultLevelPath() {
+  const std::filesystem::path installed = InstalledLevels();
   std::vector<std::filesystem::path> folders;
   if (const char* data = std::getenv("STRATA_DATA_DIR"); data != nullptr && *data != '\0')
     folders.push_back(std::filesystem::path(data) / "levels");
-  // An installed binary: <prefix>/bin/strata beside <prefix>/share/strata/levels.
-  if (const std::filesystem::path bin = ExecutableDirectory(); !bin.empty())
-    folders.push_back(bin.parent_path() / "share" / "strata" / "levels");
+  if (!installed.empty()) folders.push_back(installed);
   folders.emplace_back(STRATA_LEVELS_DIR);  // the source tree this binary was built from
-  return folders;
-}
-
-std::string DefaultLevelPath() {
-  const std::vector<std::filesystem::path> folders = LevelFolders();
   for (const std::filesystem::path& folder : folders) {
     std::error_code error;
     if (std::filesystem::is_regular_file(folder / "courtyard.obj", error))
       return (folder / "courtyard.obj").string();
   }
   // None there: the installed place, so that the loader's error says where the level was expected.
-  return ((folders.size() > 1 ? folders[folders.size() - 2] : folders.back()) / "courtyard.obj").string();
+  return ((installed.empty() ? folders.back() : installed) / "courtyard.obj").string();
 }
 
 }  // namespace strata::cli
