@@ -549,7 +549,7 @@ Status ParseSettings(const Reader& reader, const Json& json, Scene& scene) {
                        "was replaced by substeps and relax_iterations (see assets/scenes/README.md)");
   STRATA_TRY(reader.OnlyKeys(
       json, {"gravity", "dt", "substeps", "velocity_iterations", "relax_iterations", "restitution_iterations",
-             "contact_hertz", "contact_damping_ratio", "contact_push_max_velocity", "direct_small_islands",
+             "contact_hertz", "contact_damping_ratio", "contact_push_max_velocity", "exact_small_islands",
              "gyroscopic_torque", "sleeping"}));
   PhysicsSettings& physics = scene.physics;
   STRATA_TRY(reader.Vector(json, "gravity", physics.gravity));
@@ -562,7 +562,7 @@ Status ParseSettings(const Reader& reader, const Json& json, Scene& scene) {
   STRATA_TRY(reader.Number(json, "contact_hertz", physics.contact_hertz));
   STRATA_TRY(reader.Number(json, "contact_damping_ratio", physics.contact_damping_ratio));
   STRATA_TRY(reader.Number(json, "contact_push_max_velocity", physics.contact_push_max_velocity));
-  STRATA_TRY(reader.Boolean(json, "direct_small_islands", physics.direct_small_islands));
+  STRATA_TRY(reader.Boolean(json, "exact_small_islands", physics.exact_small_islands));
   STRATA_TRY(reader.Boolean(json, "gyroscopic_torque", physics.gyroscopic_torque));
   STRATA_TRY(reader.Boolean(json, "sleeping", physics.allow_sleeping));
   if (Status valid = physics.Validate(); !valid) return reader.Fail("", valid.message());

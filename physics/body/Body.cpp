@@ -4,7 +4,7 @@
 
 namespace strata {
 
-void Body::Reset(const BodyCreationSettings& settings, BodyID id) {
+void Body::ResetInternal(const BodyCreationSettings& settings, BodyID id) {
   *this = Body();
   id_ = id;
   shape_ = settings.shape;
@@ -43,7 +43,7 @@ void Body::Reset(const BodyCreationSettings& settings, BodyID id) {
       gyroscopic_ = HasGyroscopicTorque(properties.inertia);
     }
   }
-  UpdateWorldBounds();
+  UpdateWorldBoundsInternal();
 }
 
 }  // namespace strata

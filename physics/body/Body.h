@@ -90,16 +90,40 @@ class Body {
   const Vec3& accumulated_force() const { return force_; }
   const Vec3& accumulated_torque() const { return torque_; }
 
- private:
-  friend class BodyManager;
-  friend class PhysicsSystem;
-  friend class BodyInterface;
+  float sleep_timer() const { return sleep_timer_; }
+  /// Whether its spin can precess (the inertia is not a multiple of the identity).
+  bool gyroscopic() const { return gyroscopic_; }
+  /// Whether the centre of mass is at the shape origin (then CenterOfMass() needs no rotation).
+  bool centered() const { return centered_; }
+  /// The shape's bounds in its own frame (kept here so that moving a body does not read its shape).
+  const AABB& local_bounds() const { return local_bounds_; }
 
-  void Reset(const BodyCreationSettings& settings, BodyID id);
-  void UpdateWorldBounds() { world_bounds_ = Shape::WorldBoundsOf(local_bounds_, bounds_turn_, pose_); }
+  // Internal mutators, for the engine's code that holds the body's write lock (BodyManager, BodyInterface)
+  // or runs inside the step (BodyMotion, PhysicsSystem). They check nothing: game code changes a body
+  // through BodyInterface, which validates first.
+  void ResetInternal(const BodyCreationSettings& settings, BodyID id);
+  void SetInWorldInternal(bool in_world) { in_world_ = in_world; }
+  void SetSleepingInternal(bool sleeping) { sleeping_ = sleeping; }
+  void SetSleepIslandInternal(std::uint32_t island) { sleep_island_ = island; }
+  void SetSleepTimerInternal(float seconds) { sleep_timer_ = seconds; }
+  /// Teleports the shape origin (the far-from-origin remainder starts again from zero).
+  void SetPositionInternal(const Vec3& position) {
+    pose_.position = position;
+    position_remainder_.setZero();
+  }
+  void SetRotationInternal(const Quat& rotation) { pose_.rotation = rotation; }
+  void SetLinearVelocityInternal(const Vec3& velocity) { linear_velocity_ = velocity; }
+  void SetAngularVelocityInternal(const Vec3& velocity) { angular_velocity_ = velocity; }
+  void AddForceInternal(const Vec3& force) { force_ += force; }
+  void AddTorqueInternal(const Vec3& torque) { torque_ += torque; }
+  void ClearForcesInternal() {
+    force_.setZero();
+    torque_.setZero();
+  }
+  void UpdateWorldBoundsInternal() { world_bounds_ = Shape::WorldBoundsOf(local_bounds_, bounds_turn_, pose_); }
   /// Moves the shape origin by `motion` (small) without rounding it away where position() is large. Inline:
   /// the step's write-back passes `motion` in registers, not through a just-stored temporary.
-  void AddToPosition(const Vec3& motion) {
+  void AddToPositionInternal(const Vec3& motion) {
     // Two-sum (Knuth): the float sum plus the exact rounding error it made.
     const Vec3 addend = position_remainder_ + motion;
     const Vec3 sum = pose_.position + addend;
@@ -108,6 +132,7 @@ class Body {
     pose_.position = sum;
   }
 
+ private:
   BodyID id_;
   ShapeRef shape_;
   Pose pose_;

@@ -9,11 +9,15 @@
 #include <span>
 
 #include "physics/body/Body.h"
+#include "physics/body/BodyManager.h"
+#include "physics/body/BodySnapshotTable.h"
+#include "physics/body/BroadPhaseMoveOrder.h"
+#include "physics/body/SpeculativeBounds.h"
+#include "physics/body/WakeQueue.h"
 #include "physics/broadphase/BroadPhase.h"
+#include "physics/broadphase/Layers.h"
 
 namespace strata {
-
-class PhysicsSystem;
 
 /// Whether a body added to the world starts awake.
 enum class Activation { kActivate, kDontActivate };
@@ -30,7 +34,17 @@ struct BodyAddBatch {
 /// Thread-safe access to the bodies of one PhysicsSystem.
 class BodyInterface {
  public:
-  explicit BodyInterface(PhysicsSystem& system) : system_(system) {}
+  /// The parts of a world the interface works on; the world owns them and outlives the interface.
+  struct Parts {
+    BodyManager* bodies = nullptr;
+    BroadPhase* broad_phase = nullptr;
+    BroadPhaseMoveOrder* move_order = nullptr;
+    BodySnapshotTable* snapshots = nullptr;
+    const LayerSetup* layers = nullptr;
+    WakeQueue* wakes = nullptr;
+    const SpeculativeBounds* bounds = nullptr;
+  };
+  explicit BodyInterface(const Parts& parts) : parts_(parts) {}
 
   /// Creates a body outside the world.
   Result<BodyID> CreateBody(const BodyCreationSettings& settings);
@@ -106,7 +120,7 @@ class BodyInterface {
   /// Takes bodies added by a failed finalize back out again.
   void UndoAdd(std::span<const BodyID> flagged, std::span<const BodyID> all);
 
-  PhysicsSystem& system_;
+  Parts parts_;
 };
 
 }  // namespace strata

@@ -70,7 +70,7 @@ Result<BodyID> BodyManager::CreateBody(const BodyCreationSettings& settings) {
       slot_limit_.store(id.index + 1, std::memory_order_release);
   }
   std::unique_lock lock(MutexFor(id.index));
-  bodies_[id.index].Reset(settings, id);
+  bodies_[id.index].ResetInternal(settings, id);
   return id;
 }
 

@@ -28,6 +28,10 @@ class BodyManager {
   std::uint32_t mutex_count() const { return static_cast<std::uint32_t>(mutexes_.size()); }
   /// Bodies created and not yet destroyed.
   std::uint32_t body_count() const;
+  /// Bodies in the world (BodyInterface counts them as it adds and removes them).
+  std::size_t in_world_count() const { return in_world_count_.load(std::memory_order_relaxed); }
+  void CountAddedToWorld(std::size_t count) { in_world_count_.fetch_add(count, std::memory_order_relaxed); }
+  void CountRemovedFromWorld(std::size_t count) { in_world_count_.fetch_sub(count, std::memory_order_relaxed); }
 
   /// Validates `settings` and creates a body outside the world. Fails on bad settings or a full manager.
   Result<BodyID> CreateBody(const BodyCreationSettings& settings);
@@ -77,6 +81,7 @@ class BodyManager {
   StripedGate move_gate_;
   std::atomic<std::uint32_t> waiting_writers_{0};  // writers blocked by the step that is ending
   std::atomic<std::uint32_t> slot_limit_{0};
+  std::atomic<std::size_t> in_world_count_{0};
   std::uint32_t locked_count_ = 0;       // mutexes held by LockAll
   std::uint32_t locked_slot_limit_ = 0;  // slot_limit() when LockAll ran
 };

@@ -40,7 +40,7 @@ class AxisConstraintPart {
     Apply(bodies, change);
     return change;
   }
-  /// The row for DirectJointSolver, with position error `error`.
+  /// The row for ExactJointSolver, with position error `error`.
   JointRow Row(float error) { return {axis_, arm_a_, arm_b_, error, &impulse_}; }
   /// Its effective mass (kg), 0 when neither side can move along it.
   float effective_mass() const { return effective_mass_; }

@@ -113,7 +113,7 @@ class Constraint {
   /// Applies the accumulated impulses (every substep, as contacts do).
   virtual void WarmStart(ConstraintBodies& bodies, const ConstraintPassContext& pass) = 0;
   /// One Gauss-Seidel pass over the rows: with the drift bias in velocity passes, without in relax passes.
-  /// Without `rigid_rows` it leaves the rows that always hold to DirectJointSolver.
+  /// Without `rigid_rows` it leaves the rows that always hold to ExactJointSolver.
   virtual void SolveVelocity(ConstraintBodies& bodies, const ConstraintPassContext& pass,
                              bool rigid_rows) = 0;
   /// The most rigid rows a joint has (a fixed joint's six).
@@ -130,7 +130,7 @@ class Constraint {
   /// After the step's last substep: moves the sides (poses and their motion since the step began, not
   /// their velocities) to take kPositionFraction of its rigid rows' position errors out, the rows solved
   /// together: integrating a link that turns fast moves its anchor off the circle it turns on, which
-  /// velocity rows cannot see. Joints whose rows DirectJointSolver solves are corrected by it instead.
+  /// velocity rows cannot see. Joints whose rows ExactJointSolver solves are corrected by it instead.
   void SolvePosition(SolverBody* bodies, SolverPose* poses, float elapsed);
   /// After the step (one thread): forces from the last substep's impulses; breaks past the limits.
   void EndStep();

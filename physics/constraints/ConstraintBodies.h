@@ -6,8 +6,8 @@
 
 #include <algorithm>
 
-#include "physics/solver/ContactConstraint.h"
-#include "physics/solver/SolverBody.h"
+#include "physics/constraints/ContactConstraint.h"
+#include "physics/body/SolverBody.h"
 
 namespace strata {
 
@@ -61,7 +61,7 @@ inline void MoveSolverBody(SolverBody& body, SolverPose& pose, const Vec3& move,
   body.delta_rotation += ToVec4(turn);
 }
 
-/// One row that always holds (a point, an axis, a rotation), as DirectJointSolver takes it: its rate is
+/// One row that always holds (a point, an axis, a rotation), as ExactJointSolver takes it: its rate is
 /// linear . (v_B - v_A) + angular_b . w_B - angular_a . w_A, and an impulse moves B along it, A against.
 struct JointRow {
   Vec3 linear = Vec3::Zero();

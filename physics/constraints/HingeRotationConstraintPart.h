@@ -45,7 +45,7 @@ class HingeRotationConstraintPart {
     impulse_ += change;
     Apply(bodies, change);
   }
-  /// Its two rows for DirectJointSolver (after Prepare).
+  /// Its two rows for ExactJointSolver (after Prepare).
   void Rows(JointRow* rows) {
     for (int k = 0; k < 2; ++k) rows[k] = {Vec3::Zero(), row_[k], row_[k], error_[k], &impulse_[k]};
   }

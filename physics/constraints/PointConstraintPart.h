@@ -40,7 +40,7 @@ class PointConstraintPart {
     impulse_ += change;
     Apply(bodies, change);
   }
-  /// Its three rows (world axes) for DirectJointSolver, with the gap `separation` (B's anchor minus A's).
+  /// Its three rows (world axes) for ExactJointSolver, with the gap `separation` (B's anchor minus A's).
   void Rows(const Vec3& separation, JointRow* rows) {
     for (int k = 0; k < 3; ++k) {
       const Vec3 axis = Vec3::Unit(k);

@@ -39,7 +39,7 @@ class RotationConstraintPart {
     impulse_ += change;
     Apply(bodies, change);
   }
-  /// Its three rows (world axes) for DirectJointSolver, with the turn `error` (see Error).
+  /// Its three rows (world axes) for ExactJointSolver, with the turn `error` (see Error).
   void Rows(const Vec3& error, JointRow* rows) {
     for (int k = 0; k < 3; ++k)
       rows[k] = {Vec3::Zero(), Vec3::Unit(k), Vec3::Unit(k), error[k], &impulse_[k]};

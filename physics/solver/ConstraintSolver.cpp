@@ -4,7 +4,7 @@
 #include <cassert>
 #include <thread>
 
-#include "physics/body/GyroscopicTorque.h"
+#include "physics/body/BodyMotion.h"
 
 #if defined(__x86_64__) || defined(__i386__)
 #include <immintrin.h>
@@ -14,7 +14,7 @@ namespace strata {
 
 namespace {
 
-// Items of a split claimed at once: a user's item is a bundle of contacts (two make about sixteen) or a
+// Items of a split claimed at once: a kind's item is a bundle of contacts (two make about sixteen) or a
 // whole sequential split.
 constexpr std::uint32_t kConstraintBatch = 2;
 constexpr std::uint32_t kBodyBatch = 64;
@@ -29,10 +29,10 @@ void CpuRelax() {
 
 }  // namespace
 
-ConstraintSolver::ConstraintSolver(BlockPool& pool, std::initializer_list<ConstraintUser*> users)
+ConstraintSolver::ConstraintSolver(BlockPool& pool, std::initializer_list<ConstraintKind*> kinds)
     : pool_(pool) {
-  assert(users.size() <= kMaxUsers);
-  for (ConstraintUser* user : users) users_[user_count_++] = user;
+  assert(kinds.size() <= kMaxKinds);
+  for (ConstraintKind* kind : kinds) kinds_[kind_count_++] = kind;
 }
 
 void ConstraintSolver::ResetBodies(std::uint32_t active_count) {
@@ -55,25 +55,25 @@ void ConstraintSolver::BeginStep(const Input& input, std::uint32_t job_count) {
   step.dt = input.dt;
   step.substep_dt = substep_dt_;
   step.settings = input.settings;
-  for (std::uint32_t u = 0; u < user_count_; ++u) users_[u]->BeginStep(step, job_count);
-  // An island is exact when every user with work in it wants that (contacts of a resting pile; joints never).
+  for (std::uint32_t u = 0; u < kind_count_; ++u) kinds_[u]->BeginStep(step, job_count);
+  // An island is exact when every kind with work in it wants that (contacts of a resting pile; joints never).
   const std::uint32_t island_count = input.islands->island_count();
   island_exact_.resize(island_count);
   island_work_.resize(island_count);
   for (std::uint32_t island = 0; island < island_count; ++island) {
     std::uint32_t work = 0;
     bool exact = false;
-    for (std::uint32_t u = 0; u < user_count_; ++u) {
-      const std::uint32_t user_work = users_[u]->IslandWork(island);
-      if (user_work == 0) continue;
-      exact = (work == 0 || exact) && users_[u]->WantsExactIsland(island);
-      work += user_work;
+    for (std::uint32_t u = 0; u < kind_count_; ++u) {
+      const std::uint32_t kind_work = kinds_[u]->IslandWork(island);
+      if (kind_work == 0) continue;
+      exact = (work == 0 || exact) && kinds_[u]->WantsExactIsland(island);
+      work += kind_work;
     }
     island_work_[island] = work;
     island_exact_[island] = exact ? 1 : 0;
   }
   FormGroups();
-  for (std::uint32_t u = 0; u < user_count_; ++u) users_[u]->BeginGroups(group_islands_);
+  for (std::uint32_t u = 0; u < kind_count_; ++u) kinds_[u]->BeginGroups(group_islands_);
   groups_finished_.store(0, std::memory_order_relaxed);
   if (jobs_.size() < job_count) {
     jobs_.resize(job_count);
@@ -84,7 +84,7 @@ void ConstraintSolver::BeginStep(const Input& input, std::uint32_t job_count) {
 
 void ConstraintSolver::FormGroups() {
   // Groups: a large island alone, or consecutive small islands of one kind (exact or not) until they hold
-  // kGroupWork. Work counts every user's constraints (joint-only islands, ragdolls in flight, must not all
+  // kGroupWork. Work counts every kind's constraints (joint-only islands, ragdolls in flight, must not all
   // gather in one group).
   const std::uint32_t island_count = input_.islands->island_count();
   auto work = [&](std::uint32_t island) { return island_work_[island]; };
@@ -147,16 +147,16 @@ void ConstraintSolver::PrepareGroup(std::uint32_t group_index, std::uint32_t job
     group.one_job = bodies <= kBodyBatch;
   } else {
     bool parallel = false;
-    for (std::uint32_t u = 0; u < user_count_; ++u) {
-      const GroupLayout layout = users_[u]->PrepareGroup(group.islands, jobs_[job_index].arena, job_index);
+    for (std::uint32_t u = 0; u < kind_count_; ++u) {
+      const GroupLayout layout = kinds_[u]->PrepareGroup(group.islands, jobs_[job_index].arena, job_index);
       group.split_begin[u] = group.split_count;
       group.split_count += layout.splits;
-      group.setup_begin[u + 1] = group.setup_begin[u] + users_[u]->SetupItems(group_index);
+      group.setup_begin[u + 1] = group.setup_begin[u] + kinds_[u]->SetupItems(group_index);
       parallel = parallel || layout.parallel;
       group.bounces = group.bounces || layout.bounces;
       group.positions = group.positions || layout.positions;
     }
-    group.split_begin[user_count_] = group.split_count;
+    group.split_begin[kind_count_] = group.split_count;
     const PhysicsSettings& settings = *input_.settings;
     const std::uint32_t per_substep =
         group.split_count *
@@ -224,15 +224,15 @@ bool ConstraintSolver::IsLastSolvePass(const Round& round) const {
   return round.kind == RoundKind::kVelocity && round.iteration + 1 == settings.velocity_iterations;
 }
 
-std::uint32_t ConstraintSolver::UserOf(const Group& group, std::uint32_t split) const {
-  std::uint32_t user = 0;
-  while (split >= group.split_begin[user + 1]) ++user;
-  return user;
+std::uint32_t ConstraintSolver::KindOf(const Group& group, std::uint32_t split) const {
+  std::uint32_t kind = 0;
+  while (split >= group.split_begin[kind + 1]) ++kind;
+  return kind;
 }
 
-SolverPass ConstraintSolver::PassFor(const Group& group, const Round& round, std::uint32_t user) const {
+SolverPass ConstraintSolver::PassFor(const Group& group, const Round& round, std::uint32_t kind) const {
   SolverPass pass;
-  pass.split = round.split - group.split_begin[user];
+  pass.split = round.split - group.split_begin[kind];
   pass.iteration = round.iteration;
   pass.substep = round.substep;
   const int relax = round.kind == RoundKind::kRelax ? 1 : 0;
@@ -273,7 +273,7 @@ SolverPass ConstraintSolver::PassFor(const Group& group, const Round& round, std
 std::uint32_t ConstraintSolver::RoundItems(const Group& group, const Round& round) const {
   switch (round.kind) {
     case RoundKind::kSetup:
-      return group.setup_begin[user_count_];
+      return group.setup_begin[kind_count_];
     case RoundKind::kAddForces:
       // The first substep's share was added before the solve.
       if (round.substep == 0) return 0;
@@ -282,44 +282,30 @@ std::uint32_t ConstraintSolver::RoundItems(const Group& group, const Round& roun
       return static_cast<std::uint32_t>(
           input_.islands->bodies(group.islands.first_island, group.islands.end_island).size());
     default: {
-      const std::uint32_t user = UserOf(group, round.split);
-      return users_[user]->Items(group.islands.index, PassFor(group, round, user));
+      const std::uint32_t kind = KindOf(group, round.split);
+      return kinds_[kind]->Items(group.islands.index, PassFor(group, round, kind));
     }
   }
 }
 
 void ConstraintSolver::Integrate(std::uint32_t island_body) {
   const std::uint32_t index = island_body + 1;
-  SolverBody& body = bodies_[index];
   // Kinematic bodies were moved before the solve began; contacts follow them by their velocity.
-  if (body.inverse_mass <= 0.0f) return;
-  SolverPose& pose = poses_[index];
-  const float h = substep_dt_;
-  const Vec4 moved = body.linear_velocity * h;
-  const Vec4 turn = body.angular_velocity * h;
-  pose.center_of_mass += moved;
-  TurnBy(pose.rotation, turn);
-  body.delta_position += moved;
-  body.delta_rotation += turn;
+  if (bodies_[index].inverse_mass <= 0.0f) return;
+  IntegrateSubstep(bodies_[index], poses_[index], substep_dt_);
 }
 
 void ConstraintSolver::AddForces(std::uint32_t island_body) {
   const std::uint32_t index = island_body + 1;
-  SolverBody& body = bodies_[index];
-  const SolverVelocityStep& step = velocity_steps_[index];
-  body.linear_velocity += step.linear;
-  if (step.gyroscopic)
-    body.angular_velocity = ToVec4(
-        SpinWithoutTorque(step.inertia, poses_[index].rotation, ToVec3(body.angular_velocity), substep_dt_));
-  body.angular_velocity += step.angular;
+  AddSubstepForces(bodies_[index], velocity_steps_[index], poses_[index].rotation, substep_dt_);
 }
 
 void ConstraintSolver::RunSetup(Group& group, std::uint32_t begin, std::uint32_t end, JobState& job) {
-  for (std::uint32_t u = 0; u < user_count_ && begin < end; ++u) {
+  for (std::uint32_t u = 0; u < kind_count_ && begin < end; ++u) {
     const std::uint32_t first = group.setup_begin[u], last = group.setup_begin[u + 1];
     if (begin >= last) continue;
     const std::uint32_t until = std::min(end, last);
-    users_[u]->Setup(group.islands.index, begin - first, until - first, job.arena);
+    kinds_[u]->Setup(group.islands.index, begin - first, until - first, job.arena);
     begin = until;
   }
 }
@@ -339,8 +325,8 @@ void ConstraintSolver::RunBatch(Group& group, const Round& round, std::uint32_t 
       for (std::uint32_t i = begin; i < end; ++i) AddForces(bodies[i]);
     return;
   }
-  const std::uint32_t user = UserOf(group, round.split);
-  users_[user]->Run(group.islands.index, PassFor(group, round, user), begin, end, job_index);
+  const std::uint32_t kind = KindOf(group, round.split);
+  kinds_[kind]->Run(group.islands.index, PassFor(group, round, kind), begin, end, job_index);
 }
 
 ConstraintSolver::BatchResult ConstraintSolver::TryRunWholeGroup(Group& group, JobState& job,
@@ -366,12 +352,12 @@ void ConstraintSolver::RunRoundsInOrder(Group& group, JobState& job, std::uint32
     if (items > 0) RunBatch(group, round, 0, items, job, job_index);
   };
   // A constraint round's pass is described once, for its item count and its run.
-  auto run_split = [&](RoundKind kind, std::uint32_t split, int iteration, int substep) {
-    const Round round{kind, split, iteration, substep};
-    const std::uint32_t user = UserOf(group, split);
-    const SolverPass pass = PassFor(group, round, user);
-    const std::uint32_t items = users_[user]->Items(group.islands.index, pass);
-    if (items > 0) users_[user]->Run(group.islands.index, pass, 0, items, job_index);
+  auto run_split = [&](RoundKind round_kind, std::uint32_t split, int iteration, int substep) {
+    const Round round{round_kind, split, iteration, substep};
+    const std::uint32_t kind = KindOf(group, split);
+    const SolverPass pass = PassFor(group, round, kind);
+    const std::uint32_t items = kinds_[kind]->Items(group.islands.index, pass);
+    if (items > 0) kinds_[kind]->Run(group.islands.index, pass, 0, items, job_index);
   };
   const PhysicsSettings& settings = *input_.settings;
   const std::uint32_t splits = group.split_count;

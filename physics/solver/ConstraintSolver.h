@@ -1,11 +1,11 @@
 // ConstraintSolver: solves the step's islands in parallel. It owns what every kind of constraint shares: the
 // solver bodies' forces and integration, the groups of islands and the schedule of rounds; each kind of
-// constraint (ConstraintUser: contacts, joints) lays out its constraints of a group in splits and runs
+// constraint (ConstraintKind: contacts, joints) lays out its constraints of a group in splits and runs
 // them. A large island is a group of its own, runs of consecutive small islands form groups of about the
 // same work. The step is solved in substeps (Box2D v3's soft step): per substep gravity and forces (the
 // first substep's before the solve), a warm start per split, biased velocity passes per split,
-// integration, relax passes per split; after the last substep restitution rounds (where a user bounces) and
-// position rounds (where a user corrects positions). Each of these is a round; a round's batches may run on
+// integration, relax passes per split; after the last substep restitution rounds (where a kind bounces) and
+// position rounds (where a kind corrects positions). Each of these is a round; a round's batches may run on
 // any job, and the job finishing a round's last batch opens the next one. Islands share no body, so
 // grouping them changes no island's solve order. The result is the same for any thread count.
 // Threading: BeginStep runs alone; PrepareGroup and SolveJob run from the step's jobs.
@@ -20,7 +20,7 @@
 #include <vector>
 
 #include "physics/core/BlockArena.h"
-#include "physics/solver/ConstraintUser.h"
+#include "physics/constraints/ConstraintKind.h"
 #include "physics/solver/LargeIslandSplitter.h"
 
 namespace strata {
@@ -28,9 +28,9 @@ namespace strata {
 /// Parallel island solve of one step.
 class ConstraintSolver {
  public:
-  /// A run of small islands closes once it has this much work (constraints of every user).
+  /// A run of small islands closes once it has this much work (constraints of every kind).
   static constexpr std::uint32_t kGroupWork = LargeIslandSplitter::kMinConstraintsToSplit;
-  static constexpr std::size_t kMaxUsers = 4;
+  static constexpr std::size_t kMaxKinds = 4;
 
   /// What a step's solve needs besides the solver bodies.
   struct Input {
@@ -39,9 +39,9 @@ class ConstraintSolver {
     const PhysicsSettings* settings;
   };
 
-  /// `users` in the order their splits run in every round (contacts before joints). Set-up data goes into
+  /// `kinds` in the order their splits run in every round (contacts before joints). Set-up data goes into
   /// blocks from `pool`.
-  ConstraintSolver(BlockPool& pool, std::initializer_list<ConstraintUser*> users);
+  ConstraintSolver(BlockPool& pool, std::initializer_list<ConstraintKind*> kinds);
 
   /// The step's solver bodies, poses and per-substep velocity gains: [0] the fixed body (no velocity, no
   /// inverse mass, identity pose), then one per active body (solver index = island body index + 1). Reset
@@ -56,7 +56,7 @@ class ConstraintSolver {
   void BeginStep(const Input& input, std::uint32_t job_count);
 
   std::uint32_t group_count() const { return group_count_; }
-  /// Lets every user order and split its constraints of group `group` (one group per call, any job).
+  /// Lets every kind order and split its constraints of group `group` (one group per call, any job).
   void PrepareGroup(std::uint32_t group, std::uint32_t job);
   /// After every PrepareGroup: solves batches of any group until every group is done (one call per job, of
   /// `width` jobs). A single job solves each group whole, in order, claiming nothing.
@@ -82,15 +82,15 @@ class ConstraintSolver {
   };
   struct Round {
     RoundKind kind;
-    std::uint32_t split = 0;  // over all users' splits
+    std::uint32_t split = 0;  // over all kinds' splits
     int iteration = 0;
     int substep = 0;
   };
   struct Group {
     SolverGroup islands;
     std::uint32_t work = 0;
-    std::array<std::uint32_t, kMaxUsers + 1> split_begin{};  // user u's splits: [split_begin[u], [u + 1])
-    std::array<std::uint32_t, kMaxUsers + 1> setup_begin{};  // user u's setup items, likewise
+    std::array<std::uint32_t, kMaxKinds + 1> split_begin{};  // kind u's splits: [split_begin[u], [u + 1])
+    std::array<std::uint32_t, kMaxKinds + 1> setup_begin{};  // kind u's setup items, likewise
     std::uint32_t split_count = 0;
     bool free = false;  // no constraints: forces and integration only
     bool bounces = false;
@@ -114,9 +114,9 @@ class ConstraintSolver {
   // Every round of a group one job runs whole, in order.
   void RunRoundsInOrder(Group& group, JobState& job, std::uint32_t job_index);
   Round Describe(const Group& group, std::uint32_t round) const;
-  // The user that owns solver-wide split `split` of `group`.
-  std::uint32_t UserOf(const Group& group, std::uint32_t split) const;
-  SolverPass PassFor(const Group& group, const Round& round, std::uint32_t user) const;
+  // The kind that owns solver-wide split `split` of `group`.
+  std::uint32_t KindOf(const Group& group, std::uint32_t split) const;
+  SolverPass PassFor(const Group& group, const Round& round, std::uint32_t kind) const;
   std::uint32_t RoundItems(const Group& group, const Round& round) const;
   void RunBatch(Group& group, const Round& round, std::uint32_t begin, std::uint32_t end, JobState& job,
                 std::uint32_t job_index);
@@ -128,16 +128,16 @@ class ConstraintSolver {
   bool IsLastSolvePass(const Round& round) const;
 
   BlockPool& pool_;
-  std::array<ConstraintUser*, kMaxUsers> users_{};
-  std::uint32_t user_count_ = 0;
+  std::array<ConstraintKind*, kMaxKinds> kinds_{};
+  std::uint32_t kind_count_ = 0;
   Input input_{};
   std::vector<SolverBody> bodies_;
   std::vector<SolverPose> poses_;
   std::vector<SolverVelocityStep> velocity_steps_;
   float substep_dt_ = 0.0f;
   std::vector<std::uint8_t> island_exact_;  // by island
-  std::vector<std::uint32_t> island_work_;  // by island: every user's constraints in it
-  std::vector<SolverGroup> group_islands_;  // what the users are told of the groups
+  std::vector<std::uint32_t> island_work_;  // by island: every kind's constraints in it
+  std::vector<SolverGroup> group_islands_;  // what the kinds are told of the groups
   std::unique_ptr<Group[]> groups_;
   std::uint32_t group_capacity_ = 0;
   std::uint32_t group_count_ = 0;

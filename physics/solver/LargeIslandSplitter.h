@@ -11,7 +11,7 @@
 #include <span>
 #include <vector>
 
-#include "physics/solver/ContactConstraint.h"
+#include "physics/constraints/ContactConstraint.h"
 
 namespace strata {
 

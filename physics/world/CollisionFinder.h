@@ -21,7 +21,7 @@
 #include "physics/core/BlockArena.h"
 #include "physics/narrowphase/BodyPairCache.h"
 #include "physics/narrowphase/CollideShapes.h"
-#include "physics/solver/ContactConstraint.h"
+#include "physics/constraints/ContactConstraint.h"
 #include "physics/solver/IslandBuilder.h"
 #include "physics/world/ContactEventTracker.h"
 #include "physics/world/ContactValidator.h"

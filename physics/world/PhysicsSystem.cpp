@@ -7,12 +7,9 @@
 #include <shared_mutex>
 #include <string>
 
-#include "physics/body/BodyInterface.h"
-#include "physics/body/GyroscopicTorque.h"
 #include "physics/broadphase/QuadTreeBroadPhase.h"
 #include "physics/core/ForEachChunk.h"
 #include "physics/narrowphase/ShapeCast.h"
-#include "physics/world/WorldQuery.h"
 
 namespace strata {
 
@@ -25,17 +22,6 @@ constexpr std::uint32_t kCastChunk = 8;
 constexpr float kLinearCastThreshold = 0.75f;
 // Casts stop this far before touching, so the next step's contacts start from a small gap.
 constexpr float kCastTolerance = 1e-3f;
-
-// `velocity` slowed to `limit`, counted in `clamps` if it had to be. Velocities are clamped before they are
-// stored in their body, while they are still in registers (re-reading one just stored a lane at a time
-// stalls on the stores).
-Vec3 ClampedVelocity(const Vec3& velocity, float limit, std::size_t& clamps) {
-  // Squares first: nearly every body is under its limits, and then no square root is taken.
-  if (velocity.squaredNorm() <= limit * limit) return velocity;
-  ++clamps;
-  // stableNorm: a velocity near float's limit squares to infinity, and 1/inf would stop the body dead.
-  return velocity * (limit / velocity.stableNorm());
-}
 
 // Releases the step's hold on every body lock however the step leaves.
 class AllBodiesLock {
@@ -111,14 +97,15 @@ PhysicsSystem::PhysicsSystem(const PhysicsSystemConfig& config, const PhysicsSet
       move_order_(config.max_bodies),
       broad_phase_(config.broad_phase ? config.broad_phase
                                       : std::make_shared<QuadTreeBroadPhase>(config.max_bodies, layers_)),
-      body_interface_(std::make_unique<BodyInterface>(*this)),
-      query_(std::make_unique<WorldQuery>(*this)),
-      speculative_distance_(settings.speculative_distance),
+      bounds_(settings.speculative_distance),
+      body_interface_(std::make_unique<BodyInterface>(BodyInterface::Parts{
+          &body_manager_, broad_phase_.get(), &move_order_, &body_snapshots_, layers_.get(), &wakes_, &bounds_})),
+      query_(std::make_unique<WorldQuery>(body_manager_, *broad_phase_)),
       active_flags_(config.max_bodies, 0),
       solver_index_(config.max_bodies, 0),
       pair_cache_(config.max_bodies, step_blocks_),
       collisions_(step_blocks_),
-      constraint_solver_(step_blocks_, {&contact_user_, &joint_user_}) {
+      constraint_solver_(step_blocks_, {&contact_kind_, &joint_kind_}) {
   job_count_ = static_cast<std::uint32_t>(std::max(1, jobs_->ThreadCount()));
   constexpr std::size_t kBudgetPerBody = 16;
   max_body_pairs_ = config.max_body_pairs ? config.max_body_pairs : kBudgetPerBody * config.max_bodies;
@@ -202,7 +189,7 @@ Status PhysicsSystem::SetSettings(const PhysicsSettings& settings) {
   StepScope no_writers(body_manager_);
   AllBodiesLock bodies(body_manager_);
   settings_ = settings;
-  speculative_distance_.store(settings.speculative_distance, std::memory_order_relaxed);
+  bounds_.set_speculative_distance(settings.speculative_distance);
   return Status::Ok();
 }
 
@@ -225,26 +212,6 @@ std::vector<BodyID> PhysicsSystem::BodiesInWorld() const {
     if (body.in_world()) ids.push_back(body.id());
   }
   return ids;
-}
-
-void PhysicsSystem::RequestWake(std::uint32_t island_key) {
-  std::lock_guard lock(wake_mutex_);
-  pending_wakes_.push_back(island_key);
-  wakes_pending_.store(true, std::memory_order_release);
-}
-
-AABB PhysicsSystem::BroadPhaseBounds(const Body& body, float dt) const {
-  AABB bounds = body.world_bounds().Expanded(settings_.speculative_distance);
-  if (!body.IsActive()) return bounds;
-  // Sweep over the coming step so speculative contacts are found before bodies touch.
-  const float step = dt > 0.0f ? dt : last_dt_.load(std::memory_order_relaxed);
-  const Vec3 travel = body.linear_velocity() * step;
-  const float turn = body.angular_velocity().norm() * step * body.local_bounds_.HalfExtents().norm();
-  AABB swept = bounds;
-  swept.min += travel;
-  swept.max += travel;
-  bounds.Encapsulate(swept);
-  return bounds.Expanded(turn);
 }
 
 Status PhysicsSystem::Step(float dt) {
@@ -298,16 +265,9 @@ Status PhysicsSystem::Step(float dt) {
 void PhysicsSystem::PrepareStep() {
   // Bounds were swept over the last step's dt (or 1/60 s before the first step): a longer step sweeps them
   // again, so nothing it reaches is missed.
-  const bool longer_step = step_dt_ > last_dt_.load(std::memory_order_relaxed);
-  last_dt_.store(step_dt_, std::memory_order_relaxed);
+  const bool longer_step = bounds_.BeginStep(step_dt_);
   // Islands woken through the API since the last step (the API holds one body's lock, so it queued keys).
-  wake_keys_.clear();
-  // Most steps have none: the flag spares them the mutex. A key queued after the exchange raises the flag
-  // again and is taken next step.
-  if (wakes_pending_.exchange(false, std::memory_order_acq_rel)) {
-    std::lock_guard lock(wake_mutex_);
-    wake_keys_.swap(pending_wakes_);
-  }
+  wakes_.Take(wake_keys_);
   WakeConstrainedBodies();
   std::sort(wake_keys_.begin(), wake_keys_.end());
   for (const BodyID id : active_) {
@@ -323,20 +283,18 @@ void PhysicsSystem::PrepareStep() {
   const std::uint32_t limit = body_manager_.locked_slot_limit();
   for (std::uint32_t index = 0; index < limit; ++index) {
     Body& body = body_manager_.BodyAt(index);
-    if (body.sleeping_ && !wake_keys_.empty() &&
-        std::binary_search(wake_keys_.begin(), wake_keys_.end(), body.sleep_island_)) {
-      body.sleeping_ = false;
-      body.sleep_timer_ = 0.0f;
-    }
+    if (body.sleeping() && !wake_keys_.empty() &&
+        std::binary_search(wake_keys_.begin(), wake_keys_.end(), body.sleep_island()))
+      WakeUp(body);
     if (body.is_sensor() && body.in_world()) sensor_bodies_.push_back(body.id());
     if (!body.IsActive()) continue;
-    if (body.IsDynamic() && body.motion_quality_ == MotionQuality::kLinearCast && !body.is_sensor())
+    if (body.IsDynamic() && body.motion_quality() == MotionQuality::kLinearCast && !body.is_sensor())
       linear_cast_bodies_.push_back(static_cast<std::uint32_t>(active_.size()));
     active_.push_back(body.id());
     active_flags_[index] = 1;
     solver_index_[index] = static_cast<std::uint32_t>(active_.size());
     if (longer_step) {
-      const Status updated = broad_phase_->UpdateBody(body.id(), BroadPhaseBounds(body, step_dt_));
+      const Status updated = broad_phase_->UpdateBody(body.id(), bounds_.Of(body, step_dt_));
       assert(updated.ok());
       (void)updated;
     }
@@ -450,52 +408,13 @@ void PhysicsSystem::BindConstraints() {
 void PhysicsSystem::ApplyForces(std::uint32_t job, std::uint32_t width) {
   const float dt = step_dt_;
   const float h = dt / static_cast<float>(settings_.substeps);
-  FinishCounters& counters = finish_counters_[job];
-  ForEachChunkItem(
-      next_chunk_, static_cast<std::uint32_t>(active_.size()), kBodyChunk, width, [&](std::uint32_t i) {
-        Body& body = body_manager_.BodyAt(active_[i].index);
-        SolverBody& solver = constraint_solver_.bodies()[i + 1];
-        SolverPose& pose = constraint_solver_.poses()[i + 1];
-        SolverVelocityStep& step = constraint_solver_.velocity_steps()[i + 1];
-        pose.center_of_mass = ToVec4(body.CenterOfMass());
-        pose.rotation = body.rotation();
-        solver.delta_position.setZero();
-        solver.delta_rotation.setZero();
-        if (body.IsDynamic()) {
-          // The gyroscopic step goes with each substep's share too (its error shrinks with the substep).
-          step.gyroscopic =
-              settings_.gyroscopic_torque && body.gyroscopic_ && !body.angular_velocity_.isZero(0.0f);
-          if (step.gyroscopic) {
-            step.inertia = body.inertia_local_;  // the substeps read it only for these bodies
-            body.angular_velocity_ =
-                SpinWithoutTorque(body.inertia_local_, body.rotation(), body.angular_velocity_, h);
-          }
-          // Gravity and forces are added a substep's share at a time: the first share now (the velocity half
-          // of symplectic Euler), the others by the solver after each substep's integration.
-          InverseInertiaColumns(body.rotation().toRotationMatrix(), body.inverse_inertia_local_,
-                                solver.inverse_inertia);
-          step.linear =
-              ToVec4(h * (settings_.gravity * body.gravity_factor_ + body.inverse_mass_ * body.force_));
-          step.angular = h * ColumnsTimes(solver.inverse_inertia, body.torque_);
-          Vec3 linear = body.linear_velocity_ + ToVec3(step.linear);
-          Vec3 angular = body.angular_velocity_ + ToVec3(step.angular);
-          body.force_.setZero();
-          body.torque_.setZero();
-          linear *= std::max(0.0f, 1.0f - body.linear_damping_ * dt);
-          angular *= std::max(0.0f, 1.0f - body.angular_damping_ * dt);
-          body.linear_velocity_ =
-              ClampedVelocity(linear, body.max_linear_velocity_, counters.linear_velocity_clamps);
-          body.angular_velocity_ =
-              ClampedVelocity(angular, body.max_angular_velocity_, counters.angular_velocity_clamps);
-          solver.inverse_mass = body.inverse_mass_;
-        } else {
-          solver.inverse_mass = 0.0f;
-          for (Vec4& column : solver.inverse_inertia) column.setZero();
-          step = {};
-        }
-        solver.linear_velocity = ToVec4(body.linear_velocity_);
-        solver.angular_velocity = ToVec4(body.angular_velocity_);
-      });
+  MotionClamps& clamps = finish_counters_[job].clamps;
+  ForEachChunkItem(next_chunk_, static_cast<std::uint32_t>(active_.size()), kBodyChunk, width,
+                   [&](std::uint32_t i) {
+                     BeginStepMotion(body_manager_.BodyAt(active_[i].index), settings_, dt, h,
+                                     constraint_solver_.bodies()[i + 1], constraint_solver_.poses()[i + 1],
+                                     constraint_solver_.velocity_steps()[i + 1], clamps);
+                   });
 }
 
 void PhysicsSystem::UpdateBroadPhase() {
@@ -513,14 +432,10 @@ void PhysicsSystem::FinalizeIslands() {
   // contacts that touch them follow them by their velocity).
   for (std::uint32_t i = 0; i < active_.size(); ++i) {
     if (body_manager_.BodyAt(active_[i].index).IsDynamic()) continue;
-    SolverPose& pose = constraint_solver_.poses()[i + 1];
-    SolverBody& body = constraint_solver_.bodies()[i + 1];
-    body.delta_position = body.linear_velocity * step_dt_;  // what the write-back adds to the position
-    pose.center_of_mass += body.delta_position;
-    TurnBy(pose.rotation, body.angular_velocity * step_dt_);
+    MoveKinematic(constraint_solver_.bodies()[i + 1], constraint_solver_.poses()[i + 1], step_dt_);
   }
-  contact_user_.SetContacts(contacts_);
-  joint_user_.SetJoints(step_joints_, joint_island_body_);
+  contact_kind_.SetContacts(contacts_);
+  joint_kind_.SetJoints(step_joints_, joint_island_body_);
   ConstraintSolver::Input input;
   input.islands = &islands_;
   input.dt = step_dt_;
@@ -531,7 +446,7 @@ void PhysicsSystem::FinalizeIslands() {
   const auto casts = static_cast<std::uint32_t>(linear_cast_bodies_.size());
   middle_graph_.SetWidth(linear_casts_stage_, std::min(job_count_, (casts + kCastChunk - 1) / kCastChunk));
   next_cast_.store(0, std::memory_order_relaxed);
-  sleep_key_base_ = next_island_key_.fetch_add(island_count, std::memory_order_relaxed);
+  sleep_key_base_ = wakes_.NewKeys(island_count);
   next_chunk_.store(0, std::memory_order_relaxed);
 }
 
@@ -563,7 +478,7 @@ bool PhysicsSystem::LinearCast(std::uint32_t active_index, CastScratch& scratch)
   const float inner = shape.LocalBounds().HalfExtents().minCoeff();
   if (displacement.norm() <= kLinearCastThreshold * inner) return false;
   // The sweep keeps the end rotation and moves the centre of mass in a straight line.
-  const Vec3 offset = pose.rotation * body.center_of_mass_local_;
+  const Vec3 offset = pose.rotation * body.center_of_mass_local();
   const Pose start{body.CenterOfMass() - offset, pose.rotation};
   scratch.hits.clear();
   broad_phase_->CastAABB(shape.WorldBounds(start).Expanded(kCastTolerance), displacement, QueryFilter{},
@@ -598,45 +513,20 @@ bool PhysicsSystem::LinearCast(std::uint32_t active_index, CastScratch& scratch)
 
 void PhysicsSystem::FinishIslands(std::uint32_t job, std::uint32_t width) {
   const float dt = step_dt_;
+  FinishCounters& counters = finish_counters_[job];
   ForEachChunkItem(next_chunk_, islands_.island_count(), kIslandChunk, width, [&](std::uint32_t island) {
     const std::span<const std::uint32_t> members = islands_.bodies(island);
     bool awake = false;
-    for (const std::uint32_t i : members) {
-      Body& body = body_manager_.BodyAt(active_[i].index);
-      const SolverBody& solved = constraint_solver_.bodies()[i + 1];
-      const SolverPose& pose = constraint_solver_.poses()[i + 1];
-      // The substeps after the first added gravity again.
-      FinishCounters& counters = finish_counters_[job];
-      body.linear_velocity_ = ClampedVelocity(ToVec3(solved.linear_velocity), body.max_linear_velocity_,
-                                              counters.linear_velocity_clamps);
-      body.angular_velocity_ = ClampedVelocity(ToVec3(solved.angular_velocity), body.max_angular_velocity_,
-                                               counters.angular_velocity_clamps);
-      // The position takes the step's motion (small, so exact in a float) rather than the solver's pose,
-      // which far from the origin rounds a slow body's motion away.
-      const Vec3 turned_offset = body.centered_ ? Vec3::Zero()
-                                                : Vec3(body.pose_.rotation * body.center_of_mass_local_ -
-                                                       pose.rotation * body.center_of_mass_local_);
-      body.pose_.rotation = pose.rotation;
-      body.AddToPosition(ToVec3(solved.delta_position) + turned_offset);
-      body.UpdateWorldBounds();
-      const float sleep_speed = settings_.sleep_linear_velocity,
-                  sleep_spin = settings_.sleep_angular_velocity;
-      const bool resting = body.linear_velocity_.squaredNorm() < sleep_speed * sleep_speed &&
-                           body.angular_velocity_.squaredNorm() < sleep_spin * sleep_spin;
-      body.sleep_timer_ = resting ? body.sleep_timer_ + dt : 0.0f;
-      awake |= !(settings_.allow_sleeping && body.allow_sleeping_ &&
-                 body.sleep_timer_ >= settings_.time_before_sleep);
-    }
+    for (const std::uint32_t i : members)
+      awake |= !EndStepMotion(body_manager_.BodyAt(active_[i].index), constraint_solver_.bodies()[i + 1],
+                              constraint_solver_.poses()[i + 1], settings_, dt, counters.clamps);
     for (const std::uint32_t i : members) {
       Body& body = body_manager_.BodyAt(active_[i].index);
       if (!awake) {
-        body.sleeping_ = true;
-        body.sleep_island_ = sleep_key_base_ + island;
-        body.linear_velocity_.setZero();
-        body.angular_velocity_.setZero();
-        ++finish_counters_[job].bodies_put_to_sleep;
+        PutToSleep(body, sleep_key_base_ + island);
+        ++counters.bodies_put_to_sleep;
       }
-      const Status updated = broad_phase_->UpdateBody(body.id(), BroadPhaseBounds(body, dt));
+      const Status updated = broad_phase_->UpdateBody(body.id(), bounds_.Of(body, dt));
       assert(updated.ok());
       (void)updated;
     }
@@ -668,11 +558,7 @@ void PhysicsSystem::FinishStep() {
   }
   wake_keys_.clear();
   collisions_.CollectWakeKeys(wake_keys_);
-  if (!wake_keys_.empty()) {
-    std::lock_guard lock(wake_mutex_);
-    pending_wakes_.insert(pending_wakes_.end(), wake_keys_.begin(), wake_keys_.end());
-    wakes_pending_.store(true, std::memory_order_release);
-  }
+  wakes_.Request(wake_keys_);
   const CollisionStats collision = collisions_.stats();
   stats_.pairs = collision.pairs;
   stats_.pairs_replayed = collision.pairs_replayed;
@@ -687,9 +573,9 @@ void PhysicsSystem::FinishStep() {
   stats_.island_link_hops = collision.link_hops;
   stats_.islands = islands_.island_count();
   stats_.solve_groups = constraint_solver_.group_count();
-  stats_.max_splits = contact_user_.max_split_count();
-  stats_.direct_islands = constraint_solver_.exact_island_count();
-  stats_.max_penetration = -contact_user_.deepest_penetration();
+  stats_.max_splits = contact_kind_.max_split_count();
+  stats_.exact_islands = constraint_solver_.exact_island_count();
+  stats_.max_penetration = -contact_kind_.deepest_penetration();
   stats_.constraints = step_joints_.size();
   for (Constraint* joint : step_joints_) {
     joint->EndStep();
@@ -697,8 +583,8 @@ void PhysicsSystem::FinishStep() {
   }
   for (FinishCounters& counters : finish_counters_) {
     stats_.bodies_put_to_sleep += counters.bodies_put_to_sleep;
-    stats_.linear_velocity_clamps += counters.linear_velocity_clamps;
-    stats_.angular_velocity_clamps += counters.angular_velocity_clamps;
+    stats_.linear_velocity_clamps += counters.clamps.linear;
+    stats_.angular_velocity_clamps += counters.clamps.angular;
     stats_.linear_cast_hits += counters.linear_cast_hits;
     counters = {};
   }

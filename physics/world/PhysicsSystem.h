@@ -17,27 +17,29 @@
 
 #include "physics/body/BodyManager.h"
 #include "physics/body/BodySnapshotTable.h"
+#include "physics/body/BodyInterface.h"
+#include "physics/body/BodyMotion.h"
 #include "physics/body/BroadPhaseMoveOrder.h"
+#include "physics/body/SpeculativeBounds.h"
+#include "physics/body/WakeQueue.h"
 #include "physics/broadphase/BroadPhase.h"
 #include "physics/constraints/ConstraintManager.h"
-#include "physics/constraints/JointConstraintUser.h"
+#include "physics/constraints/JointConstraintKind.h"
 #include "physics/core/JobGraph.h"
 #include "physics/core/JobSystem.h"
 #include "physics/narrowphase/BodyPairCache.h"
 #include "physics/solver/ConstraintSolver.h"
-#include "physics/solver/ContactConstraintUser.h"
+#include "physics/constraints/ContactConstraintKind.h"
 #include "physics/solver/IslandBuilder.h"
 #include "physics/world/CollisionFinder.h"
 #include "physics/world/ContactEventTracker.h"
 #include "physics/world/ContactValidator.h"
-#include "physics/world/PhysicsSettings.h"
+#include "physics/PhysicsSettings.h"
 #include "physics/world/SensorTracker.h"
 #include "physics/world/StepEvents.h"
+#include "physics/world/WorldQuery.h"
 
 namespace strata {
-
-class BodyInterface;
-class WorldQuery;
 
 /// Sizes and plug-ins fixed when the world is created.
 struct PhysicsSystemConfig {
@@ -77,7 +79,7 @@ struct StepStats {
   std::size_t solve_groups =
       0;                       ///< groups the islands were solved in (a large island, or small ones together)
   std::size_t max_splits = 0;  ///< splits of the most split group
-  std::size_t direct_islands = 0;  ///< islands solved exactly (DirectContactSolver)
+  std::size_t exact_islands = 0;  ///< islands solved exactly (ExactContactSolver)
   std::size_t bodies_put_to_sleep = 0;
   std::size_t island_links = 0;             ///< IslandBuilder::Link calls
   std::uint64_t island_link_hops = 0;       ///< links they followed
@@ -142,7 +144,7 @@ class PhysicsSystem {
 
   /// Ids of the bodies currently in the world, in index order.
   std::vector<BodyID> BodiesInWorld() const;
-  std::size_t body_count_in_world() const { return in_world_count_.load(std::memory_order_relaxed); }
+  std::size_t body_count_in_world() const { return body_manager_.in_world_count(); }
 
   BodyManager& body_manager() { return body_manager_; }
   const BodyManager& body_manager() const { return body_manager_; }
@@ -152,9 +154,6 @@ class PhysicsSystem {
   const BodySnapshotTable& body_snapshots() const { return body_snapshots_; }
 
  private:
-  friend class BodyInterface;
-  friend class WorldQuery;
-
   PhysicsSystem(const PhysicsSystemConfig& config, const PhysicsSettings& settings);
   void BuildStepGraphs();
   /// Reports the first step over each budget (PhysicsSystemConfig::max_body_pairs, max_contact_constraints).
@@ -179,10 +178,6 @@ class PhysicsSystem {
   void TestSensors(std::uint32_t job, std::uint32_t width);  // parallel over sensors, after the end window
   void FinishStep();                                         // serial: wake-ups, figures, events
 
-  // Wake-ups, shared with BodyInterface.
-  void RequestWake(std::uint32_t island_key);
-  AABB BroadPhaseBounds(const Body& body, float dt) const;
-
   PhysicsSettings settings_;
   std::shared_ptr<const LayerSetup> layers_;
   std::shared_ptr<JobSystem> jobs_;
@@ -191,18 +186,12 @@ class PhysicsSystem {
   BodySnapshotTable body_snapshots_;
   BroadPhaseMoveOrder move_order_;  // orders the broad-phase updates moves make after their lock
   std::shared_ptr<BroadPhase> broad_phase_;
+  WakeQueue wakes_;            // islands BodyInterface woke, taken by the next step
+  SpeculativeBounds bounds_;  // the broad phase's bounds of a body, shared with BodyInterface
   std::unique_ptr<BodyInterface> body_interface_;
   std::unique_ptr<WorldQuery> query_;
 
   std::mutex step_mutex_;  // one Step (or SetSettings) at a time
-  std::atomic<std::size_t> in_world_count_{0};
-  std::mutex wake_mutex_;
-  std::atomic<bool> wakes_pending_{false};    // pending_wakes_ may hold keys
-  std::vector<std::uint32_t> pending_wakes_;  // island keys to wake at the next step
-  std::atomic<std::uint32_t> next_island_key_{1};
-  // Read by BodyInterface outside the step; written only under every body lock.
-  std::atomic<float> last_dt_{1.0f / 60.0f};
-  std::atomic<float> speculative_distance_;
 
   // The step's stages and its per-step data, sized once and reused so a steady step allocates nothing.
   JobGraph start_graph_;   // runs while the step holds every body lock
@@ -232,8 +221,7 @@ class PhysicsSystem {
   std::uint32_t sleep_key_base_ = 0;  // island i falling asleep this step gets key base + i
   struct alignas(64) FinishCounters {
     std::size_t bodies_put_to_sleep = 0;
-    std::size_t linear_velocity_clamps = 0;
-    std::size_t angular_velocity_clamps = 0;
+    MotionClamps clamps;
     std::size_t linear_cast_hits = 0;
   };
   struct CastScratch {
@@ -252,8 +240,8 @@ class PhysicsSystem {
   CollisionFinder collisions_;
   IslandBuilder islands_;
   // The kinds of constraint the solver drives, in the order their splits run (declared before the solver).
-  ContactConstraintUser contact_user_;
-  JointConstraintUser joint_user_;
+  ContactConstraintKind contact_kind_;
+  JointConstraintKind joint_kind_;
   ConstraintSolver constraint_solver_;
   // Events: built by the step into next_events_ and swapped into events_ (under events_mutex_) as it ends.
   ContactValidator validator_;  // changed only under step_mutex_

@@ -5,7 +5,6 @@
 #include "physics/narrowphase/CollideShapes.h"
 #include "physics/narrowphase/ShapeQueries.h"
 #include "physics/shapes/ConvexShape.h"
-#include "physics/world/PhysicsSystem.h"
 
 namespace strata {
 
@@ -105,8 +104,8 @@ Result<std::optional<RayCastHit>> WorldQuery::CastRay(const Vec3& origin, const 
     const Vec3& direction_;
     const QueryFilter& filter_;
   };
-  ClosestHitCollector collector(system_.body_manager_, origin, direction, filter);
-  system_.broad_phase_->CastRay(system_.broad_phase_->Pin(), origin, direction, filter, collector);
+  ClosestHitCollector collector(bodies_, origin, direction, filter);
+  broad_phase_.CastRay(broad_phase_.Pin(), origin, direction, filter, collector);
   return collector.best;
 }
 
@@ -114,10 +113,10 @@ Result<std::vector<RayCastHit>> WorldQuery::CastRayAll(const Vec3& origin, const
                                                        const QueryFilter& filter) const {
   if (Status valid = CheckRay(origin, direction); !valid) return valid.error();
   std::vector<BroadPhaseRayHit> candidates;
-  system_.broad_phase_->CastRay(origin, direction, filter, candidates);
+  broad_phase_.CastRay(origin, direction, filter, candidates);
   std::vector<RayCastHit> hits;
   for (const BroadPhaseRayHit& candidate : candidates) {
-    const std::optional<LockedCopy> body = CopyLocked(system_.body_manager_, candidate.id, filter);
+    const std::optional<LockedCopy> body = CopyLocked(bodies_, candidate.id, filter);
     if (!body) continue;
     if (auto hit = CastAgainst(*body, candidate.id, origin, direction, 1.0f)) hits.push_back(*hit);
   }
@@ -131,10 +130,10 @@ Result<std::vector<BodyID>> WorldQuery::CollideAABB(const AABB& box, const Query
   if (!box.IsValid())
     return MakeError(ErrorCode::kInvalidArgument, "query box must be finite with min <= max");
   std::vector<BodyID> candidates;
-  system_.broad_phase_->CollideAABB(box, filter, candidates);
+  broad_phase_.CollideAABB(box, filter, candidates);
   std::vector<BodyID> result;
   for (const BodyID id : candidates) {
-    const std::optional<LockedCopy> body = CopyLocked(system_.body_manager_, id, filter);
+    const std::optional<LockedCopy> body = CopyLocked(bodies_, id, filter);
     if (body && body->bounds.Overlaps(box)) result.push_back(id);
   }
   std::sort(result.begin(), result.end());
@@ -148,12 +147,12 @@ Result<std::vector<ShapeOverlap>> WorldQuery::CollideShape(const Shape& shape, c
     return MakeError(ErrorCode::kInvalidArgument, "query pose must be finite");
   const Pose query_pose{pose.position, pose.rotation.normalized()};
   std::vector<BodyID> candidates;
-  system_.broad_phase_->CollideAABB(shape.WorldBounds(query_pose), filter, candidates);
+  broad_phase_.CollideAABB(shape.WorldBounds(query_pose), filter, candidates);
   std::sort(candidates.begin(), candidates.end());
   std::vector<ShapeOverlap> result;
   std::vector<ContactManifold> manifolds;
   for (const BodyID id : candidates) {
-    const std::optional<LockedCopy> body = CopyLocked(system_.body_manager_, id, filter);
+    const std::optional<LockedCopy> body = CopyLocked(bodies_, id, filter);
     if (!body) continue;
     manifolds.clear();
     CollideShapes(shape, query_pose, *body->shape, body->pose, 0.0f, ContactManifold{}, manifolds);
@@ -216,9 +215,9 @@ Result<std::optional<ShapeCastResult>> WorldQuery::CastShape(const Shape& shape,
     const QueryFilter& filter_;
     CollisionScratch scratch_;
   };
-  NearestCollector collector(system_.body_manager_, convex, pose, displacement, settings, filter);
+  NearestCollector collector(bodies_, convex, pose, displacement, settings, filter);
   const AABB bounds = shape.WorldBounds(pose).Expanded(settings.tolerance);
-  system_.broad_phase_->CastAABB(system_.broad_phase_->Pin(), bounds, displacement, filter, collector);
+  broad_phase_.CastAABB(broad_phase_.Pin(), bounds, displacement, filter, collector);
   return collector.best;
 }
 
@@ -229,12 +228,12 @@ Result<std::vector<ShapeCastResult>> WorldQuery::CastShapeAll(const Shape& shape
   if (Status valid = CheckCast(shape, start, displacement, settings); !valid) return valid.error();
   const Pose pose{start.position, start.rotation.normalized()};
   std::vector<BroadPhaseRayHit> candidates;
-  system_.broad_phase_->CastAABB(shape.WorldBounds(pose).Expanded(settings.tolerance), displacement, filter,
+  broad_phase_.CastAABB(shape.WorldBounds(pose).Expanded(settings.tolerance), displacement, filter,
                                  candidates);
   std::vector<ShapeCastResult> hits;
   CollisionScratch scratch;
   for (const BroadPhaseRayHit& candidate : candidates) {
-    const std::optional<LockedCopy> body = CopyLocked(system_.body_manager_, candidate.id, filter);
+    const std::optional<LockedCopy> body = CopyLocked(bodies_, candidate.id, filter);
     if (!body) continue;
     const std::optional<SweepContact> contact =
         SweepConvexShape(static_cast<const ConvexShape&>(shape), pose, displacement, *body->shape, body->pose,
@@ -248,12 +247,12 @@ Result<std::vector<ShapeCastResult>> WorldQuery::CastShapeAll(const Shape& shape
 Result<std::vector<BodyID>> WorldQuery::CollidePoint(const Vec3& point, const QueryFilter& filter) const {
   if (!IsFinite(point)) return MakeError(ErrorCode::kInvalidArgument, "query point must be finite");
   std::vector<BodyID> candidates;
-  system_.broad_phase_->CollideAABB(AABB(point, point), filter, candidates);
+  broad_phase_.CollideAABB(AABB(point, point), filter, candidates);
   std::sort(candidates.begin(), candidates.end());
   std::vector<BodyID> result;
   std::vector<Triangle> triangles;
   for (const BodyID id : candidates) {
-    const std::optional<LockedCopy> body = CopyLocked(system_.body_manager_, id, filter);
+    const std::optional<LockedCopy> body = CopyLocked(bodies_, id, filter);
     if (body && ShapeContainsPoint(*body->shape, body->pose, point, triangles)) result.push_back(id);
   }
   return result;
@@ -298,8 +297,8 @@ Result<std::optional<ClosestPointResult>> WorldQuery::ClosestPoint(const Shape& 
   const MeasuredConvex measured(static_cast<const ConvexShape&>(shape), query_pose);
   const DistanceQuery query{measured.support, measured.radius, shape.WorldBounds(query_pose)};
   std::vector<BodyID> candidates;
-  system_.broad_phase_->CollideAABB(query.bounds.Expanded(max_distance), filter, candidates);
-  return Nearest(system_.body_manager_, candidates, query, max_distance, filter);
+  broad_phase_.CollideAABB(query.bounds.Expanded(max_distance), filter, candidates);
+  return Nearest(bodies_, candidates, query, max_distance, filter);
 }
 
 Result<std::optional<ClosestPointResult>> WorldQuery::ClosestPoint(const Vec3& point, float max_distance,
@@ -309,8 +308,8 @@ Result<std::optional<ClosestPointResult>> WorldQuery::ClosestPoint(const Vec3& p
   const PointSupport support(point);
   const DistanceQuery query{support, 0.0f, AABB(point, point)};
   std::vector<BodyID> candidates;
-  system_.broad_phase_->CollideAABB(query.bounds.Expanded(max_distance), filter, candidates);
-  return Nearest(system_.body_manager_, candidates, query, max_distance, filter);
+  broad_phase_.CollideAABB(query.bounds.Expanded(max_distance), filter, candidates);
+  return Nearest(bodies_, candidates, query, max_distance, filter);
 }
 
 }  // namespace strata

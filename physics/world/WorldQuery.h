@@ -8,6 +8,8 @@
 #include <vector>
 
 #include "physics/body/BodyID.h"
+#include "physics/body/BodyManager.h"
+#include "physics/broadphase/BroadPhase.h"
 #include "physics/broadphase/Layers.h"
 #include "physics/core/Result.h"
 #include "physics/narrowphase/ShapeSweep.h"
@@ -15,7 +17,6 @@
 
 namespace strata {
 
-class PhysicsSystem;
 
 /// A ray hit on a body.
 struct RayCastHit {
@@ -56,7 +57,8 @@ struct ClosestPointResult {
 /// Read-only queries over one PhysicsSystem.
 class WorldQuery {
  public:
-  explicit WorldQuery(const PhysicsSystem& system) : system_(system) {}
+  /// Queries `bodies` through `broad_phase` (both owned by the world, which outlives the query).
+  WorldQuery(const BodyManager& bodies, BroadPhase& broad_phase) : bodies_(bodies), broad_phase_(broad_phase) {}
 
   /// Closest hit of the ray origin + t * direction, t in [0, 1]; nullopt when nothing is hit.
   Result<std::optional<RayCastHit>> CastRay(const Vec3& origin, const Vec3& direction,
@@ -95,7 +97,8 @@ class WorldQuery {
                                                          const QueryFilter& filter = {}) const;
 
  private:
-  const PhysicsSystem& system_;
+  const BodyManager& bodies_;
+  BroadPhase& broad_phase_;
 };
 
 }  // namespace strata

@@ -100,7 +100,7 @@ TEST(SceneLoader, FieldsAreRead) {
   Result<Scene> scene =
       ParseScene(R"({"settings": {"gravity": [0, -5, 0], "dt": 0.01, "velocity_iterations": 7,
       "substeps": 6, "relax_iterations": 3, "restitution_iterations": 2, "gyroscopic_torque": false, "sleeping": false,
-      "direct_small_islands": false},
+      "exact_small_islands": false},
       "bodies": [{"name": "a", "shape": {"type": "capsule", "radius": 0.5, "half_height": 1},
                   "position": [1, 2, 3], "rotation": [0, 0, 1, 0], "motion": "kinematic", "friction": 0.9,
                   "restitution": 0.3, "linear_velocity": [1, 0, 0], "max_linear_velocity": 40,
@@ -120,7 +120,7 @@ TEST(SceneLoader, FieldsAreRead) {
   EXPECT_EQ(scene->physics.restitution_iterations, 2);
   EXPECT_FALSE(scene->physics.gyroscopic_torque);
   EXPECT_FALSE(scene->physics.allow_sleeping);
-  EXPECT_FALSE(scene->physics.direct_small_islands);
+  EXPECT_FALSE(scene->physics.exact_small_islands);
   ASSERT_EQ(scene->bodies.size(), 4u);
   const BodyCreationSettings& a = scene->bodies[0].settings;
   EXPECT_EQ(a.motion_type, MotionType::kKinematic);
@@ -230,8 +230,8 @@ TEST(SceneLoader, NumbersOutsideTheirTypesAreErrorsNotAborts) {
                 .find("/settings/velocity_iterations: is out of range"),
             std::string::npos);
   EXPECT_NE(ParseError(R"({"settings": {"substeps": 0}, "bodies": []})").find("substeps"), std::string::npos);
-  EXPECT_NE(ParseError(R"({"settings": {"direct_small_islands": 1}, "bodies": []})")
-                .find("/settings/direct_small_islands: must be true or false"),
+  EXPECT_NE(ParseError(R"({"settings": {"exact_small_islands": 1}, "bodies": []})")
+                .find("/settings/exact_small_islands: must be true or false"),
             std::string::npos);
   EXPECT_NE(ParseError(R"({"settings": {"restitution_iterations": 0}, "bodies": []})")
                 .find("restitution_iterations' must be in [1, 1000]"),

@@ -199,10 +199,10 @@ TEST(Constraint, AHundredLinkChainHoldsAHundredTimesHeavierEndTogether) {
   }
 }
 
-TEST(Constraint, WithoutTheDirectSolveTheSameChainStretches) {
+TEST(Constraint, WithoutTheExactSolveTheSameChainStretches) {
   // What the exact solve buys: by passes alone the same swing opens a joint by centimetres.
   PhysicsSettings settings = With(kSettings[0]);
-  settings.direct_joints = false;
+  settings.exact_joints = false;
   EXPECT_GT(WidestChainGap(settings, kSettings[0].dt, 60.0f * kDegree,
                            BodyCreationSettings().max_angular_velocity, 4.0f),
             0.02f);

@@ -4,7 +4,7 @@
 
 #include "TestWorld.h"
 #include "physics/body/GyroscopicTorque.h"
-#include "physics/solver/ContactConstraint.h"
+#include "physics/constraints/ContactConstraint.h"
 
 namespace strata::test {
 namespace {

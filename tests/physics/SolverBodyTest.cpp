@@ -1,6 +1,6 @@
 // The solver's 4-wide helpers (SolverBody.h) give, to the bit, what the 3-wide Eigen expressions they replace
 // gave: the step's results must not move when they are taken a register at a time.
-#include "physics/solver/SolverBody.h"
+#include "physics/body/SolverBody.h"
 
 #include <gtest/gtest.h>
 

@@ -141,7 +141,7 @@ std::unique_ptr<PhysicsSystem> MakeScene(std::shared_ptr<JobSystem> jobs) {
   glider.motion_type = MotionType::kKinematic;
   glider.linear_velocity = Vec3(0.5f, 0, 0);
   (void)world->bodies().CreateAndAddBody(glider);
-  // Joints: a swinging chain of ten links with a 20 kg end (solved exactly: DirectJointSolver) and a wheel
+  // Joints: a swinging chain of ten links with a 20 kg end (solved exactly: ExactJointSolver) and a wheel
   // its motor keeps turning (solved by passes).
   const ShapeRef link = *CapsuleShape::Create(0.1f, 0.03f);
   BodyID previous;
@@ -175,7 +175,7 @@ std::unique_ptr<PhysicsSystem> MakeScene(std::shared_ptr<JobSystem> jobs) {
 
 std::size_t AllocationsWhileStepping(std::shared_ptr<JobSystem> jobs) {
   auto world = MakeScene(std::move(jobs));
-  // Eight seconds: the last piles come to rest after five and switch to the direct solver, whose memory the
+  // Eight seconds: the last piles come to rest after five and switch to the exact solver, whose memory the
   // pool keeps from then on.
   for (int i = 0; i < 480; ++i) EXPECT_TRUE(world->Step(1.0f / 60.0f).ok());
   EXPECT_EQ(world->last_step_stats().constraints, 12u);

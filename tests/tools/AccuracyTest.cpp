@@ -137,7 +137,7 @@ TEST(AccuracyReport, SettingsOnlyStrataHasRunOnStrataAlone) {
   AccuracySetting exact{"exact", 1.0f / 60.0f, 1, 1, 1, true, true};
   AccuracySetting passes_only = exact;
   passes_only.name = "passes only";
-  passes_only.direct_small_islands = false;
+  passes_only.exact_small_islands = false;
   const Result<std::vector<AccuracyRecord>> records =
       RunAccuracySuite({Case("free_fall")}, {exact, passes_only}, {"strata", "bullet"}, 1);
   ASSERT_TRUE(records.ok()) << records.error().message;
@@ -162,7 +162,7 @@ TEST(AccuracyCases, FreeFallWithinOnePercentWithSubsteps) {
 }
 
 TEST(AccuracyCases, HeavyOnLightPairsHoldUpToAThousandToOneAtEveryDtAndSubstepCount) {
-  // Solved exactly as a small resting island (DirectContactSolver); the sequential passes alone let the
+  // Solved exactly as a small resting island (ExactContactSolver); the sequential passes alone let the
   // 100 kg box sink 4.5 cm and the 1000 kg one slide off at the default setting.
   for (const char* name : {"mass_ratio_10", "mass_ratio_100", "mass_ratio_1000"})
     for (const AccuracySetting& setting : Sweep({30, 60, 120}, {1, 2, 4, 8}))

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <limits>
 
-#include "physics/world/PhysicsSettings.h"
+#include "physics/PhysicsSettings.h"
 
 namespace strata::accuracy {
 
@@ -408,7 +408,7 @@ AccuracySetting DefaultAccuracySetting() {
           defaults.velocity_iterations,
           defaults.relax_iterations,
           true,
-          defaults.direct_small_islands};
+          defaults.exact_small_islands};
 }
 
 }  // namespace strata::accuracy

@@ -23,7 +23,7 @@ class StrataEngine final : public AccuracyEngine {
     settings.substeps = setting.substeps;
     settings.velocity_iterations = setting.velocity_iterations;
     settings.relax_iterations = setting.relax_iterations;
-    settings.direct_small_islands = setting.direct_small_islands;
+    settings.exact_small_islands = setting.exact_small_islands;
     settings.allow_sleeping = false;  // the cases measure motion, not rest
     PhysicsSystemConfig config;
     config.max_bodies = static_cast<std::uint32_t>(scene.bodies.size()) + 16;

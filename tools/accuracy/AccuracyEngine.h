@@ -9,7 +9,7 @@
 
 #include "physics/core/Result.h"
 #include "physics/math/Math.h"
-#include "physics/world/PhysicsSettings.h"
+#include "physics/PhysicsSettings.h"
 
 namespace strata::accuracy {
 
@@ -47,7 +47,7 @@ struct AccuracySetting {
   int velocity_iterations = 1;       ///< per substep
   int relax_iterations = 1;          ///< per substep
   bool linear_cast = true;           ///< continuous collision for dynamic bodies
-  bool direct_small_islands = true;  ///< Strata only: PhysicsSettings::direct_small_islands
+  bool exact_small_islands = true;  ///< Strata only: PhysicsSettings::exact_small_islands
 };
 
 struct AccuracyBodyState {

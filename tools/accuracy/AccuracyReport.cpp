@@ -28,7 +28,7 @@ std::unique_ptr<AccuracyEngine> MakeEngine(const std::string& name) {
 bool SameSetting(const AccuracySetting& a, const AccuracySetting& b) {
   return a.dt == b.dt && a.substeps == b.substeps && a.velocity_iterations == b.velocity_iterations &&
          a.relax_iterations == b.relax_iterations && a.linear_cast == b.linear_cast &&
-         a.direct_small_islands == b.direct_small_islands;
+         a.exact_small_islands == b.exact_small_islands;
 }
 
 // A plain RGB canvas for the plot.

@@ -26,7 +26,7 @@ class BulletEngine final : public AccuracyEngine {
   }
 
   std::string name() const override { return "bullet"; }
-  bool Runs(const AccuracySetting& setting) const override { return setting.direct_small_islands; }
+  bool Runs(const AccuracySetting& setting) const override { return setting.exact_small_islands; }
 
   Status Build(const AccuracyScene& scene, const AccuracySetting& setting) override {
     world_.setGravity(ToBullet(scene.gravity));

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "physics/math/Math.h"
-#include "physics/world/PhysicsSettings.h"
+#include "physics/PhysicsSettings.h"
 
 namespace strata::bench {
 

@@ -1,4 +1,4 @@
-#include "physics/solver/ContactBundle.h"
+#include "physics/constraints/ContactBundle.h"
 
 #include <algorithm>
 #include <bit>

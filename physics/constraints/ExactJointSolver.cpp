@@ -1,4 +1,4 @@
-#include "physics/constraints/DirectJointSolver.h"
+#include "physics/constraints/ExactJointSolver.h"
 
 #include <algorithm>
 
@@ -16,9 +16,9 @@ constexpr double kTinyPivot = 1e-12;
 constexpr double kPositionFraction = Constraint::kPositionFraction;
 }  // namespace
 
-DirectJointSolver* DirectJointSolver::Create(BlockArena& arena, std::span<Constraint* const> joints,
+ExactJointSolver* ExactJointSolver::Create(BlockArena& arena, std::span<Constraint* const> joints,
                                              std::uint32_t* first_row_of_body) {
-  auto* solver = new (arena.AllocateArray<DirectJointSolver>(1)) DirectJointSolver();
+  auto* solver = new (arena.AllocateArray<ExactJointSolver>(1)) ExactJointSolver();
   solver->joints_ = joints;
   std::uint32_t rows = 0;
   for (const Constraint* joint : joints) rows += static_cast<std::uint32_t>(joint->RigidRowCount());
@@ -55,7 +55,7 @@ DirectJointSolver* DirectJointSolver::Create(BlockArena& arena, std::span<Constr
   return solver;
 }
 
-double DirectJointSolver::Coupling(const Row& i, const Row& j) const {
+double ExactJointSolver::Coupling(const Row& i, const Row& j) const {
   // Through each body the two rows share: B pushes along a row, A against it.
   auto dot = [](const Vec3& a, const Vec3& b) { return a.cast<double>().dot(b.cast<double>()); };
   double sum = 0.0;
@@ -74,7 +74,7 @@ double DirectJointSolver::Coupling(const Row& i, const Row& j) const {
   return sum;
 }
 
-void DirectJointSolver::Build(SolverBody* bodies, const SolverPose* poses, float elapsed) {
+void ExactJointSolver::Build(SolverBody* bodies, const SolverPose* poses, float elapsed) {
   std::uint32_t row = 0;
   JointRow joint_rows[Constraint::kMaxRigidRows];
   for (Constraint* joint : joints_) {
@@ -108,7 +108,7 @@ void DirectJointSolver::Build(SolverBody* bodies, const SolverPose* poses, float
   Factor();
 }
 
-void DirectJointSolver::Factor() {
+void ExactJointSolver::Factor() {
   double* const factor = factor_;
   // L D L^T in the skyline: row i holds L(i, j) for j in [first_i, i) and D(i) last.
   auto pivot_of = [&](std::uint32_t k) { return factor[offset_[k + 1] - 1]; };
@@ -130,7 +130,7 @@ void DirectJointSolver::Factor() {
   }
 }
 
-void DirectJointSolver::SolveFactored(double* x) const {
+void ExactJointSolver::SolveFactored(double* x) const {
   const double* const factor = factor_;
   // L y = b (L unit lower), then D z = y, then L^T x = z.
   for (std::uint32_t i = 0; i < row_count_; ++i) {
@@ -149,7 +149,7 @@ void DirectJointSolver::SolveFactored(double* x) const {
   }
 }
 
-void DirectJointSolver::SolvePositions(SolverBody* bodies, SolverPose* poses, float elapsed) {
+void ExactJointSolver::SolvePositions(SolverBody* bodies, SolverPose* poses, float elapsed) {
   if (row_count_ == 0) return;
   Build(bodies, poses, elapsed);
   for (std::uint32_t i = 0; i < row_count_; ++i)
@@ -167,7 +167,7 @@ void DirectJointSolver::SolvePositions(SolverBody* bodies, SolverPose* poses, fl
   }
 }
 
-float DirectJointSolver::Rate(const SolverBody* bodies, const Row& row) const {
+float ExactJointSolver::Rate(const SolverBody* bodies, const Row& row) const {
   float rate = row.fixed_rate;
   if (row.body_a != 0) {
     const SolverBody& a = bodies[row.body_a];
@@ -180,7 +180,7 @@ float DirectJointSolver::Rate(const SolverBody* bodies, const Row& row) const {
   return rate;
 }
 
-void DirectJointSolver::Solve(SolverBody* bodies, const ConstraintPassContext& pass) {
+void ExactJointSolver::Solve(SolverBody* bodies, const ConstraintPassContext& pass) {
   if (row_count_ == 0) return;
   // Box2D's soft update for all rows at once: with A = J M^-1 J^T, the change is
   // mass_scale * A^-1 (-(rate + bias)) - impulse_scale * impulse; a relax pass is the rigid A^-1 (-rate).

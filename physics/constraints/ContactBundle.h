@@ -17,7 +17,7 @@
 
 #include "physics/core/BlockArena.h"
 #include "physics/math/WideFloat.h"
-#include "physics/solver/ContactConstraint.h"
+#include "physics/constraints/ContactConstraint.h"
 
 namespace strata {
 

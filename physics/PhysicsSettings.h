@@ -34,17 +34,17 @@ struct PhysicsSettings {
   float joint_hertz = 60.0f;
   float joint_damping_ratio = 2.0f;
   /// The rows of joints that always hold (anchor points, hinge axes, fixed rotations, rods) are solved
-  /// exactly per group (DirectJointSolver) instead of joint after joint, in groups where a joint joins two
-  /// moving bodies whose masses differ by `direct_joint_mass_ratio` or more: a 100-link chain of 1 kg links
+  /// exactly per group (ExactJointSolver) instead of joint after joint, in groups where a joint joins two
+  /// moving bodies whose masses differ by `exact_joint_mass_ratio` or more: a 100-link chain of 1 kg links
   /// with a 100 kg end then stays within 0.1 mm where the passes let it stretch by 5 cm. Elsewhere the
   /// passes are enough and cheaper (a ragdoll's parts differ by less).
-  bool direct_joints = true;
-  float direct_joint_mass_ratio = 10.0f;
+  bool exact_joints = true;
+  float exact_joint_mass_ratio = 10.0f;
   /// Small resting islands of bodies on bodies (stacks, a heavy box on a light one) are solved exactly
-  /// (DirectContactSolver) with springs scaled to the load each contact carries, instead of by the passes
+  /// (ExactContactSolver) with springs scaled to the load each contact carries, instead of by the passes
   /// above: a 30-box tower then stands within 1 cm and a 1000 kg box on a 1 kg box sinks 0.3 mm, where
   /// the passes give 14 cm and slide off.
-  bool direct_small_islands = true;
+  bool exact_small_islands = true;
   bool allow_sleeping = true;                 ///< world-wide switch; bodies also have their own flag
   float speculative_distance = 0.02f;         ///< contacts are made this far before touching (m)
   float min_velocity_for_restitution = 1.0f;  ///< slower approaches do not bounce (m/s)

@@ -8,7 +8,7 @@
 #pragma once
 
 #include "physics/core/BlockArena.h"
-#include "physics/solver/ContactConstraint.h"
+#include "physics/constraints/ContactConstraint.h"
 
 namespace strata {
 

@@ -1,4 +1,4 @@
-#include "physics/solver/DirectContactSolver.h"
+#include "physics/constraints/ExactContactSolver.h"
 
 #include <algorithm>
 #include <cmath>
@@ -137,7 +137,7 @@ float PatchBound(const SolverContact& c, const float* lever, int axis) {
 
 }  // namespace
 
-int DirectContactSolver::SharedBodies(const Row& ri, const Row& rj, const SolverBody* bodies,
+int ExactContactSolver::SharedBodies(const Row& ri, const Row& rj, const SolverBody* bodies,
                                       SharedBody shared[2]) {
   int count = 0;
   const std::uint32_t sides_i[2] = {ri.body_a, ri.body_b}, sides_j[2] = {rj.body_a, rj.body_b};
@@ -149,7 +149,7 @@ int DirectContactSolver::SharedBodies(const Row& ri, const Row& rj, const Solver
   return count;
 }
 
-struct DirectContactSolver::Layout {
+struct ExactContactSolver::Layout {
   std::span<SolverContact* const> contacts;
   Patch* patches;              // by contact
   const std::uint32_t* order;  // contacts in banded order
@@ -160,13 +160,13 @@ struct DirectContactSolver::Layout {
   float weight_per_impulse;
 };
 
-DirectContactSolver* DirectContactSolver::Create(BlockArena& arena, std::span<SolverContact* const> contacts,
+ExactContactSolver* ExactContactSolver::Create(BlockArena& arena, std::span<SolverContact* const> contacts,
                                                  const SolverBody* bodies, float weight_per_impulse) {
   std::uint32_t points = 0;
   for (const SolverContact* c : contacts) points += c->point_count;
   if (points == 0 || points > kMaxPoints) return nullptr;
   auto* solver =
-      new (arena.Allocate(sizeof(DirectContactSolver), alignof(DirectContactSolver))) DirectContactSolver;
+      new (arena.Allocate(sizeof(ExactContactSolver), alignof(ExactContactSolver))) ExactContactSolver;
   solver->contacts_ = contacts;
   const auto contact_count = static_cast<std::uint32_t>(contacts.size());
   std::uint32_t* links_begin = nullptr;
@@ -210,7 +210,7 @@ DirectContactSolver* DirectContactSolver::Create(BlockArena& arena, std::span<So
   return solver;
 }
 
-void DirectContactSolver::MakePatch(const SolverContact& c, const SolverBody* bodies, Patch& patch) {
+void ExactContactSolver::MakePatch(const SolverContact& c, const SolverBody* bodies, Patch& patch) {
   const ContactConstraint& constraint = *c.constraint;
   const ContactConstraintPoint* points = constraint.points();
   const int count = c.point_count;
@@ -246,7 +246,7 @@ void DirectContactSolver::MakePatch(const SolverContact& c, const SolverBody* bo
   }
 }
 
-void DirectContactSolver::WarmStart(SolverBody* bodies) {
+void ExactContactSolver::WarmStart(SolverBody* bodies) {
   for (std::size_t k = 0; k < contacts_.size(); ++k) {
     const SolverContact& c = *contacts_[k];
     Patch& patch = patches_[k];
@@ -278,7 +278,7 @@ void DirectContactSolver::WarmStart(SolverBody* bodies) {
   }
 }
 
-void DirectContactSolver::GatherPatch(const SolverContact& c, Patch& patch) {
+void ExactContactSolver::GatherPatch(const SolverContact& c, Patch& patch) {
   // The points' friction impulses as the patch's: their sum along each axis, and their turn about the centre.
   patch.accumulated[0] = patch.accumulated[1] = patch.accumulated[2] = 0.0f;
   for (int k = 0; k < c.point_count; ++k) {
@@ -290,7 +290,7 @@ void DirectContactSolver::GatherPatch(const SolverContact& c, Patch& patch) {
   }
 }
 
-void DirectContactSolver::SpreadPatch(SolverContact& c, const Patch& patch, int axis, float delta) {
+void ExactContactSolver::SpreadPatch(SolverContact& c, const Patch& patch, int axis, float delta) {
   // A change of the patch's impulse shared out over its points so that their sum and their turn about the
   // centre change by as much (the smallest such change of each point): the points keep the impulses that
   // warm start the next step and any sequential pass.
@@ -305,11 +305,11 @@ void DirectContactSolver::SpreadPatch(SolverContact& c, const Patch& patch, int 
     for (int t = 0; t < 2; ++t) points[k].tangent_impulse[t] += per_spread * patch.turn[k].dot(c.tangent[t]);
 }
 
-float& DirectContactSolver::Accumulated(const Row& row) {
+float& ExactContactSolver::Accumulated(const Row& row) {
   return row.axis == kNormal ? row.point->normal_impulse : row.patch->accumulated[row.axis - 1];
 }
 
-void DirectContactSolver::BuildRowSet(BlockArena& arena, const Layout& layout, const SolverBody* bodies,
+void ExactContactSolver::BuildRowSet(BlockArena& arena, const Layout& layout, const SolverBody* bodies,
                                       bool friction, RowSet& set) {
   const auto contact_count = static_cast<std::uint32_t>(layout.contacts.size());
   const std::uint32_t* order = layout.order;
@@ -423,7 +423,7 @@ void DirectContactSolver::BuildRowSet(BlockArena& arena, const Layout& layout, c
   if (!friction) AllocateFactor(arena, set, set.factors[1]);
 }
 
-float DirectContactSolver::Coupling(const Row& i, const Vec4& direction_j, const Vec4* const response_j[2],
+float ExactContactSolver::Coupling(const Row& i, const Vec4& direction_j, const Vec4* const response_j[2],
                                     const SharedBody shared[2], int shared_count) {
   // Through each body both rows move: the side signs times the body's response.
   const float directions = i.direction->dot(direction_j);
@@ -434,7 +434,7 @@ float DirectContactSolver::Coupling(const Row& i, const Vec4& direction_j, const
   return value;
 }
 
-void DirectContactSolver::Couple(RowSet& set, const SolverBody* bodies) {
+void ExactContactSolver::Couple(RowSet& set, const SolverBody* bodies) {
   if (set.coupled) return;
   set.coupled = true;
   const std::uint32_t* row_begin = set.row_begin;
@@ -466,7 +466,7 @@ void DirectContactSolver::Couple(RowSet& set, const SolverBody* bodies) {
     }
 }
 
-void DirectContactSolver::AllocateFactor(BlockArena& arena, const RowSet& set, Factor& factor) {
+void ExactContactSolver::AllocateFactor(BlockArena& arena, const RowSet& set, Factor& factor) {
   // The envelope of any subset of rows is no wider than that of all rows: row i reaches back to its first
   // neighbour.
   std::size_t capacity = 0;
@@ -482,7 +482,7 @@ void DirectContactSolver::AllocateFactor(BlockArena& arena, const RowSet& set, F
   factor.valid = false;
 }
 
-bool DirectContactSolver::Refactor(const RowSet& set, Factor& factor) {
+bool ExactContactSolver::Refactor(const RowSet& set, Factor& factor) {
   const std::uint32_t n = set.count;
   if (factor.valid && std::equal(free_, free_ + n, factor.free) &&
       std::equal(softness_, softness_ + n, factor.softness))
@@ -533,7 +533,7 @@ bool DirectContactSolver::Refactor(const RowSet& set, Factor& factor) {
   return factor.valid = true;
 }
 
-void DirectContactSolver::SolveWith(const Factor& factor, const double* right, double* out) const {
+void ExactContactSolver::SolveWith(const Factor& factor, const double* right, double* out) const {
   const std::uint32_t m = factor.size;
   double* packed = scratch_;
   for (std::uint32_t r = 0; r < m; ++r)
@@ -547,14 +547,14 @@ void DirectContactSolver::SolveWith(const Factor& factor, const double* right, d
   for (std::uint32_t r = 0; r < m; ++r) out[factor.rows[r]] = packed[r];
 }
 
-double DirectContactSolver::Residual(const RowSet& set, std::uint32_t row, const double* impulse) const {
+double ExactContactSolver::Residual(const RowSet& set, std::uint32_t row, const double* impulse) const {
   double sum = offset_[row] + softness_[row] * impulse[row];
   for (std::uint32_t k = set.neighbour_begin[row]; k < set.neighbour_begin[row + 1]; ++k)
     sum += set.coupling[k] * (impulse[set.neighbours[k]] - start_[set.neighbours[k]]);
   return sum;
 }
 
-bool DirectContactSolver::AtMinimum(RowSet& set, const SolverBody* bodies) {
+bool ExactContactSolver::AtMinimum(RowSet& set, const SolverBody* bodies) {
   // Rows clamped into their limits have moved off their start: only then does the coupling enter.
   bool clamped = false;
   for (std::uint32_t i = 0; i < set.count && !clamped; ++i) clamped = impulse_[i] != start_[i];
@@ -570,7 +570,7 @@ bool DirectContactSolver::AtMinimum(RowSet& set, const SolverBody* bodies) {
   return true;
 }
 
-bool DirectContactSolver::FreeRowsStep(const RowSet& set, Factor& factor) {
+bool ExactContactSolver::FreeRowsStep(const RowSet& set, Factor& factor) {
   const std::uint32_t n = set.count;
   // Where the free rows would go with the others held: the equality-constrained minimum, solved for the
   // change from the pass's starting impulses (whose effect the velocities already carry). Only a held row
@@ -622,7 +622,7 @@ bool DirectContactSolver::FreeRowsStep(const RowSet& set, Factor& factor) {
   return freed;
 }
 
-bool DirectContactSolver::SolveRows(RowSet& set, SolverBody* bodies, const SubstepContext& context,
+bool ExactContactSolver::SolveRows(RowSet& set, SolverBody* bodies, const SubstepContext& context,
                                     bool use_bias, float* lowest) {
   const std::uint32_t n = set.count;
   const bool friction = &set == &friction_;
@@ -717,7 +717,7 @@ bool DirectContactSolver::SolveRows(RowSet& set, SolverBody* bodies, const Subst
   return round < kMaxActiveSetRounds;
 }
 
-void DirectContactSolver::Solve(SolverBody* bodies, const SubstepContext& context, bool use_bias,
+void ExactContactSolver::Solve(SolverBody* bodies, const SubstepContext& context, bool use_bias,
                                 float* deepest) {
   // Friction first, within the normal impulses so far, then the normals against the velocities friction
   // left: the pass ends with every point's non-penetration exact (friction turning a light box under a heavy

@@ -1,4 +1,4 @@
-// DirectJointSolver: solves the rows of a group's joints that always hold (anchor points, hinge axes, fixed
+// ExactJointSolver: solves the rows of a group's joints that always hold (anchor points, hinge axes, fixed
 // rotations, rods) exactly, all at once, instead of one joint after another. Sequential passes move a load
 // along a chain one link per pass and between a 100 kg ball and a 1 kg link a hundredth at a time, so a
 // 100-link chain swung from 60 degrees stretched by 5 cm; the exact solve holds it within 0.1 mm. The
@@ -17,11 +17,11 @@
 
 namespace strata {
 
-class DirectJointSolver {
+class ExactJointSolver {
  public:
   /// For `joints` (bound to this step's solver bodies). `first_row_of_body` is scratch by solver index,
   /// at least as long as the solver body array, every entry kNoRow; it is left so.
-  static DirectJointSolver* Create(BlockArena& arena, std::span<Constraint* const> joints,
+  static ExactJointSolver* Create(BlockArena& arena, std::span<Constraint* const> joints,
                                    std::uint32_t* first_row_of_body);
   static constexpr std::uint32_t kNoRow = ~0u;
 

@@ -11,8 +11,8 @@
 #include "physics/core/BlockArena.h"
 #include "physics/narrowphase/BodyPairCache.h"
 #include "physics/narrowphase/ContactManifold.h"
-#include "physics/solver/SolverBody.h"
-#include "physics/world/PhysicsSettings.h"
+#include "physics/body/SolverBody.h"
+#include "physics/PhysicsSettings.h"
 
 namespace strata {
 

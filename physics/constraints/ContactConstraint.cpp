@@ -1,4 +1,4 @@
-#include "physics/solver/ContactConstraint.h"
+#include "physics/constraints/ContactConstraint.h"
 
 #include <cmath>
 

@@ -1,10 +1,10 @@
-#include "physics/constraints/JointConstraintUser.h"
+#include "physics/constraints/JointConstraintKind.h"
 
 #include <algorithm>
 
 namespace strata {
 
-void JointConstraintUser::BeginStep(const SolverStep& step, std::uint32_t job_count) {
+void JointConstraintKind::BeginStep(const SolverStep& step, std::uint32_t job_count) {
   step_ = step;
   const PhysicsSettings& settings = *step.settings;
   // Only joints use it: a world without any is spared its divisions.
@@ -15,10 +15,10 @@ void JointConstraintUser::BeginStep(const SolverStep& step, std::uint32_t job_co
   if (jobs_.size() < job_count) jobs_.resize(job_count);
   if (!input_joints_.empty())
     for (JobScratch& job : jobs_)
-      job.first_row_of_body.resize(step.solver_body_count, DirectJointSolver::kNoRow);
+      job.first_row_of_body.resize(step.solver_body_count, ExactJointSolver::kNoRow);
 }
 
-void JointConstraintUser::SortJointsByIsland() {
+void JointConstraintKind::SortJointsByIsland() {
   // A counting sort by island; within an island the joints keep the step's order (slot order).
   const IslandBuilder& islands = *step_.islands;
   const std::uint32_t island_count = islands.island_count();
@@ -36,7 +36,7 @@ void JointConstraintUser::SortJointsByIsland() {
   for (std::size_t k = 0; k < input_joints_.size(); ++k)
     joints_[island_begin_[islands.island_of(input_island_body_[k]) + 1]++] = input_joints_[k];
   island_begin_.pop_back();
-  // An island's joints go to a DirectJointSolver when one of them needs it (decided per island, so what
+  // An island's joints go to a ExactJointSolver when one of them needs it (decided per island, so what
   // other islands share its group changes nothing).
   exact_.assign(joints_.size(), 0);
   for (std::uint32_t island = 0; island < island_count; ++island) {
@@ -47,22 +47,22 @@ void JointConstraintUser::SortJointsByIsland() {
   }
 }
 
-bool JointConstraintUser::NeedsExactSolve(const Constraint& joint) const {
+bool JointConstraintKind::NeedsExactSolve(const Constraint& joint) const {
   const PhysicsSettings& settings = *step_.settings;
-  if (!settings.direct_joints) return false;
+  if (!settings.exact_joints) return false;
   // Passes move a load between a light and a heavy body a mass ratio's share at a time.
   const std::uint32_t a = joint.side_a().solver_index, b = joint.side_b().solver_index;
   if (a == 0 || b == 0) return false;
   const float inverse_a = step_.bodies[a].inverse_mass, inverse_b = step_.bodies[b].inverse_mass;
-  return std::max(inverse_a, inverse_b) >= settings.direct_joint_mass_ratio * std::min(inverse_a, inverse_b);
+  return std::max(inverse_a, inverse_b) >= settings.exact_joint_mass_ratio * std::min(inverse_a, inverse_b);
 }
 
-std::uint32_t JointConstraintUser::IslandWork(std::uint32_t island) const {
+std::uint32_t JointConstraintKind::IslandWork(std::uint32_t island) const {
   if (island_begin_.empty()) return 0;  // no joints this step
   return island_begin_[island + 1] - island_begin_[island];
 }
 
-void JointConstraintUser::BeginGroups(std::span<const SolverGroup> groups) {
+void JointConstraintKind::BeginGroups(std::span<const SolverGroup> groups) {
   groups_.resize(groups.size());
   if (island_begin_.empty()) {  // no joints this step
     for (const SolverGroup& g : groups) groups_[g.index] = Group{};
@@ -78,7 +78,7 @@ void JointConstraintUser::BeginGroups(std::span<const SolverGroup> groups) {
   }
 }
 
-GroupLayout JointConstraintUser::PrepareGroup(const SolverGroup& solver_group, BlockArena& arena,
+GroupLayout JointConstraintKind::PrepareGroup(const SolverGroup& solver_group, BlockArena& arena,
                                               std::uint32_t job) {
   Group& group = groups_[solver_group.index];
   GroupLayout layout;
@@ -91,22 +91,22 @@ GroupLayout JointConstraintUser::PrepareGroup(const SolverGroup& solver_group, B
     std::uint32_t n = 0;
     for (std::uint32_t j = 0; j < group.joint_count; ++j)
       if (group.exact[j] != 0) rows_of[n++] = group.joints[j];
-    group.exact_solver = DirectJointSolver::Create(arena, std::span<Constraint* const>(rows_of, exact),
+    group.exact_solver = ExactJointSolver::Create(arena, std::span<Constraint* const>(rows_of, exact),
                                                    jobs_[job].first_row_of_body.data());
   }
   layout.positions = true;
   return layout;
 }
 
-std::uint32_t JointConstraintUser::Items(std::uint32_t, const SolverPass& pass) const {
+std::uint32_t JointConstraintKind::Items(std::uint32_t, const SolverPass& pass) const {
   // Joints do not bounce; every other pass is one item, in order: a group's joints share bodies.
   return pass.kind == SolverPassKind::kRestitution ? 0 : 1;
 }
 
-void JointConstraintUser::Run(std::uint32_t group_index, const SolverPass& pass, std::uint32_t, std::uint32_t,
+void JointConstraintKind::Run(std::uint32_t group_index, const SolverPass& pass, std::uint32_t, std::uint32_t,
                               std::uint32_t) {
   const Group& group = groups_[group_index];
-  DirectJointSolver* const exact_solver = group.exact_solver;
+  ExactJointSolver* const exact_solver = group.exact_solver;
   if (pass.kind == SolverPassKind::kPositions) {
     // One joint at a time for those the passes solve, then the exact rows all at once.
     for (std::uint32_t k = 0; k < group.joint_count; ++k)

@@ -1,4 +1,4 @@
-// DirectContactSolver: one small island's contact rows solved together, exactly, instead of one row at a
+// ExactContactSolver: one small island's contact rows solved together, exactly, instead of one row at a
 // time: first all friction axes, then all normals. Gauss-Seidel passes move momentum through a stack one
 // contact per pass, and between a heavy and a light body a thousandth at a time, so a tall tower sags and
 // buckles and a 1000 kg box squeezes out the 1 kg box under it; solving each set's coupling matrix (a banded
@@ -7,7 +7,7 @@
 // than one set of three rows per point (the factorisation goes with the cube of the rows). Because the solve
 // is exact, each contact's spring can be as stiff as the load it carries needs (see Create). Its contacts'
 // points come without friction rows of their own (SetupSolverContact without point friction rows): it warm
-// starts and solves friction per contact. One island per solver; ContactConstraintUser runs a solver on one
+// starts and solves friction per contact. One island per solver; ContactConstraintKind runs a solver on one
 // thread at a time.
 #pragma once
 
@@ -15,12 +15,12 @@
 #include <span>
 
 #include "physics/core/BlockArena.h"
-#include "physics/solver/ContactSolver.h"
+#include "physics/constraints/ContactSolver.h"
 
 namespace strata {
 
 /// The contact rows of one island and how they couple, for one step.
-class DirectContactSolver {
+class ExactContactSolver {
  public:
   /// Islands with more contact points than this are left to the sequential passes.
   static constexpr std::uint32_t kMaxPoints = 128;
@@ -30,7 +30,7 @@ class DirectContactSolver {
   /// computes it. `weight_per_impulse` (1 / (|g| substep)) turns a contact's warm impulse into the mass it
   /// carries; its spring is scaled to that mass, so every contact of a stack sags about as much as one box
   /// on the floor (g / omega^2). nullptr if there are no points or more than kMaxPoints.
-  static DirectContactSolver* Create(BlockArena& arena, std::span<SolverContact* const> contacts,
+  static ExactContactSolver* Create(BlockArena& arena, std::span<SolverContact* const> contacts,
                                      const SolverBody* bodies, float weight_per_impulse);
 
   /// Applies the contacts' accumulated impulses to the bodies (replacing WarmStartContact over the island's

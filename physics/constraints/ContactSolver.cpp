@@ -1,4 +1,4 @@
-#include "physics/solver/ContactSolver.h"
+#include "physics/constraints/ContactSolver.h"
 
 #include <algorithm>
 #include <cmath>
@@ -208,7 +208,7 @@ SolverContact* SetupSolverContact(BlockArena& arena, ContactConstraint& constrai
   c->point_count = constraint.point_count;
   const Vec4 axes[3] = {c->normal, c->tangent[0], c->tangent[1]};
   // A frictionless contact's friction rows would never push: they are left zero (no impulse, no arm, no
-  // response), which spares two thirds of the setup and of each pass. The direct solve holds such rows at
+  // response), which spares two thirds of the setup and of each pass. The exact solve holds such rows at
   // their zero bound.
   const bool with_friction = c->friction > 0.0f;
   c->friction_rows_pending = with_friction && !point_friction_rows;

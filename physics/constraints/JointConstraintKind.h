@@ -1,8 +1,8 @@
-// JointConstraintUser: the step's joints (Constraint) as one kind of constraint of the ConstraintSolver. A
+// JointConstraintKind: the step's joints (Constraint) as one kind of constraint of the ConstraintSolver. A
 // group's joints are one sequential split, solved one joint at a time after the contacts in every warm-start,
 // velocity and relax round, in alternating order; the rows that always hold of islands that need it (a
-// heavy body on a light one) are solved exactly by a DirectJointSolver after each pass, and after the last
-// substep a position round removes part of the joints' drift. Threading as ConstraintUser.
+// heavy body on a light one) are solved exactly by a ExactJointSolver after each pass, and after the last
+// substep a position round removes part of the joints' drift. Threading as ConstraintKind.
 #pragma once
 
 #include <cstdint>
@@ -10,12 +10,12 @@
 #include <vector>
 
 #include "physics/constraints/Constraint.h"
-#include "physics/constraints/DirectJointSolver.h"
-#include "physics/solver/ConstraintUser.h"
+#include "physics/constraints/ExactJointSolver.h"
+#include "physics/constraints/ConstraintKind.h"
 
 namespace strata {
 
-class JointConstraintUser final : public ConstraintUser {
+class JointConstraintKind final : public ConstraintKind {
  public:
   /// The step's joints, bound to their solver bodies, and per joint the island body index of a side that
   /// moves; call before the solver's BeginStep.
@@ -39,11 +39,11 @@ class JointConstraintUser final : public ConstraintUser {
   struct Group {
     Constraint* const* joints = nullptr;  // in island order
     std::uint32_t joint_count = 0;
-    const std::uint8_t* exact = nullptr;  // per joint: its rigid rows are solved by the DirectJointSolver
-    DirectJointSolver* exact_solver = nullptr;
+    const std::uint8_t* exact = nullptr;  // per joint: its rigid rows are solved by the ExactJointSolver
+    ExactJointSolver* exact_solver = nullptr;
   };
   struct alignas(64) JobScratch {
-    std::vector<std::uint32_t> first_row_of_body;  // DirectJointSolver scratch, by solver index
+    std::vector<std::uint32_t> first_row_of_body;  // ExactJointSolver scratch, by solver index
   };
 
   void SortJointsByIsland();

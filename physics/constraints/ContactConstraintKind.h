@@ -1,9 +1,9 @@
-// ContactConstraintUser: the step's contacts as one kind of constraint of the ConstraintSolver. A group's
+// ContactConstraintKind: the step's contacts as one kind of constraint of the ConstraintSolver. A group's
 // contacts are split (LargeIslandSplitter) so that no two in one parallel split move the same body: a
 // parallel split is solved a register of lanes at a time (ContactBundle), the sequential split one contact at
-// a time (ContactSolver), and small resting islands exactly (DirectContactSolver). Contacts warm-start, solve
+// a time (ContactSolver), and small resting islands exactly (ExactContactSolver). Contacts warm-start, solve
 // soft in velocity passes and rigid in relax passes, bounce in the restitution rounds, and leave their
-// impulses in the body-pair cache for the next step. Threading as ConstraintUser.
+// impulses in the body-pair cache for the next step. Threading as ConstraintKind.
 #pragma once
 
 #include <cstdint>
@@ -11,22 +11,22 @@
 #include <span>
 #include <vector>
 
-#include "physics/solver/ConstraintUser.h"
-#include "physics/solver/ContactBundle.h"
-#include "physics/solver/ContactConstraint.h"
-#include "physics/solver/ContactSolver.h"
-#include "physics/solver/DirectContactSolver.h"
+#include "physics/constraints/ConstraintKind.h"
+#include "physics/constraints/ContactBundle.h"
+#include "physics/constraints/ContactConstraint.h"
+#include "physics/constraints/ContactSolver.h"
+#include "physics/constraints/ExactContactSolver.h"
 #include "physics/solver/LargeIslandSplitter.h"
 
 namespace strata {
 
-class ContactConstraintUser final : public ConstraintUser {
+class ContactConstraintKind final : public ConstraintKind {
  public:
-  /// Small islands are solved exactly (with PhysicsSettings::direct_small_islands) when they have at least
+  /// Small islands are solved exactly (with PhysicsSettings::exact_small_islands) when they have at least
   /// two bodies, at most this many contact points per body...
-  static constexpr std::uint32_t kDirectMaxPointsPerBody = 8;
+  static constexpr std::uint32_t kExactMaxPointsPerBody = 8;
   /// ...and every body moves and turns slower than this (m/s, rad/s) when the step begins.
-  static constexpr float kDirectRestSpeed = 1.0f;
+  static constexpr float kExactRestSpeed = 1.0f;
 
   /// The step's contacts, indexed as in IslandBuilder::Finalize; call before the solver's BeginStep.
   void SetContacts(std::span<ContactConstraint* const> contacts) { contacts_ = contacts; }
@@ -59,8 +59,8 @@ class ContactConstraintUser final : public ConstraintUser {
     ContactConstraint* const* sequential = nullptr;  // the sequential split's contacts
     SolverContact** sequential_contacts = nullptr;   // ...as set up in the setup round
     std::uint32_t sequential_count = 0;
-    bool exact = false;  // small islands only, each solved by its own DirectContactSolver
-    DirectContactSolver** direct_solvers = nullptr;  // one per island, set up in the setup round
+    bool exact = false;  // small islands only, each solved by its own ExactContactSolver
+    ExactContactSolver** exact_solvers = nullptr;  // one per island, set up in the setup round
   };
   struct alignas(64) JobScratch {
     std::vector<std::uint8_t> split_of;
@@ -71,7 +71,7 @@ class ContactConstraintUser final : public ConstraintUser {
   bool IsSequential(const Group& group, std::uint32_t split) const {
     return group.splits.last_is_sequential && split + 1 == group.splits.split_count;
   }
-  void SetupDirectSolvers(Group& group, BlockArena& arena);
+  void SetupExactSolvers(Group& group, BlockArena& arena);
   void RunSequential(Group& group, const SolverPass& pass, float* deepest);
   void RunBundles(Group& group, const SolverPass& pass, std::uint32_t begin, std::uint32_t end,
                   float* deepest);

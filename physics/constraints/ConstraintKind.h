@@ -1,6 +1,6 @@
-// ConstraintUser: one kind of constraint that the ConstraintSolver drives through a step: contacts
-// (ContactConstraintUser) and joints (JointConstraintUser). The solver owns the solver bodies, the groups of
-// islands, the rounds, gravity and integration; a user lays its constraints of a group out in splits and runs
+// ConstraintKind: one kind of constraint that the ConstraintSolver drives through a step: contacts
+// (ContactConstraintKind) and joints (JointConstraintKind). The solver owns the solver bodies, the groups of
+// islands, the rounds, gravity and integration; a kind lays its constraints of a group out in splits and runs
 // the items of a split in each round. Threading: BeginStep and BeginGroups alone; PrepareGroup once per group
 // from any job; Setup and Run from any job, the solver never handing two jobs at once items that move the
 // same body (items of one parallel split, or the single item of a sequential split).
@@ -11,12 +11,12 @@
 
 #include "physics/core/BlockArena.h"
 #include "physics/solver/IslandBuilder.h"
-#include "physics/solver/SolverBody.h"
-#include "physics/world/PhysicsSettings.h"
+#include "physics/body/SolverBody.h"
+#include "physics/PhysicsSettings.h"
 
 namespace strata {
 
-/// What every user sees of a step's solve; the arrays stay owned by the caller of ConstraintSolver.
+/// What every kind sees of a step's solve; the arrays stay owned by the caller of ConstraintSolver.
 struct SolverStep {
   const IslandBuilder* islands = nullptr;
   SolverBody* bodies = nullptr;  ///< solver index = island body index + 1; 0 is the fixed body
@@ -32,11 +32,11 @@ struct SolverGroup {
   std::uint32_t index = 0;
   std::uint32_t first_island = 0;
   std::uint32_t end_island = 0;
-  /// Every island in it is solved exactly (each user with constraints in it asked for that).
+  /// Every island in it is solved exactly (each kind with constraints in it asked for that).
   bool exact = false;
 };
 
-/// How a user laid out its constraints of one group.
+/// How a kind laid out its constraints of one group.
 struct GroupLayout {
   std::uint32_t splits = 0;  ///< splits it takes in every warm-start, velocity and relax round
   bool parallel = false;     ///< some split has more than one item: jobs share the group's rounds
@@ -46,10 +46,10 @@ struct GroupLayout {
 
 enum class SolverPassKind : std::uint8_t { kWarmStart, kVelocity, kRelax, kRestitution, kPositions };
 
-/// One round's pass over one of a user's splits.
+/// One round's pass over one of a kind's splits.
 struct SolverPass {
   SolverPassKind kind = SolverPassKind::kWarmStart;
-  std::uint32_t split = 0;  ///< the user's own split index
+  std::uint32_t split = 0;  ///< the kind's own split index
   int iteration = 0;
   int substep = 0;
   /// Seconds into the step of the poses the pass sees: a velocity pass sees its substep's start, a relax
@@ -61,15 +61,15 @@ struct SolverPass {
 };
 
 /// Base of the kinds of constraint the ConstraintSolver solves.
-class ConstraintUser {
+class ConstraintKind {
  public:
-  virtual ~ConstraintUser() = default;
+  virtual ~ConstraintKind() = default;
 
   /// Once a step, before the solver forms its groups.
   virtual void BeginStep(const SolverStep& step, std::uint32_t job_count) = 0;
   /// How much of its work lies in `island` (what group forming weighs); 0 if none.
   virtual std::uint32_t IslandWork(std::uint32_t island) const = 0;
-  /// Whether it would solve `island` exactly; an island is exact when every user with work in it says so,
+  /// Whether it would solve `island` exactly; an island is exact when every kind with work in it says so,
   /// and exact islands share groups only with exact islands.
   virtual bool WantsExactIsland(std::uint32_t island) const = 0;
   /// Once the groups are formed (index order), before any PrepareGroup.

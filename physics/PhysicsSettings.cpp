@@ -1,4 +1,4 @@
-#include "physics/world/PhysicsSettings.h"
+#include "physics/PhysicsSettings.h"
 
 #include <string>
 
@@ -29,8 +29,8 @@ Status PhysicsSettings::Validate() const {
     return Bad("contact_push_max_velocity", "must be > 0");
   if (!(joint_hertz > 0.0f) || !IsFinite(joint_hertz)) return Bad("joint_hertz", "must be > 0");
   if (!NonNegative(joint_damping_ratio)) return Bad("joint_damping_ratio", "must be >= 0");
-  if (!(direct_joint_mass_ratio >= 1.0f) || !IsFinite(direct_joint_mass_ratio))
-    return Bad("direct_joint_mass_ratio", "must be >= 1");
+  if (!(exact_joint_mass_ratio >= 1.0f) || !IsFinite(exact_joint_mass_ratio))
+    return Bad("exact_joint_mass_ratio", "must be >= 1");
   if (!NonNegative(speculative_distance)) return Bad("speculative_distance", "must be >= 0");
   if (!NonNegative(min_velocity_for_restitution)) return Bad("min_velocity_for_restitution", "must be >= 0");
   if (!NonNegative(contact_match_distance)) return Bad("contact_match_distance", "must be >= 0");

@@ -1,4 +1,4 @@
-// The exact solve of small resting islands (DirectContactSolver): which islands take it, that stacks and
+// The exact solve of small resting islands (ExactContactSolver): which islands take it, that stacks and
 // heavy-on-light pairs hold with it where the sequential passes let them sag or slide, that it keeps friction
 // (a box held on a slope, a box sliding down one at the closed-form rate), that its per-contact friction
 // warm starts as the points' own rows would, and that it is deterministic.
@@ -6,8 +6,8 @@
 #include <new>
 
 #include "TestWorld.h"
-#include "physics/solver/ContactSolver.h"
-#include "physics/solver/DirectContactSolver.h"
+#include "physics/constraints/ContactSolver.h"
+#include "physics/constraints/ExactContactSolver.h"
 
 namespace strata::test {
 namespace {
@@ -32,25 +32,25 @@ Stack AddStack(PhysicsSystem& world, int count, float base_mass = 1.0f, float to
   return stack;
 }
 
-PhysicsSettings Awake(bool direct) {
+PhysicsSettings Awake(bool exact) {
   PhysicsSettings settings;
   settings.allow_sleeping = false;  // the tests watch motion at rest
-  settings.direct_small_islands = direct;
+  settings.exact_small_islands = exact;
   return settings;
 }
 
-TEST(DirectSolve, RestingStacksAreSolvedDirectlyLoneBodiesAndTheSwitchedOffWorldAreNot) {
-  for (const bool direct : {true, false}) {
-    auto world = MakeWorld(Awake(direct));
+TEST(ExactSolve, RestingStacksAreSolvedDirectlyLoneBodiesAndTheSwitchedOffWorldAreNot) {
+  for (const bool exact : {true, false}) {
+    auto world = MakeWorld(Awake(exact));
     AddStack(*world, 3);
     Add(*world, Dynamic(Box(0.5f, 0.5f, 0.5f), Vec3(5, 0.5f, 0)));  // alone on the floor
     StepFor(*world, 30);
     EXPECT_EQ(world->last_step_stats().islands, 2u);
-    EXPECT_EQ(world->last_step_stats().direct_islands, direct ? 1u : 0u);
+    EXPECT_EQ(world->last_step_stats().exact_islands, exact ? 1u : 0u);
   }
 }
 
-TEST(DirectSolve, ALonePairAtRestIsLeftToTheSequentialPasses) {
+TEST(ExactSolve, ALonePairAtRestIsLeftToTheSequentialPasses) {
   PhysicsSettings settings = Awake(true);
   settings.gravity = Vec3::Zero();
   auto world = MakeWorld(settings);
@@ -58,10 +58,10 @@ TEST(DirectSolve, ALonePairAtRestIsLeftToTheSequentialPasses) {
   for (const float x : {0.0f, 1.0f}) Add(*world, Dynamic(Box(0.5f, 0.5f, 0.5f), Vec3(x, 0, 0)));
   StepFor(*world, 3);
   EXPECT_EQ(world->last_step_stats().islands, 1u);
-  EXPECT_EQ(world->last_step_stats().direct_islands, 0u);
+  EXPECT_EQ(world->last_step_stats().exact_islands, 0u);
 }
 
-TEST(DirectSolve, MovingPilesAreLeftToTheSequentialPasses) {
+TEST(ExactSolve, MovingPilesAreLeftToTheSequentialPasses) {
   PhysicsSettings settings = Awake(true);
   settings.gravity = Vec3::Zero();
   auto world = MakeWorld(settings);
@@ -74,10 +74,10 @@ TEST(DirectSolve, MovingPilesAreLeftToTheSequentialPasses) {
   }
   StepFor(*world, 3);
   EXPECT_EQ(world->last_step_stats().islands, 1u);
-  EXPECT_EQ(world->last_step_stats().direct_islands, 0u);
+  EXPECT_EQ(world->last_step_stats().exact_islands, 0u);
 }
 
-TEST(DirectSolve, ThirtyBoxTowerStandsWithinFourCentimetresAtSeveralStepsAndSubsteps) {
+TEST(ExactSolve, ThirtyBoxTowerStandsWithinFourCentimetresAtSeveralStepsAndSubsteps) {
   for (const float dt : {1.0f / 30.0f, 1.0f / 60.0f})
     for (const int substeps : {2, 4}) {
       PhysicsSettings settings = Awake(true);
@@ -87,11 +87,11 @@ TEST(DirectSolve, ThirtyBoxTowerStandsWithinFourCentimetresAtSeveralStepsAndSubs
       StepFor(*world, static_cast<int>(5.0f / dt), dt);
       const float moved = (Position(*world, stack.boxes.back()) - stack.top_start).norm();
       EXPECT_LT(moved, 0.04f) << "dt " << dt << " substeps " << substeps;
-      EXPECT_EQ(world->last_step_stats().direct_islands, 1u);
+      EXPECT_EQ(world->last_step_stats().exact_islands, 1u);
     }
 }
 
-TEST(DirectSolve, HeavyBoxOnALightOneSinksLessThanAMillimetreUpToAThousandToOne) {
+TEST(ExactSolve, HeavyBoxOnALightOneSinksLessThanAMillimetreUpToAThousandToOne) {
   for (const float ratio : {10.0f, 100.0f, 1000.0f})
     for (const int substeps : {1, 4}) {
       PhysicsSettings settings = Awake(true);
@@ -118,7 +118,7 @@ void AddSlabOnFloor(PhysicsSystem& world) {
   Add(world, slab);
 }
 
-TEST(DirectSolve, FrictionHoldsABoxOnASlopeAndLetsOneSlideAtTheClosedFormRate) {
+TEST(ExactSolve, FrictionHoldsABoxOnASlopeAndLetsOneSlideAtTheClosedFormRate) {
   // Gravity tilted by 20 degrees makes the floor a slope. A heavy slab holds fast on it (friction 1); a small
   // box rests on the slab: an island of two resting bodies. Pair friction is sqrt(a * b), so the small box's
   // own coefficient is the square of the pair's.
@@ -133,8 +133,8 @@ TEST(DirectSolve, FrictionHoldsABoxOnASlopeAndLetsOneSlideAtTheClosedFormRate) {
     box.linear_damping = 0.0f;
     const BodyID id = Add(*world, box);
     const Vec3 start = Position(*world, id);
-    StepFor(*world, kSecond / 2);  // slow enough (< 1 m/s) to stay with the direct solve
-    EXPECT_EQ(world->last_step_stats().direct_islands, 1u);
+    StepFor(*world, kSecond / 2);  // slow enough (< 1 m/s) to stay with the exact solve
+    EXPECT_EQ(world->last_step_stats().exact_islands, 1u);
     const float travelled = (Position(*world, id) - start).norm();
     if (friction > std::tan(angle)) {
       EXPECT_LT(travelled, 0.005f);
@@ -146,7 +146,7 @@ TEST(DirectSolve, FrictionHoldsABoxOnASlopeAndLetsOneSlideAtTheClosedFormRate) {
   }
 }
 
-TEST(DirectSolve, FrictionHoldsATwistBelowItsTorqueAndTurnsABoxAboveAtTheClosedFormRate) {
+TEST(ExactSolve, FrictionHoldsATwistBelowItsTorqueAndTurnsABoxAboveAtTheClosedFormRate) {
   // A 0.5 m box rests on a 1000 kg slab (an island of two resting bodies) and is twisted about the vertical.
   // Its four corners each carry a quarter of its weight at r = 0.25 sqrt 2 from the centre, so friction
   // resists up to mu m g r; above that it spins up at (torque - mu m g r) / I, I = m (0.5^2 + 0.5^2) / 12.
@@ -161,7 +161,7 @@ TEST(DirectSolve, FrictionHoldsATwistBelowItsTorqueAndTurnsABoxAboveAtTheClosedF
     box.angular_damping = 0.0f;
     const BodyID id = Add(*world, box);
     StepFor(*world, kSecond / 2);  // settled
-    EXPECT_EQ(world->last_step_stats().direct_islands, 1u);
+    EXPECT_EQ(world->last_step_stats().exact_islands, 1u);
     const Quat start = *world->bodies().GetRotation(id);
     const int steps = kSecond / 2;
     for (int i = 0; i < steps; ++i) {
@@ -202,7 +202,7 @@ ContactConstraint* FaceContact(BlockArena& arena, std::uint32_t a, std::uint32_t
   return contact;
 }
 
-TEST(DirectSolve, PatchWarmStartMovesTheBodiesAsThePointsOwnFrictionRowsWould) {
+TEST(ExactSolve, PatchWarmStartMovesTheBodiesAsThePointsOwnFrictionRowsWould) {
   // A tilted light box on the ground under a heavy box, both with inertia off their axes: the exact solve's
   // contacts carry no friction rows per point, and warm start their friction as one patch each.
   SolverBody bodies[3];
@@ -235,8 +235,8 @@ TEST(DirectSolve, PatchWarmStartMovesTheBodiesAsThePointsOwnFrictionRowsWould) {
     WarmStartContact(*full[k], per_point);
     patched[k] = SetupSolverContact(arena, *constraints[k], bodies, context, false);
   }
-  DirectContactSolver* solver =
-      DirectContactSolver::Create(arena, patched, bodies, context.weight_per_impulse);
+  ExactContactSolver* solver =
+      ExactContactSolver::Create(arena, patched, bodies, context.weight_per_impulse);
   ASSERT_NE(solver, nullptr);
   solver->WarmStart(bodies);
   for (int body = 1; body <= 2; ++body) {
@@ -262,7 +262,7 @@ TEST(DirectSolve, PatchWarmStartMovesTheBodiesAsThePointsOwnFrictionRowsWould) {
   }
 }
 
-TEST(DirectSolve, SameInputsGiveTheSameTowerToTheBit) {
+TEST(ExactSolve, SameInputsGiveTheSameTowerToTheBit) {
   std::vector<Vec3> tops;
   for (int run = 0; run < 2; ++run) {
     auto world = MakeWorld(Awake(true));

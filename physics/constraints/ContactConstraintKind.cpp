@@ -1,10 +1,10 @@
-#include "physics/solver/ContactConstraintUser.h"
+#include "physics/constraints/ContactConstraintKind.h"
 
 #include <algorithm>
 
 namespace strata {
 
-void ContactConstraintUser::BeginStep(const SolverStep& step, std::uint32_t job_count) {
+void ContactConstraintKind::BeginStep(const SolverStep& step, std::uint32_t job_count) {
   step_ = step;
   const PhysicsSettings& settings = *step.settings;
   const float h = step.substep_dt;
@@ -31,16 +31,16 @@ void ContactConstraintUser::BeginStep(const SolverStep& step, std::uint32_t job_
   for (JobScratch& job : jobs_) job.deepest = 0.0f;
 }
 
-std::uint32_t ContactConstraintUser::IslandWork(std::uint32_t island) const {
+std::uint32_t ContactConstraintKind::IslandWork(std::uint32_t island) const {
   return step_.islands->constraint_count(island, island + 1);
 }
 
-bool ContactConstraintUser::WantsExactIsland(std::uint32_t island) const {
+bool ContactConstraintKind::WantsExactIsland(std::uint32_t island) const {
   // Worth it where sequential passes fall short and affordable: bodies resting on each other (a single body
   // on the ground gains nothing), few points per body (a body on many mesh triangles has far more rows than
   // its six motions; they would make the solve cost the cube of that), and at rest (a landing pile changes
   // which rows push every pass, and moving piles show no sag).
-  if (!step_.settings->direct_small_islands) return false;
+  if (!step_.settings->exact_small_islands) return false;
   const IslandBuilder& islands = *step_.islands;
   const std::span<const std::uint32_t> bodies = islands.bodies(island, island + 1);
   // A load passes through a body only between two contacts; two bodies touching each other and nothing else
@@ -48,17 +48,17 @@ bool ContactConstraintUser::WantsExactIsland(std::uint32_t island) const {
   if (bodies.size() < 2 || islands.constraint_count(island, island + 1) < 2) return false;
   std::uint32_t points = 0;
   for (const std::uint32_t index : islands.constraints(island)) points += contacts_[index]->point_count;
-  if (points == 0 || points > DirectContactSolver::kMaxPoints ||
-      points > kDirectMaxPointsPerBody * bodies.size())
+  if (points == 0 || points > ExactContactSolver::kMaxPoints ||
+      points > kExactMaxPointsPerBody * bodies.size())
     return false;
-  constexpr float kRest2 = kDirectRestSpeed * kDirectRestSpeed;
+  constexpr float kRest2 = kExactRestSpeed * kExactRestSpeed;
   return std::all_of(bodies.begin(), bodies.end(), [&](std::uint32_t body) {
     const SolverBody& b = step_.bodies[body + 1];
     return b.linear_velocity.squaredNorm() <= kRest2 && b.angular_velocity.squaredNorm() <= kRest2;
   });
 }
 
-void ContactConstraintUser::BeginGroups(std::span<const SolverGroup> groups) {
+void ContactConstraintKind::BeginGroups(std::span<const SolverGroup> groups) {
   const IslandBuilder& islands = *step_.islands;
   groups_.resize(groups.size());
   std::uint32_t largest = 0;
@@ -81,7 +81,7 @@ void ContactConstraintUser::BeginGroups(std::span<const SolverGroup> groups) {
   }
 }
 
-GroupLayout ContactConstraintUser::PrepareGroup(const SolverGroup& solver_group, BlockArena& arena,
+GroupLayout ContactConstraintKind::PrepareGroup(const SolverGroup& solver_group, BlockArena& arena,
                                                 std::uint32_t job_index) {
   Group& group = groups_[solver_group.index];
   const IslandBuilder& islands = *step_.islands;
@@ -102,7 +102,7 @@ GroupLayout ContactConstraintUser::PrepareGroup(const SolverGroup& solver_group,
     group.splits = LargeIslandSplitter::Split(ordered, body_masks_.data(), job.split_of, job.scratch);
   }
   if (group.exact)
-    group.direct_solvers = arena.AllocateArray<DirectContactSolver*>(group.end_island - group.first_island);
+    group.exact_solvers = arena.AllocateArray<ExactContactSolver*>(group.end_island - group.first_island);
   const std::uint32_t splits = group.splits.split_count;
   const std::uint32_t parallel_splits = splits - (group.splits.last_is_sequential ? 1 : 0);
   // Bundles of consecutive contacts of a parallel split; set up later, in the setup round.
@@ -140,12 +140,12 @@ GroupLayout ContactConstraintUser::PrepareGroup(const SolverGroup& solver_group,
   return layout;
 }
 
-std::uint32_t ContactConstraintUser::SetupItems(std::uint32_t group_index) const {
+std::uint32_t ContactConstraintKind::SetupItems(std::uint32_t group_index) const {
   const Group& group = groups_[group_index];
   return group.bundle_count + (group.sequential_count > 0 ? 1 : 0);
 }
 
-void ContactConstraintUser::Setup(std::uint32_t group_index, std::uint32_t begin, std::uint32_t end,
+void ContactConstraintKind::Setup(std::uint32_t group_index, std::uint32_t begin, std::uint32_t end,
                                   BlockArena& arena) {
   Group& group = groups_[group_index];
   for (std::uint32_t i = begin; i < end; ++i) {
@@ -156,23 +156,23 @@ void ContactConstraintUser::Setup(std::uint32_t group_index, std::uint32_t begin
     for (std::uint32_t k = 0; k < group.sequential_count; ++k)
       group.sequential_contacts[k] =
           SetupSolverContact(arena, *group.sequential[k], step_.bodies, context_, !group.exact);
-    if (group.exact) SetupDirectSolvers(group, arena);
+    if (group.exact) SetupExactSolvers(group, arena);
   }
 }
 
-void ContactConstraintUser::SetupDirectSolvers(Group& group, BlockArena& arena) {
+void ContactConstraintKind::SetupExactSolvers(Group& group, BlockArena& arena) {
   const IslandBuilder& islands = *step_.islands;
   std::uint32_t offset = 0;
   for (std::uint32_t island = group.first_island; island < group.end_island; ++island) {
     const std::uint32_t count = islands.constraint_count(island, island + 1);
-    group.direct_solvers[island - group.first_island] = DirectContactSolver::Create(
+    group.exact_solvers[island - group.first_island] = ExactContactSolver::Create(
         arena, std::span<SolverContact* const>(group.sequential_contacts + offset, count), step_.bodies,
         context_.weight_per_impulse);
     offset += count;
   }
 }
 
-std::uint32_t ContactConstraintUser::Items(std::uint32_t group_index, const SolverPass& pass) const {
+std::uint32_t ContactConstraintKind::Items(std::uint32_t group_index, const SolverPass& pass) const {
   const Group& group = groups_[group_index];
   if (pass.kind == SolverPassKind::kPositions) return 0;  // contacts correct positions by their velocity
   // The sequential split is one item: its contacts share bodies, so one thread takes them in order.
@@ -180,7 +180,7 @@ std::uint32_t ContactConstraintUser::Items(std::uint32_t group_index, const Solv
   return group.bundle_begin[pass.split + 1] - group.bundle_begin[pass.split];
 }
 
-void ContactConstraintUser::Run(std::uint32_t group_index, const SolverPass& pass, std::uint32_t begin,
+void ContactConstraintKind::Run(std::uint32_t group_index, const SolverPass& pass, std::uint32_t begin,
                                 std::uint32_t end, std::uint32_t job) {
   Group& group = groups_[group_index];
   float deepest = 0.0f;
@@ -192,7 +192,7 @@ void ContactConstraintUser::Run(std::uint32_t group_index, const SolverPass& pas
   if (measure != nullptr) jobs_[job].deepest = std::min(jobs_[job].deepest, deepest);
 }
 
-void ContactConstraintUser::RunSequential(Group& group, const SolverPass& pass, float* deepest) {
+void ContactConstraintKind::RunSequential(Group& group, const SolverPass& pass, float* deepest) {
   SubstepContext context = context_;
   context.elapsed = pass.elapsed;
   const bool use_bias = pass.kind == SolverPassKind::kVelocity;
@@ -203,9 +203,9 @@ void ContactConstraintUser::RunSequential(Group& group, const SolverPass& pass, 
   if (group.exact && (solve || pass.kind == SolverPassKind::kWarmStart)) {
     for (std::uint32_t island = 0; island < group.end_island - group.first_island; ++island)
       if (solve)
-        group.direct_solvers[island]->Solve(bodies, context, use_bias, deepest);
+        group.exact_solvers[island]->Solve(bodies, context, use_bias, deepest);
       else
-        group.direct_solvers[island]->WarmStart(bodies);
+        group.exact_solvers[island]->WarmStart(bodies);
     if (pass.kind == SolverPassKind::kWarmStart && pass.substep > 0)
       for (const SolverContact* c : contacts)
         if (c->reports) AddReportedImpulses(*c);
@@ -227,7 +227,7 @@ void ContactConstraintUser::RunSequential(Group& group, const SolverPass& pass, 
   }
 }
 
-void ContactConstraintUser::RunBundles(Group& group, const SolverPass& pass, std::uint32_t begin,
+void ContactConstraintKind::RunBundles(Group& group, const SolverPass& pass, std::uint32_t begin,
                                        std::uint32_t end, float* deepest) {
   SubstepContext context = context_;
   context.elapsed = pass.elapsed;
@@ -255,13 +255,13 @@ void ContactConstraintUser::RunBundles(Group& group, const SolverPass& pass, std
   }
 }
 
-float ContactConstraintUser::deepest_penetration() const {
+float ContactConstraintKind::deepest_penetration() const {
   float deepest = 0.0f;
   for (const JobScratch& job : jobs_) deepest = std::min(deepest, job.deepest);
   return deepest;
 }
 
-std::uint32_t ContactConstraintUser::max_split_count() const {
+std::uint32_t ContactConstraintKind::max_split_count() const {
   std::uint32_t most = 0;
   for (const Group& group : groups_) most = std::max(most, group.splits.split_count);
   return most;
