@@ -3,7 +3,7 @@
 #pragma once
 
 #include "physics/body/BodyCreationSettings.h"
-#include "physics/body/BodyID.h"
+#include "physics/BodyID.h"
 #include "physics/core/RelaxedAtomic.h"
 
 namespace strata {

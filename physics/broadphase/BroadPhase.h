@@ -7,7 +7,7 @@
 #include <span>
 #include <vector>
 
-#include "physics/body/BodyID.h"
+#include "physics/BodyID.h"
 #include "physics/broadphase/Layers.h"
 #include "physics/core/Result.h"
 #include "physics/math/AABB.h"

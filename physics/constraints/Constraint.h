@@ -13,7 +13,7 @@
 #include <string_view>
 #include <vector>
 
-#include "physics/body/BodyID.h"
+#include "physics/BodyID.h"
 #include "physics/constraints/ConstraintBodies.h"
 #include "physics/core/Result.h"
 #include "physics/math/Math.h"

@@ -112,18 +112,6 @@ constexpr int kTwist = 3;
 constexpr float kMinSpread = 1e-8f;
 const Vec4 kNoDirection = Vec4::Zero();
 
-// Sum of x[k] y[k] for k in [begin, end), in two chains so that the adds overlap.
-double Dot(const double* x, const double* y, std::uint32_t begin, std::uint32_t end) {
-  double even = 0.0, odd = 0.0;
-  std::uint32_t k = begin;
-  for (; k + 1 < end; k += 2) {
-    even += x[k] * y[k];
-    odd += x[k + 1] * y[k + 1];
-  }
-  if (k < end) even += x[k] * y[k];
-  return even + odd;
-}
-
 // The patch's bound on friction axis `axis` (1, 2) or on the twist: friction times the points' normal
 // impulses, for the twist each times the point's distance from the centre.
 float PatchBound(const SolverContact& c, const float* lever, int axis) {
@@ -469,14 +457,10 @@ void ExactContactSolver::Couple(RowSet& set, const SolverBody* bodies) {
 void ExactContactSolver::AllocateFactor(BlockArena& arena, const RowSet& set, Factor& factor) {
   // The envelope of any subset of rows is no wider than that of all rows: row i reaches back to its first
   // neighbour.
-  std::size_t capacity = 0;
+  std::uint32_t capacity = 0;
   for (std::uint32_t i = 0; i < set.count; ++i) capacity += i - set.neighbours[set.neighbour_begin[i]] + 1;
-  factor.lower = arena.AllocateArray<double>(capacity);
-  factor.inverse_diagonal = arena.AllocateArray<double>(set.count);
-  factor.start = arena.AllocateArray<std::uint32_t>(set.count + 1);
+  factor.ldlt.Allocate(arena, set.count, capacity);
   factor.rows = arena.AllocateArray<std::uint32_t>(set.count);
-  factor.first = arena.AllocateArray<std::uint32_t>(set.count);
-  factor.base = arena.AllocateArray<double*>(set.count);
   factor.free = arena.AllocateArray<std::uint8_t>(set.count);
   factor.softness = arena.AllocateArray<float>(set.count);
   factor.valid = false;
@@ -492,10 +476,7 @@ bool ExactContactSolver::Refactor(const RowSet& set, Factor& factor) {
   std::uint32_t m = 0;
   for (std::uint32_t i = 0; i < n; ++i)
     if (free_[i]) packed_of_[i] = m, factor.rows[m++] = i;
-  factor.size = m;
-  // Skyline (envelope) L D L^T: packed row r of the factor is zero left of the first free neighbour of its
-  // row, so a banded matrix costs rows x band^2.
-  factor.start[0] = 0;
+  factor.ldlt.Clear();
   for (std::uint32_t r = 0; r < m; ++r) {
     const std::uint32_t i = factor.rows[r];
     const std::uint32_t* const neighbours = set.neighbours + set.neighbour_begin[i];
@@ -505,45 +486,22 @@ bool ExactContactSolver::Refactor(const RowSet& set, Factor& factor) {
     std::uint32_t k = 0;
     while (!free_[neighbours[k]]) ++k;
     const std::uint32_t row_first = packed_of_[neighbours[k]];
-    factor.first[r] = row_first;
-    factor.start[r + 1] = factor.start[r] + (r - row_first + 1);
-    // Row r of the factor as an array indexed by packed column (valid from first[r] to r), so the inner
-    // loops are plain dot products over contiguous memory.
-    double* const row = factor.lower + factor.start[r] - row_first;
-    factor.base[r] = row;
+    double* const row = factor.ldlt.AddRow(row_first);
     // The row of the matrix: zero, then the free neighbours up to the diagonal.
     std::fill(row + row_first, row + r + 1, 0.0);
     for (; k < neighbour_count && neighbours[k] <= i; ++k)
       if (free_[neighbours[k]]) row[packed_of_[neighbours[k]]] = coupling[k];
-    // L D L^T without square roots: the row is first worked out as L(r, c) D(c) (each entry waits only on the
-    // dot product before it), then scaled by 1 / D(c), which no other entry of the row waits on.
-    for (std::uint32_t c = row_first; c < r; ++c)
-      row[c] -= Dot(row, factor.base[c], std::max(row_first, factor.first[c]), c);
-    double diagonal = row[r] + softness_[i];
-    for (std::uint32_t c = row_first; c < r; ++c) {
-      const double scaled = row[c] * factor.inverse_diagonal[c];
-      diagonal -= scaled * row[c];
-      row[c] = scaled;
-    }
-    // Never seen: the softness keeps the matrix positive definite.
-    if (!(diagonal > 0.0)) return factor.valid = false;
-    row[r] = 1.0;
-    factor.inverse_diagonal[r] = 1.0 / diagonal;
+    // Never refused: the softness keeps the matrix positive definite.
+    if (!factor.ldlt.FactorLastRow(softness_[i], 0.0)) return factor.valid = false;
   }
   return factor.valid = true;
 }
 
 void ExactContactSolver::SolveWith(const Factor& factor, const double* right, double* out) const {
-  const std::uint32_t m = factor.size;
+  const std::uint32_t m = factor.ldlt.size();
   double* packed = scratch_;
-  for (std::uint32_t r = 0; r < m; ++r)
-    packed[r] = right[factor.rows[r]] - Dot(factor.base[r], packed, factor.first[r], r);
-  for (std::uint32_t r = 0; r < m; ++r) packed[r] *= factor.inverse_diagonal[r];
-  for (std::uint32_t r = m; r-- > 0;) {
-    const double* const row = factor.base[r];
-    const double value = packed[r];
-    for (std::uint32_t k = factor.first[r]; k < r; ++k) packed[k] -= row[k] * value;
-  }
+  for (std::uint32_t r = 0; r < m; ++r) packed[r] = right[factor.rows[r]];
+  factor.ldlt.Solve(packed);
   for (std::uint32_t r = 0; r < m; ++r) out[factor.rows[r]] = packed[r];
 }
 

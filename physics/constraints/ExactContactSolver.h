@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <span>
 
+#include "physics/constraints/SkylineLdlt.h"
 #include "physics/core/BlockArena.h"
 #include "physics/constraints/ContactSolver.h"
 
@@ -75,18 +76,13 @@ class ExactContactSolver {
     std::uint8_t axis;  // 0: the normal, 1 and 2: the friction axes, 3: the twist
     float load;         // the contact's spring scale: carried mass over its heavier body's mass, >= 1
   };
-  // An L D L^T factor (L unit lower triangular) of the free rows' block of (coupling + softness) in skyline
-  // storage, kept while the same rows are free with the same softness.
+  // The free rows' block of (coupling + softness), factored, kept while the same rows are free with the same
+  // softness.
   struct Factor {
-    double* lower = nullptr;             // L's packed row r from column first[r] to r at start[r]
-    double* inverse_diagonal = nullptr;  // 1 / D, by packed row
-    std::uint32_t* start = nullptr;      // packed rows + 1
-    std::uint32_t* rows = nullptr;       // packed row -> row
-    std::uint32_t* first = nullptr;      // first packed column of each packed row's envelope
-    double** base = nullptr;             // packed row r as an array by packed column: lower + start - first
-    std::uint8_t* free = nullptr;        // what it was made of
+    SkylineLdlt ldlt;                // over the free rows, packed in row order
+    std::uint32_t* rows = nullptr;   // packed row -> row
+    std::uint8_t* free = nullptr;    // what it was made of
     float* softness = nullptr;
-    std::uint32_t size = 0;
     bool valid = false;
   };
   // The rows of one kind (the normals, or the friction axes) and how they couple. The coupling matrix is

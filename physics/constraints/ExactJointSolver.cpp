@@ -25,7 +25,6 @@ ExactJointSolver* ExactJointSolver::Create(BlockArena& arena, std::span<Constrai
   solver->row_count_ = rows;
   solver->rows_ = arena.AllocateArray<Row>(rows);
   solver->first_ = arena.AllocateArray<std::uint32_t>(rows);
-  solver->offset_ = arena.AllocateArray<std::uint32_t>(rows + 1);
   solver->scratch_ = arena.AllocateArray<double>(rows);
   // A row couples with every row before it that shares a moving body with it: its skyline starts at the
   // first row that touched either of its bodies (or its joint's first row).
@@ -41,17 +40,13 @@ ExactJointSolver* ExactJointSolver::Create(BlockArena& arena, std::span<Constrai
     }
     for (int k = 0; k < joint->RigidRowCount(); ++k, ++row) {
       solver->first_[row] = first;
-      solver->offset_[row] = entries;
       entries += row - first + 1;
     }
   }
-  solver->offset_[rows] = entries;
-  solver->entries_ = entries;
   for (const Constraint* joint : joints)
     for (const std::uint32_t body : {joint->side_a().solver_index, joint->side_b().solver_index})
       if (body != 0) first_row_of_body[body] = kNoRow;
-  solver->matrix_ = arena.AllocateArray<double>(entries);
-  solver->factor_ = arena.AllocateArray<double>(entries);
+  solver->ldlt_.Allocate(arena, rows, entries);
   return solver;
 }
 
@@ -101,51 +96,13 @@ void ExactJointSolver::Build(SolverBody* bodies, const SolverPose* poses, float 
       r.push_b_angular = body_b != 0 ? InverseInertiaTimes(*view.b, r.row.angular_b) : Vec3::Zero();
     }
   }
+  // Rows whose pivot is lost to rounding (a loop of joints repeats a constraint) are dropped from the solve.
+  ldlt_.Clear();
   for (std::uint32_t i = 0; i < row_count_; ++i) {
-    double* entries = matrix_ + offset_[i] - first_[i];
+    double* const entries = ldlt_.AddRow(first_[i]);
     for (std::uint32_t j = first_[i]; j <= i; ++j) entries[j] = Coupling(rows_[i], rows_[j]);
-  }
-  Factor();
-}
-
-void ExactJointSolver::Factor() {
-  double* const factor = factor_;
-  // L D L^T in the skyline: row i holds L(i, j) for j in [first_i, i) and D(i) last.
-  auto pivot_of = [&](std::uint32_t k) { return factor[offset_[k + 1] - 1]; };
-  std::copy(matrix_, matrix_ + entries_, factor);
-  for (std::uint32_t i = 0; i < row_count_; ++i) {
-    double* row_i = factor + offset_[i] - first_[i];
-    for (std::uint32_t j = first_[i]; j < i; ++j) {
-      const double* row_j = factor + offset_[j] - first_[j];
-      double sum = row_i[j];
-      for (std::uint32_t k = std::max(first_[i], first_[j]); k < j; ++k)
-        sum -= row_i[k] * pivot_of(k) * row_j[k];
-      const double pivot = pivot_of(j);
-      row_i[j] = pivot > 0.0 ? sum / pivot : 0.0;
-    }
-    const double diagonal = row_i[i];
-    double pivot = diagonal * (1.0 + kRegularization);
-    for (std::uint32_t k = first_[i]; k < i; ++k) pivot -= row_i[k] * row_i[k] * pivot_of(k);
-    row_i[i] = pivot > kTinyPivot * diagonal ? pivot : 0.0;
-  }
-}
-
-void ExactJointSolver::SolveFactored(double* x) const {
-  const double* const factor = factor_;
-  // L y = b (L unit lower), then D z = y, then L^T x = z.
-  for (std::uint32_t i = 0; i < row_count_; ++i) {
-    const double* row_i = factor + offset_[i] - first_[i];
-    double sum = x[i];
-    for (std::uint32_t k = first_[i]; k < i; ++k) sum -= row_i[k] * x[k];
-    x[i] = sum;
-  }
-  for (std::uint32_t i = 0; i < row_count_; ++i) {
-    const double pivot = factor[offset_[i + 1] - 1];
-    x[i] = pivot > 0.0 ? x[i] / pivot : 0.0;
-  }
-  for (std::uint32_t i = row_count_; i-- > 0;) {
-    const double* row_i = factor + offset_[i] - first_[i];
-    for (std::uint32_t k = first_[i]; k < i; ++k) x[k] -= row_i[k] * x[i];
+    const double diagonal = entries[i];
+    ldlt_.FactorLastRow(diagonal * kRegularization, kTinyPivot * diagonal);
   }
 }
 
@@ -154,7 +111,7 @@ void ExactJointSolver::SolvePositions(SolverBody* bodies, SolverPose* poses, flo
   Build(bodies, poses, elapsed);
   for (std::uint32_t i = 0; i < row_count_; ++i)
     scratch_[i] = -kPositionFraction * static_cast<double>(rows_[i].row.error);
-  SolveFactored(scratch_);
+  ldlt_.Solve(scratch_);
   for (std::uint32_t i = 0; i < row_count_; ++i) {
     const Row& row = rows_[i];
     const auto change = static_cast<float>(scratch_[i]);
@@ -187,7 +144,7 @@ void ExactJointSolver::Solve(SolverBody* bodies, const ConstraintPassContext& pa
   const RowTarget soft = EqualityTarget(1.0f, pass);
   for (std::uint32_t i = 0; i < row_count_; ++i)
     scratch_[i] = -static_cast<double>(Rate(bodies, rows_[i]) + soft.bias * rows_[i].row.error);
-  SolveFactored(scratch_);
+  ldlt_.Solve(scratch_);
   for (std::uint32_t i = 0; i < row_count_; ++i) {
     const Row& row = rows_[i];
     const float change =

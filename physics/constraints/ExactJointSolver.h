@@ -13,6 +13,7 @@
 #include <span>
 
 #include "physics/constraints/Constraint.h"
+#include "physics/constraints/SkylineLdlt.h"
 #include "physics/core/BlockArena.h"
 
 namespace strata {
@@ -52,20 +53,13 @@ class ExactJointSolver {
   };
   double Coupling(const Row& i, const Row& j) const;
   float Rate(const SolverBody* bodies, const Row& row) const;
-  void Factor();
-  void SolveFactored(double* x) const;
 
   std::span<Constraint* const> joints_;
   Row* rows_ = nullptr;
   std::uint32_t* first_ = nullptr;   // per row: the first row it couples with (its skyline's start)
-  std::uint32_t* offset_ = nullptr;  // per row: where its skyline starts in the matrices
-  // In double: a 100 kg ball on 1 kg links spreads the matrix's eigenvalues over about six decades, and a
-  // float factorization then pulled the chain apart.
-  double* matrix_ = nullptr;   // J M^-1 J^T, lower skyline, row by row (the diagonal last)
-  double* factor_ = nullptr;   // its L D L^T
+  SkylineLdlt ldlt_;  // J M^-1 J^T, factored
   double* scratch_ = nullptr;  // right-hand side, then impulse changes
   std::uint32_t row_count_ = 0;
-  std::uint32_t entries_ = 0;
 };
 
 }  // namespace strata

@@ -11,7 +11,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "physics/body/BodyID.h"
+#include "physics/BodyID.h"
 #include "physics/core/BlockArena.h"
 #include "physics/math/Math.h"
 #include "physics/narrowphase/SlidingFace.h"

@@ -4,7 +4,7 @@
 
 #include <cstdint>
 
-#include "physics/body/BodyID.h"
+#include "physics/BodyID.h"
 #include "physics/math/Math.h"
 
 namespace strata {

@@ -8,7 +8,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "physics/body/BodyID.h"
+#include "physics/BodyID.h"
 #include "physics/math/Math.h"
 
 namespace strata {

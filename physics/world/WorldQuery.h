@@ -7,7 +7,7 @@
 #include <optional>
 #include <vector>
 
-#include "physics/body/BodyID.h"
+#include "physics/BodyID.h"
 #include "physics/body/BodyManager.h"
 #include "physics/broadphase/BroadPhase.h"
 #include "physics/broadphase/Layers.h"
