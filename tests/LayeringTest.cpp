@@ -52,7 +52,7 @@ struct Layering {
 
 Layering CheckLayering(const fs::path& root) {
   Layering result;
-  static const std::regex include_line(R"(^\s*#\s*include\s*"([^"]+)")");
+  static const std::regex include_line(R"re(^\s*#\s*include\s*"([^"]+)")re");
   for (const std::string_view folder : kLayeredFolders) {
     if (!fs::exists(root / folder)) continue;
     for (const fs::directory_entry& entry : fs::recursive_directory_iterator(root / folder)) {

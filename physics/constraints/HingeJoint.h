@@ -7,18 +7,11 @@
 
 #include "physics/constraints/AngleConstraintPart.h"
 #include "physics/constraints/Constraint.h"
+#include "physics/constraints/FreeAxis.h"
 #include "physics/constraints/HingeRotationConstraintPart.h"
 #include "physics/constraints/PointConstraintPart.h"
 
 namespace strata {
-
-/// A motor that drives a joint's relative speed towards `target_speed` with at most `max_torque` (or
-/// force, for a slider).
-struct JointMotor {
-  bool enabled = false;
-  float target_speed = 0.0f;  ///< rad/s (m/s for a slider)
-  float max_torque = 0.0f;    ///< N m (N for a slider), >= 0
-};
 
 struct HingeJointSettings : JointSettingsBase {
   Vec3 anchor = Vec3::Zero();        ///< world
@@ -44,9 +37,9 @@ class HingeJoint final : public Constraint {
 
   /// B's angle about the axis relative to A (rad, (-pi, pi]), from the two bodies' poses.
   float Angle(const Quat& rotation_a, const Quat& rotation_b) const;
-  const JointMotor& motor() const { return motor_; }
+  const JointMotor& motor() const { return free_.motor(); }
   /// Fails (nothing changed) on a non-finite speed or a negative torque.
-  Status SetMotor(const JointMotor& motor);
+  Status SetMotor(const JointMotor& motor) { return free_.SetMotor(motor); }
 
  private:
   HingeJoint(const HingeJointSettings& settings, const LocalFrames& frames);
@@ -54,19 +47,9 @@ class HingeJoint final : public Constraint {
   void ScaleImpulses(float ratio) override;
   void PrepareRows(const ConstraintBodies& bodies, const WorldFrames& frames);
 
-  bool limits_;
-  float min_angle_;
-  float max_angle_;
-  float max_friction_torque_;
-  JointMotor motor_;
   PointConstraintPart point_;
   HingeRotationConstraintPart rotation_;
-  AngleConstraintPart lower_;
-  AngleConstraintPart upper_;
-  AngleConstraintPart drive_;  // the motor, or friction
+  FreeAxis<AngleConstraintPart> free_;  // the angle about the axis
 };
-
-/// Checks a motor's numbers.
-Status ValidateMotor(const JointMotor& motor);
 
 }  // namespace strata

@@ -17,13 +17,11 @@ Result<std::unique_ptr<SliderJoint>> SliderJoint::Create(const SliderJointSettin
   if (!axis) return axis.error();
   const Result<Vec3> normal = PerpendicularAxis(axis.value(), Vec3::Zero(), "normal");
   if (!normal) return normal.error();
-  auto invalid = [](const char* message) { return MakeError(ErrorCode::kInvalidArgument, message); };
   if (!std::isfinite(settings.min_position) || !std::isfinite(settings.max_position) ||
       settings.min_position > 0.0f || settings.max_position < 0.0f)
-    return invalid("slider limits must be min_position <= 0 <= max_position (m)");
-  if (!std::isfinite(settings.max_friction_force) || settings.max_friction_force < 0.0f)
-    return invalid("max_friction_force must be finite and >= 0");
-  if (Status valid = ValidateMotor(settings.motor); !valid) return valid.error();
+    return MakeError(ErrorCode::kInvalidArgument, "slider limits must be min_position <= 0 <= max_position (m)");
+  if (Status valid = ValidateDrive(settings.max_friction_force, "max_friction_force", settings.motor); !valid)
+    return valid.error();
   const LocalFrames frames =
       MakeLocalFrames(a, b, settings.anchor, settings.anchor, axis.value(), normal.value());
   return std::unique_ptr<SliderJoint>(new SliderJoint(settings, frames));
@@ -31,25 +29,11 @@ Result<std::unique_ptr<SliderJoint>> SliderJoint::Create(const SliderJointSettin
 
 SliderJoint::SliderJoint(const SliderJointSettings& settings, const LocalFrames& frames)
     : Constraint(ConstraintType::kSlider, settings, frames),
-      limits_(settings.limits),
-      min_position_(settings.min_position),
-      max_position_(settings.max_position),
-      max_friction_force_(settings.max_friction_force),
-      motor_(settings.motor) {}
+      free_(settings.limits, settings.min_position, settings.max_position, settings.max_friction_force,
+            settings.motor) {}
 
 std::string SliderJoint::Describe() const {
-  std::string text = "slider joint";
-  if (limits_)
-    text += ", limits [" + std::to_string(min_position_) + ", " + std::to_string(max_position_) + "] m";
-  if (motor_.enabled) text += ", motor " + std::to_string(motor_.target_speed) + " m/s";
-  return text;
-}
-
-Status SliderJoint::SetMotor(const JointMotor& motor) {
-  if (Status valid = ValidateMotor(motor); !valid) return valid;
-  if (motor.enabled != motor_.enabled) drive_.ResetImpulse();
-  motor_ = motor;
-  return Status::Ok();
+  return free_.Describe("slider joint", "m");
 }
 
 float SliderJoint::Position(const BodyFrame& a, const BodyFrame& b) const {
@@ -64,12 +48,7 @@ void SliderJoint::PrepareRows(const ConstraintBodies& bodies, const WorldFrames&
   rotation_.Prepare(bodies);
   side_[0].Prepare(bodies, arm_a, frames.r_b, frames.axes_a.col(1));
   side_[1].Prepare(bodies, arm_a, frames.r_b, frames.axes_a.col(2));
-  const Vec3 axis = frames.axes_a.col(0);
-  if (limits_) {
-    lower_.Prepare(bodies, arm_a, frames.r_b, axis);
-    upper_.Prepare(bodies, arm_a, frames.r_b, -axis);
-  }
-  if (motor_.enabled || max_friction_force_ > 0.0f) drive_.Prepare(bodies, arm_a, frames.r_b, axis);
+  free_.Prepare(bodies, frames.axes_a.col(0), arm_a, frames.r_b);
 }
 
 void SliderJoint::WarmStart(ConstraintBodies& bodies, const ConstraintPassContext&) {
@@ -78,29 +57,14 @@ void SliderJoint::WarmStart(ConstraintBodies& bodies, const ConstraintPassContex
   rotation_.WarmStart(bodies);
   side_[0].WarmStart(bodies);
   side_[1].WarmStart(bodies);
-  if (limits_) {
-    lower_.WarmStart(bodies);
-    upper_.WarmStart(bodies);
-  }
-  if (motor_.enabled || max_friction_force_ > 0.0f) drive_.WarmStart(bodies);
+  free_.WarmStart(bodies);
 }
 
 void SliderJoint::SolveVelocity(ConstraintBodies& bodies, const ConstraintPassContext& pass,
                                 bool rigid_rows) {
   const WorldFrames frames = Frames(bodies);
   PrepareRows(bodies, frames);
-  if (motor_.enabled) {
-    const float most = motor_.max_torque * pass.h;
-    drive_.Solve(bodies, RowTarget{-motor_.target_speed, 1.0f, 0.0f}, -most, most);
-  } else if (max_friction_force_ > 0.0f) {
-    const float most = max_friction_force_ * pass.h;
-    drive_.Solve(bodies, RowTarget{}, -most, most);
-  }
-  if (limits_) {
-    const float position = frames.axes_a.col(0).dot(frames.separation);
-    lower_.Solve(bodies, LimitTarget(position - min_position_, pass), 0.0f, kUnbounded);
-    upper_.Solve(bodies, LimitTarget(max_position_ - position, pass), 0.0f, kUnbounded);
-  }
+  free_.Solve(bodies, pass, [&] { return frames.axes_a.col(0).dot(frames.separation); });
   if (!rigid_rows) return;
   const RowTarget target = EqualityTarget(1.0f, pass);
   rotation_.Solve(bodies, target.bias * RotationConstraintPart::Error(bodies, RestRotation()), target);
@@ -126,17 +90,15 @@ void SliderJoint::RigidRows(const ConstraintBodies& bodies, JointRow* rows) {
 }
 
 Constraint::Impulses SliderJoint::AccumulatedImpulses() const {
-  return {side_[0].LinearImpulse() + side_[1].LinearImpulse() + lower_.LinearImpulse() +
-              upper_.LinearImpulse() + drive_.LinearImpulse(),
+  return {side_[0].LinearImpulse() + side_[1].LinearImpulse() + free_.lower().LinearImpulse() +
+              free_.upper().LinearImpulse() + free_.drive().LinearImpulse(),
           rotation_.impulse()};
 }
 
 void SliderJoint::ScaleImpulses(float ratio) {
   rotation_.ScaleImpulse(ratio);
   for (AxisConstraintPart& side : side_) side.ScaleImpulse(ratio);
-  lower_.ScaleImpulse(ratio);
-  upper_.ScaleImpulse(ratio);
-  drive_.ScaleImpulse(ratio);
+  free_.ScaleImpulses(ratio);
 }
 
 }  // namespace strata

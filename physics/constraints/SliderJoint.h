@@ -7,7 +7,7 @@
 
 #include "physics/constraints/AxisConstraintPart.h"
 #include "physics/constraints/Constraint.h"
-#include "physics/constraints/HingeJoint.h"
+#include "physics/constraints/FreeAxis.h"
 #include "physics/constraints/RotationConstraintPart.h"
 
 namespace strata {
@@ -35,8 +35,9 @@ class SliderJoint final : public Constraint {
 
   /// B's anchor along the axis from A's (m).
   float Position(const BodyFrame& a, const BodyFrame& b) const;
-  const JointMotor& motor() const { return motor_; }
-  Status SetMotor(const JointMotor& motor);
+  const JointMotor& motor() const { return free_.motor(); }
+  /// Fails (nothing changed) on a non-finite speed or a negative force.
+  Status SetMotor(const JointMotor& motor) { return free_.SetMotor(motor); }
 
  private:
   SliderJoint(const SliderJointSettings& settings, const LocalFrames& frames);
@@ -44,16 +45,9 @@ class SliderJoint final : public Constraint {
   void ScaleImpulses(float ratio) override;
   void PrepareRows(const ConstraintBodies& bodies, const WorldFrames& frames);
 
-  bool limits_;
-  float min_position_;
-  float max_position_;
-  float max_friction_force_;
-  JointMotor motor_;
   RotationConstraintPart rotation_;
   AxisConstraintPart side_[2];  // along the frame's y and z: no sideways motion
-  AxisConstraintPart lower_;
-  AxisConstraintPart upper_;
-  AxisConstraintPart drive_;
+  FreeAxis<AxisConstraintPart> free_;  // the position along the axis
 };
 
 }  // namespace strata
