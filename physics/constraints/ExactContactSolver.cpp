@@ -1,5 +1,7 @@
 #include "physics/constraints/ExactContactSolver.h"
 
+#include "physics/constraints/ContactOrdering.h"
+
 #include <algorithm>
 #include <cmath>
 #include <new>
@@ -18,82 +20,6 @@ constexpr int kMaxActiveSetRounds = 16;
 constexpr double kUnbounded = 1e30;
 // A row held at a limit may pull away from it this fast (m/s) before it is freed.
 constexpr double kResidualTolerance = 1e-6;
-
-// Each contact's links: itself and the contacts that share a body the solver moves with it, in increasing
-// order, as lists: links[begin[k] .. begin[k + 1]). Found through each body's contacts (a sort of (body,
-// contact) pairs), not by testing every pair of contacts.
-void LinkContacts(BlockArena& arena, std::span<SolverContact* const> contacts, std::uint32_t*& begin,
-                  std::uint32_t*& links) {
-  const auto count = static_cast<std::uint32_t>(contacts.size());
-  auto* by_body = arena.AllocateArray<std::uint64_t>(2 * count);
-  std::uint32_t pairs = 0;
-  for (std::uint32_t k = 0; k < count; ++k) {
-    const ContactConstraint& c = *contacts[k]->constraint;
-    if (c.dynamic_a) by_body[pairs++] = (std::uint64_t{c.body_a} << 32) | k;
-    if (c.dynamic_b) by_body[pairs++] = (std::uint64_t{c.body_b} << 32) | k;
-  }
-  std::sort(by_body, by_body + pairs);
-  // Where each contact's bodies' runs of contacts start and end in by_body.
-  auto* run_begin = arena.AllocateArray<std::uint32_t>(2 * count);
-  auto* run_end = arena.AllocateArray<std::uint32_t>(2 * count);
-  auto* run_count = arena.AllocateArray<std::uint8_t>(count);
-  std::fill(run_count, run_count + count, std::uint8_t{0});
-  std::uint32_t capacity = count;  // itself
-  for (std::uint32_t first = 0; first < pairs;) {
-    std::uint32_t last = first + 1;
-    while (last < pairs && (by_body[last] >> 32) == (by_body[first] >> 32)) ++last;
-    for (std::uint32_t e = first; e < last; ++e) {
-      const auto k = static_cast<std::uint32_t>(by_body[e] & 0xffffffffu);
-      run_begin[2 * k + run_count[k]] = first;
-      run_end[2 * k + run_count[k]] = last;
-      ++run_count[k];
-      capacity += last - first;
-    }
-    first = last;
-  }
-  begin = arena.AllocateArray<std::uint32_t>(count + 1);
-  links = arena.AllocateArray<std::uint32_t>(capacity);
-  std::uint32_t written = 0;
-  for (std::uint32_t k = 0; k < count; ++k) {
-    begin[k] = written;
-    links[written++] = k;
-    for (std::uint8_t run = 0; run < run_count[k]; ++run)
-      for (std::uint32_t e = run_begin[2 * k + run]; e < run_end[2 * k + run]; ++e)
-        links[written++] = static_cast<std::uint32_t>(by_body[e] & 0xffffffffu);
-    std::sort(links + begin[k], links + written);
-    written = static_cast<std::uint32_t>(std::unique(links + begin[k], links + written) - links);
-  }
-  begin[count] = written;
-}
-
-// Reverse Cuthill-McKee over contacts (linked: share a body the solver moves), each component starting from
-// a contact with the fewest links: a stack comes out end to end, so its coupling is banded.
-void BandedOrder(std::uint32_t count, const std::uint32_t* begin, const std::uint32_t* links,
-                 std::uint32_t* order, std::uint32_t* degree, std::uint8_t* placed) {
-  for (std::uint32_t i = 0; i < count; ++i) {
-    degree[i] = begin[i + 1] - begin[i] - 1;
-    placed[i] = 0;
-  }
-  std::uint32_t filled = 0;
-  while (filled < count) {
-    std::uint32_t start = count;
-    for (std::uint32_t i = 0; i < count; ++i)
-      if (!placed[i] && (start == count || degree[i] < degree[start])) start = i;
-    placed[start] = 1;
-    order[filled++] = start;
-    for (std::uint32_t head = filled - 1; head < filled; ++head) {
-      const std::uint32_t from = order[head];
-      const std::uint32_t first_new = filled;
-      for (std::uint32_t e = begin[from]; e < begin[from + 1]; ++e)
-        if (!placed[links[e]]) placed[links[e]] = 1, order[filled++] = links[e];
-      // Insertion sort by degree, stable (and no buffer to allocate, unlike std::stable_sort).
-      for (std::uint32_t k = first_new + 1; k < filled; ++k)
-        for (std::uint32_t m = k; m > first_new && degree[order[m]] < degree[order[m - 1]]; --m)
-          std::swap(order[m], order[m - 1]);
-    }
-  }
-  std::reverse(order, order + count);
-}
 
 // The mass a contact carries, from its warm impulse, over the heavier of its bodies' masses (at least 1).
 float LoadScale(const SolverContact& c, const SolverBody* bodies, float weight_per_impulse) {
@@ -300,6 +226,35 @@ float& ExactContactSolver::Accumulated(const Row& row) {
 void ExactContactSolver::BuildRowSet(BlockArena& arena, const Layout& layout, const SolverBody* bodies,
                                       bool friction, RowSet& set) {
   const auto contact_count = static_cast<std::uint32_t>(layout.contacts.size());
+  std::uint32_t* const row_begin = LayOutRows(arena, layout, bodies, friction, set);
+  LinkRows(arena, layout, row_begin, set);
+  // Each row's own entry now (every pass reads it); the rest of the coupling when a pass first solves the set
+  // (a resting contact's friction, right after its warm start, needs none: see AtMinimum).
+  set.contact_count = contact_count;
+  set.row_begin = row_begin;
+  set.linked_begin = layout.linked_begin;
+  set.linked = layout.linked;
+  set.coupled = false;
+  set.diagonal = arena.AllocateArray<float>(set.count);
+  for (std::uint32_t k = 0; k < contact_count; ++k) {
+    // A row shares with itself each side the solver moves, A's first (as SharedBodies lists them).
+    const Row& first = set.rows[row_begin[k]];
+    SharedBody shared[2];
+    int shared_count = 0;
+    if (first.body_a != 0) shared[shared_count++] = {bodies[first.body_a].inverse_mass, 1.0f, 0, 0};
+    if (first.body_b != 0) shared[shared_count++] = {bodies[first.body_b].inverse_mass, 1.0f, 1, 1};
+    for (std::uint32_t i = row_begin[k]; i < row_begin[k + 1]; ++i)
+      set.diagonal[i] =
+          Coupling(set.rows[i], *set.rows[i].direction, set.rows[i].response, shared, shared_count);
+  }
+  // Friction rows are solved in velocity passes only (see Solve): one factor.
+  AllocateFactor(arena, set, set.factors[0]);
+  if (!friction) AllocateFactor(arena, set, set.factors[1]);
+}
+
+std::uint32_t* ExactContactSolver::LayOutRows(BlockArena& arena, const Layout& layout, const SolverBody* bodies,
+                                             bool friction, RowSet& set) {
+  const auto contact_count = static_cast<std::uint32_t>(layout.contacts.size());
   const std::uint32_t* order = layout.order;
   // Normals: one row per point. Friction: the patch's two axes, and its twist if its points are apart.
   auto rows_for = [&](std::uint32_t contact) -> std::uint32_t {
@@ -351,6 +306,13 @@ void ExactContactSolver::BuildRowSet(BlockArena& arena, const Layout& layout, co
                          load};
   }
   row_begin[contact_count] = row;
+  return row_begin;
+}
+
+void ExactContactSolver::LinkRows(BlockArena& arena, const Layout& layout, const std::uint32_t* row_begin,
+                                  RowSet& set) {
+  const auto contact_count = static_cast<std::uint32_t>(layout.contacts.size());
+  const std::uint32_t count = set.count;
   // Each row's neighbours: every row of every contact linked to its contact (itself too), in row order.
   // Where contact k's e-th link's rows start in the neighbour list of a row of k: link_offset[e].
   const std::uint32_t* linked_begin = layout.linked_begin;
@@ -386,29 +348,7 @@ void ExactContactSolver::BuildRowSet(BlockArena& arena, const Layout& layout, co
     }
   }
   set.neighbour_begin[count] = neighbour_count;
-  // Each row's own entry now (every pass reads it); the rest of the coupling when a pass first solves the set
-  // (a resting contact's friction, right after its warm start, needs none: see AtMinimum).
-  set.contact_count = contact_count;
-  set.row_begin = row_begin;
   set.link_offset = link_offset;
-  set.linked_begin = linked_begin;
-  set.linked = linked;
-  set.coupled = false;
-  set.diagonal = arena.AllocateArray<float>(count);
-  for (std::uint32_t k = 0; k < contact_count; ++k) {
-    // A row shares with itself each side the solver moves, A's first (as SharedBodies lists them).
-    const Row& first = set.rows[row_begin[k]];
-    SharedBody shared[2];
-    int shared_count = 0;
-    if (first.body_a != 0) shared[shared_count++] = {bodies[first.body_a].inverse_mass, 1.0f, 0, 0};
-    if (first.body_b != 0) shared[shared_count++] = {bodies[first.body_b].inverse_mass, 1.0f, 1, 1};
-    for (std::uint32_t i = row_begin[k]; i < row_begin[k + 1]; ++i)
-      set.diagonal[i] =
-          Coupling(set.rows[i], *set.rows[i].direction, set.rows[i].response, shared, shared_count);
-  }
-  // Friction rows are solved in velocity passes only (see Solve): one factor.
-  AllocateFactor(arena, set, set.factors[0]);
-  if (!friction) AllocateFactor(arena, set, set.factors[1]);
 }
 
 float ExactContactSolver::Coupling(const Row& i, const Vec4& direction_j, const Vec4* const response_j[2],
@@ -582,10 +522,27 @@ bool ExactContactSolver::FreeRowsStep(const RowSet& set, Factor& factor) {
 
 bool ExactContactSolver::SolveRows(RowSet& set, SolverBody* bodies, const SubstepContext& context,
                                     bool use_bias, float* lowest) {
-  const std::uint32_t n = set.count;
   const bool friction = &set == &friction_;
   if (friction)
     for (std::size_t k = 0; k < contacts_.size(); ++k) GatherPatch(*contacts_[k], patches_[k]);
+  LoadRows(set, bodies, context, use_bias, lowest);
+  // A primal active-set method on the convex problem min 1/2 x'(coupling + softness)x + q'x within the rows'
+  // limits: every iterate stays within the limits (a round that cannot finish leaves a usable answer) and
+  // the objective falls each round, so it cannot cycle. Rows strictly inside their limits are free.
+  // Only the normals' softness differs between velocity and relax passes.
+  Factor& factor = set.factors[use_bias && !friction ? 1 : 0];
+  int round = 0;
+  if (!AtMinimum(set, bodies)) {
+    Couple(set, bodies);
+    while (round < kMaxActiveSetRounds && FreeRowsStep(set, factor)) ++round;
+  }
+  ApplyImpulses(set, bodies);
+  return round < kMaxActiveSetRounds;
+}
+
+void ExactContactSolver::LoadRows(const RowSet& set, const SolverBody* bodies, const SubstepContext& context,
+                                  bool use_bias, float* lowest) {
+  const std::uint32_t n = set.count;
   // Each free row aims for residual = velocity + bias + softness * impulse = 0: the fixed point of the
   // sequential soft update, with a normal row's spring scaled by its load. A friction row is held within
   // the friction of the normal impulses solved last.
@@ -628,16 +585,10 @@ bool ExactContactSolver::SolveRows(RowSet& set, SolverBody* bodies, const Subste
     free_[i] = impulse_[i] > lower_[i] && impulse_[i] < upper_[i];
     offset_[i] = static_cast<double>(velocity) + bias;
   }
-  // A primal active-set method on the convex problem min 1/2 x'(coupling + softness)x + q'x within the rows'
-  // limits: every iterate stays within the limits (a round that cannot finish leaves a usable answer) and
-  // the objective falls each round, so it cannot cycle. Rows strictly inside their limits are free.
-  // Only the normals' softness differs between velocity and relax passes.
-  Factor& factor = set.factors[use_bias && !friction ? 1 : 0];
-  int round = 0;
-  if (!AtMinimum(set, bodies)) {
-    Couple(set, bodies);
-    while (round < kMaxActiveSetRounds && FreeRowsStep(set, factor)) ++round;
-  }
+}
+
+void ExactContactSolver::ApplyImpulses(const RowSet& set, SolverBody* bodies) {
+  const std::uint32_t n = set.count;
   for (std::uint32_t i = 0; i < n; ++i) {
     const Row& r = set.rows[i];
     double value = impulse_[i];
@@ -672,7 +623,6 @@ bool ExactContactSolver::SolveRows(RowSet& set, SolverBody* bodies, const Subste
       b.angular_velocity += delta * *r.response[1];
     }
   }
-  return round < kMaxActiveSetRounds;
 }
 
 void ExactContactSolver::Solve(SolverBody* bodies, const SubstepContext& context, bool use_bias,

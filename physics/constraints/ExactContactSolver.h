@@ -124,6 +124,11 @@ class ExactContactSolver {
   static int SharedBodies(const Row& i, const Row& j, const SolverBody* bodies, SharedBody shared[2]);
   static void BuildRowSet(BlockArena& arena, const Layout& layout, const SolverBody* bodies, bool friction,
                           RowSet& set);
+  // BuildRowSet's parts: the rows contact by contact (returns where each contact's rows begin), and each
+  // row's neighbours.
+  static std::uint32_t* LayOutRows(BlockArena& arena, const Layout& layout, const SolverBody* bodies,
+                                   bool friction, RowSet& set);
+  static void LinkRows(BlockArena& arena, const Layout& layout, const std::uint32_t* row_begin, RowSet& set);
   // The coupling entry of row i with a row of direction `direction_j` and responses `response_j` (by side)
   // through the bodies they share.
   static float Coupling(const Row& i, const Vec4& direction_j, const Vec4* const response_j[2],
@@ -145,6 +150,11 @@ class ExactContactSolver {
   // set did not settle within its rounds.
   bool SolveRows(RowSet& set, SolverBody* bodies, const SubstepContext& context, bool use_bias,
                  float* lowest);
+  // SolveRows' parts: each row's limits, softness, start and offset from the velocities now; the solved
+  // impulses back into the contacts and the bodies' velocities.
+  void LoadRows(const RowSet& set, const SolverBody* bodies, const SubstepContext& context, bool use_bias,
+                float* lowest);
+  void ApplyImpulses(const RowSet& set, SolverBody* bodies);
 
   std::span<SolverContact* const> contacts_;
   Patch* patches_ = nullptr;  // by contact
