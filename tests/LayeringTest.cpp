@@ -1,7 +1,7 @@
 // The floors of the source tree: a file may include headers of its own floor and the floors below it, never
-// one above (core/math < shapes < broadphase < body < narrowphase < constraints/solver < world < navmesh/assets
-// < tools). The check reads the #include lines of every source file; a second test plants an upward include in
-// a scratch tree to show the check catches one.
+// one above (core/math < shapes < broadphase < body < narrowphase < constraints/solver < world <
+// navmesh/assets < tools). The check reads the #include lines of every source file; a second test plants an
+// upward include in a scratch tree to show the check catches one.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -25,11 +25,21 @@ struct Floor {
 
 // The physics root holds the vocabulary every floor shares (PhysicsSettings, BodyID): floor 0, with core.
 constexpr Floor kFloors[] = {
-    {"physics/core/", 0},        {"physics/math/", 0},       {"physics/PhysicsSettings", 0},
-    {"physics/BodyID", 0},       {"physics/shapes/", 1},     {"physics/broadphase/", 2},
-    {"physics/body/", 3},        {"physics/narrowphase/", 4}, {"physics/constraints/", 5},
-    {"physics/solver/", 5},      {"physics/world/", 6},      {"physics/character/", 6},
-    {"navmesh/", 7},             {"assets/", 7},             {"tools/", 8},
+    {"physics/core/", 0},
+    {"physics/math/", 0},
+    {"physics/PhysicsSettings", 0},
+    {"physics/BodyID", 0},
+    {"physics/shapes/", 1},
+    {"physics/broadphase/", 2},
+    {"physics/body/", 3},
+    {"physics/narrowphase/", 4},
+    {"physics/constraints/", 5},
+    {"physics/solver/", 5},
+    {"physics/world/", 6},
+    {"physics/character/", 6},
+    {"navmesh/", 7},
+    {"assets/", 7},
+    {"tools/", 8},
 };
 constexpr std::string_view kLayeredFolders[] = {"physics", "navmesh", "assets", "tools"};
 
@@ -104,8 +114,9 @@ TEST(Layering, APlantedUpwardIncludeIsFound) {
   const Layering layering = CheckLayering(root);
   fs::remove_all(root);
   ASSERT_EQ(layering.upward.size(), 1u) << Lines(layering.upward);
-  EXPECT_EQ(layering.upward[0],
-            "physics/shapes/Planted.h:3: physics/world/PhysicsSystem.h (physics/world/ above physics/shapes/)");
+  EXPECT_EQ(
+      layering.upward[0],
+      "physics/shapes/Planted.h:3: physics/world/PhysicsSystem.h (physics/world/ above physics/shapes/)");
   ASSERT_EQ(layering.unfloored.size(), 1u);
   EXPECT_EQ(layering.unfloored[0], "physics/gadgets/Loose.cpp");
 }

@@ -2,8 +2,8 @@
 // lock (BodyLockRead) and change it under its write lock (BodyLockWrite) or from inside the step.
 #pragma once
 
-#include "physics/body/BodyCreationSettings.h"
 #include "physics/BodyID.h"
+#include "physics/body/BodyCreationSettings.h"
 #include "physics/core/RelaxedAtomic.h"
 
 namespace strata {
@@ -120,7 +120,9 @@ class Body {
     force_.setZero();
     torque_.setZero();
   }
-  void UpdateWorldBoundsInternal() { world_bounds_ = Shape::WorldBoundsOf(local_bounds_, bounds_turn_, pose_); }
+  void UpdateWorldBoundsInternal() {
+    world_bounds_ = Shape::WorldBoundsOf(local_bounds_, bounds_turn_, pose_);
+  }
   /// Moves the shape origin by `motion` (small) without rounding it away where position() is large. Inline:
   /// the step's write-back passes `motion` in registers, not through a just-stored temporary.
   void AddToPositionInternal(const Vec3& motion) {

@@ -2,7 +2,6 @@
 
 #include <string>
 
-
 namespace strata {
 
 namespace {
@@ -320,8 +319,8 @@ Status BodyInterface::AddImpulse(BodyID id, const Vec3& impulse, const Vec3& poi
   return Write(id, [&](Body& body) {
     if (!body.IsDynamic()) return Status::Ok();
     body.SetLinearVelocityInternal(body.linear_velocity() + body.inverse_mass() * impulse);
-    body.SetAngularVelocityInternal(body.angular_velocity() +
-                                    body.InverseInertiaWorld() * (point - body.CenterOfMass()).cross(impulse));
+    body.SetAngularVelocityInternal(
+        body.angular_velocity() + body.InverseInertiaWorld() * (point - body.CenterOfMass()).cross(impulse));
     WakeLocked(body);
     return Status::Ok();
   });
@@ -331,8 +330,7 @@ Status BodyInterface::ActivateBodiesInBox(const AABB& box) {
   if (!box.IsValid())
     return MakeError(ErrorCode::kInvalidArgument, "activation box must be finite with min <= max");
   std::vector<BodyID> candidates;
-  parts_.broad_phase->CollideAABB(
-      box.Expanded(parts_.bounds->speculative_distance()), {}, candidates);
+  parts_.broad_phase->CollideAABB(box.Expanded(parts_.bounds->speculative_distance()), {}, candidates);
   for (const BodyID candidate : candidates) {
     // Most candidates are awake: peek at the flag without a lock, so only sleepers are locked (and checked
     // again under the lock). Game threads teleporting many objects then rarely meet on a body mutex.

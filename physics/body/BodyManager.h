@@ -31,7 +31,9 @@ class BodyManager {
   /// Bodies in the world (BodyInterface counts them as it adds and removes them).
   std::size_t in_world_count() const { return in_world_count_.load(std::memory_order_relaxed); }
   void CountAddedToWorld(std::size_t count) { in_world_count_.fetch_add(count, std::memory_order_relaxed); }
-  void CountRemovedFromWorld(std::size_t count) { in_world_count_.fetch_sub(count, std::memory_order_relaxed); }
+  void CountRemovedFromWorld(std::size_t count) {
+    in_world_count_.fetch_sub(count, std::memory_order_relaxed);
+  }
 
   /// Validates `settings` and creates a body outside the world. Fails on bad settings or a full manager.
   Result<BodyID> CreateBody(const BodyCreationSettings& settings);

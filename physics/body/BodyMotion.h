@@ -37,7 +37,8 @@ inline Vec3 ClampedVelocity(const Vec3& velocity, float limit, std::size_t& clam
 /// Euler; the solver adds the others after each substep's integration), damps and limits its velocities and
 /// clears its forces.
 inline void BeginStepMotion(Body& body, const PhysicsSettings& settings, float dt, float substep_dt,
-                            SolverBody& solver, SolverPose& pose, SolverVelocityStep& step, MotionClamps& clamps) {
+                            SolverBody& solver, SolverPose& pose, SolverVelocityStep& step,
+                            MotionClamps& clamps) {
   pose.center_of_mass = ToVec4(body.CenterOfMass());
   pose.rotation = body.rotation();
   solver.delta_position.setZero();
@@ -57,7 +58,8 @@ inline void BeginStepMotion(Body& body, const PhysicsSettings& settings, float d
     step.inertia = body.inertia_local();  // the substeps read it only for these bodies
     spin = SpinWithoutTorque(body.inertia_local(), body.rotation(), spin, substep_dt);
   }
-  InverseInertiaColumns(body.rotation().toRotationMatrix(), body.inverse_inertia_local(), solver.inverse_inertia);
+  InverseInertiaColumns(body.rotation().toRotationMatrix(), body.inverse_inertia_local(),
+                        solver.inverse_inertia);
   step.linear = ToVec4(substep_dt * (settings.gravity * body.gravity_factor() +
                                      body.inverse_mass() * body.accumulated_force()));
   step.angular = substep_dt * ColumnsTimes(solver.inverse_inertia, body.accumulated_torque());
@@ -106,7 +108,8 @@ inline void MoveKinematic(SolverBody& body, SolverPose& pose, float dt) {
 /// and pose written back, and the sleep timer advanced. Returns whether the body is ready to sleep.
 inline bool EndStepMotion(Body& body, const SolverBody& solved, const SolverPose& pose,
                           const PhysicsSettings& settings, float dt, MotionClamps& clamps) {
-  const Vec3 linear = ClampedVelocity(ToVec3(solved.linear_velocity), body.max_linear_velocity(), clamps.linear);
+  const Vec3 linear =
+      ClampedVelocity(ToVec3(solved.linear_velocity), body.max_linear_velocity(), clamps.linear);
   const Vec3 angular =
       ClampedVelocity(ToVec3(solved.angular_velocity), body.max_angular_velocity(), clamps.angular);
   body.SetLinearVelocityInternal(linear);

@@ -6,8 +6,8 @@
 
 #include <algorithm>
 
-#include "physics/constraints/ContactConstraint.h"
 #include "physics/body/SolverBody.h"
+#include "physics/constraints/ContactConstraint.h"
 
 namespace strata {
 

@@ -9,10 +9,10 @@
 #include <cstdint>
 #include <span>
 
+#include "physics/PhysicsSettings.h"
+#include "physics/body/SolverBody.h"
 #include "physics/core/BlockArena.h"
 #include "physics/solver/IslandBuilder.h"
-#include "physics/body/SolverBody.h"
-#include "physics/PhysicsSettings.h"
 
 namespace strata {
 

@@ -15,9 +15,9 @@
 #include <cstdint>
 #include <span>
 
+#include "physics/constraints/ContactConstraint.h"
 #include "physics/core/BlockArena.h"
 #include "physics/math/WideFloat.h"
-#include "physics/constraints/ContactConstraint.h"
 
 namespace strata {
 

@@ -8,11 +8,11 @@
 #include <cstdint>
 #include <span>
 
+#include "physics/PhysicsSettings.h"
+#include "physics/body/SolverBody.h"
 #include "physics/core/BlockArena.h"
 #include "physics/narrowphase/BodyPairCache.h"
 #include "physics/narrowphase/ContactManifold.h"
-#include "physics/body/SolverBody.h"
-#include "physics/PhysicsSettings.h"
 
 namespace strata {
 

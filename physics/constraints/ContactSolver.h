@@ -7,8 +7,8 @@
 // off the same dynamic body.
 #pragma once
 
-#include "physics/core/BlockArena.h"
 #include "physics/constraints/ContactConstraint.h"
+#include "physics/core/BlockArena.h"
 
 namespace strata {
 

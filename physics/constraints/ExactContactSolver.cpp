@@ -1,3 +1,5 @@
+// Over 600 lines on purpose: the rows, the friction patches and the active-set solve of one island are one
+// algorithm over one RowSet layout; split, each part would need all of it.
 #include "physics/constraints/ExactContactSolver.h"
 
 #include "physics/constraints/ContactOrdering.h"
@@ -52,7 +54,7 @@ float PatchBound(const SolverContact& c, const float* lever, int axis) {
 }  // namespace
 
 int ExactContactSolver::SharedBodies(const Row& ri, const Row& rj, const SolverBody* bodies,
-                                      SharedBody shared[2]) {
+                                     SharedBody shared[2]) {
   int count = 0;
   const std::uint32_t sides_i[2] = {ri.body_a, ri.body_b}, sides_j[2] = {rj.body_a, rj.body_b};
   for (std::uint8_t side_i = 0; side_i < 2; ++side_i)
@@ -75,7 +77,7 @@ struct ExactContactSolver::Layout {
 };
 
 ExactContactSolver* ExactContactSolver::Create(BlockArena& arena, std::span<SolverContact* const> contacts,
-                                                 const SolverBody* bodies, float weight_per_impulse) {
+                                               const SolverBody* bodies, float weight_per_impulse) {
   std::uint32_t points = 0;
   for (const SolverContact* c : contacts) points += c->point_count;
   if (points == 0 || points > kMaxPoints) return nullptr;
@@ -224,7 +226,7 @@ float& ExactContactSolver::Accumulated(const Row& row) {
 }
 
 void ExactContactSolver::BuildRowSet(BlockArena& arena, const Layout& layout, const SolverBody* bodies,
-                                      bool friction, RowSet& set) {
+                                     bool friction, RowSet& set) {
   const auto contact_count = static_cast<std::uint32_t>(layout.contacts.size());
   std::uint32_t* const row_begin = LayOutRows(arena, layout, bodies, friction, set);
   LinkRows(arena, layout, row_begin, set);
@@ -252,8 +254,8 @@ void ExactContactSolver::BuildRowSet(BlockArena& arena, const Layout& layout, co
   if (!friction) AllocateFactor(arena, set, set.factors[1]);
 }
 
-std::uint32_t* ExactContactSolver::LayOutRows(BlockArena& arena, const Layout& layout, const SolverBody* bodies,
-                                             bool friction, RowSet& set) {
+std::uint32_t* ExactContactSolver::LayOutRows(BlockArena& arena, const Layout& layout,
+                                              const SolverBody* bodies, bool friction, RowSet& set) {
   const auto contact_count = static_cast<std::uint32_t>(layout.contacts.size());
   const std::uint32_t* order = layout.order;
   // Normals: one row per point. Friction: the patch's two axes, and its twist if its points are apart.
@@ -352,7 +354,7 @@ void ExactContactSolver::LinkRows(BlockArena& arena, const Layout& layout, const
 }
 
 float ExactContactSolver::Coupling(const Row& i, const Vec4& direction_j, const Vec4* const response_j[2],
-                                    const SharedBody shared[2], int shared_count) {
+                                   const SharedBody shared[2], int shared_count) {
   // Through each body both rows move: the side signs times the body's response.
   const float directions = i.direction->dot(direction_j);
   float value = 0.0f;
@@ -521,7 +523,7 @@ bool ExactContactSolver::FreeRowsStep(const RowSet& set, Factor& factor) {
 }
 
 bool ExactContactSolver::SolveRows(RowSet& set, SolverBody* bodies, const SubstepContext& context,
-                                    bool use_bias, float* lowest) {
+                                   bool use_bias, float* lowest) {
   const bool friction = &set == &friction_;
   if (friction)
     for (std::size_t k = 0; k < contacts_.size(); ++k) GatherPatch(*contacts_[k], patches_[k]);
@@ -626,7 +628,7 @@ void ExactContactSolver::ApplyImpulses(const RowSet& set, SolverBody* bodies) {
 }
 
 void ExactContactSolver::Solve(SolverBody* bodies, const SubstepContext& context, bool use_bias,
-                                float* deepest) {
+                               float* deepest) {
   // Friction first, within the normal impulses so far, then the normals against the velocities friction
   // left: the pass ends with every point's non-penetration exact (friction turning a light box under a heavy
   // one afterwards would open or close its contacts again). The two sets are a block Gauss-Seidel step on

@@ -14,9 +14,9 @@
 #include <cstdint>
 #include <span>
 
+#include "physics/constraints/ContactSolver.h"
 #include "physics/constraints/SkylineLdlt.h"
 #include "physics/core/BlockArena.h"
-#include "physics/constraints/ContactSolver.h"
 
 namespace strata {
 
@@ -32,7 +32,7 @@ class ExactContactSolver {
   /// carries; its spring is scaled to that mass, so every contact of a stack sags about as much as one box
   /// on the floor (g / omega^2). nullptr if there are no points or more than kMaxPoints.
   static ExactContactSolver* Create(BlockArena& arena, std::span<SolverContact* const> contacts,
-                                     const SolverBody* bodies, float weight_per_impulse);
+                                    const SolverBody* bodies, float weight_per_impulse);
 
   /// Applies the contacts' accumulated impulses to the bodies (replacing WarmStartContact over the island's
   /// contacts, whose points have no friction rows of their own): each point's normal impulse, and each
@@ -79,9 +79,9 @@ class ExactContactSolver {
   // The free rows' block of (coupling + softness), factored, kept while the same rows are free with the same
   // softness.
   struct Factor {
-    SkylineLdlt ldlt;                // over the free rows, packed in row order
-    std::uint32_t* rows = nullptr;   // packed row -> row
-    std::uint8_t* free = nullptr;    // what it was made of
+    SkylineLdlt ldlt;               // over the free rows, packed in row order
+    std::uint32_t* rows = nullptr;  // packed row -> row
+    std::uint8_t* free = nullptr;   // what it was made of
     float* softness = nullptr;
     bool valid = false;
   };

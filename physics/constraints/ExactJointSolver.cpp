@@ -17,7 +17,7 @@ constexpr double kPositionFraction = Constraint::kPositionFraction;
 }  // namespace
 
 ExactJointSolver* ExactJointSolver::Create(BlockArena& arena, std::span<Constraint* const> joints,
-                                             std::uint32_t* first_row_of_body) {
+                                           std::uint32_t* first_row_of_body) {
   auto* solver = new (arena.AllocateArray<ExactJointSolver>(1)) ExactJointSolver();
   solver->joints_ = joints;
   std::uint32_t rows = 0;

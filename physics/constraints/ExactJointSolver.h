@@ -23,7 +23,7 @@ class ExactJointSolver {
   /// For `joints` (bound to this step's solver bodies). `first_row_of_body` is scratch by solver index,
   /// at least as long as the solver body array, every entry kNoRow; it is left so.
   static ExactJointSolver* Create(BlockArena& arena, std::span<Constraint* const> joints,
-                                   std::uint32_t* first_row_of_body);
+                                  std::uint32_t* first_row_of_body);
   static constexpr std::uint32_t kNoRow = ~0u;
 
   /// At a substep's start: the rows from the poses now, the coupling matrix and its factorization.
@@ -56,9 +56,9 @@ class ExactJointSolver {
 
   std::span<Constraint* const> joints_;
   Row* rows_ = nullptr;
-  std::uint32_t* first_ = nullptr;   // per row: the first row it couples with (its skyline's start)
-  SkylineLdlt ldlt_;  // J M^-1 J^T, factored
-  double* scratch_ = nullptr;  // right-hand side, then impulse changes
+  std::uint32_t* first_ = nullptr;  // per row: the first row it couples with (its skyline's start)
+  SkylineLdlt ldlt_;                // J M^-1 J^T, factored
+  double* scratch_ = nullptr;       // right-hand side, then impulse changes
   std::uint32_t row_count_ = 0;
 };
 

@@ -25,7 +25,8 @@ Result<std::unique_ptr<HingeJoint>> HingeJoint::Create(const HingeJointSettings&
       settings.max_angle > kPi + 1e-6f)
     return MakeError(ErrorCode::kInvalidArgument,
                      "hinge limits must be min_angle in [-pi, 0] and max_angle in [0, pi] (rad)");
-  if (Status valid = ValidateDrive(settings.max_friction_torque, "max_friction_torque", settings.motor); !valid)
+  if (Status valid = ValidateDrive(settings.max_friction_torque, "max_friction_torque", settings.motor);
+      !valid)
     return valid.error();
   const LocalFrames frames =
       MakeLocalFrames(a, b, settings.anchor, settings.anchor, axis.value(), normal.value());
@@ -34,7 +35,8 @@ Result<std::unique_ptr<HingeJoint>> HingeJoint::Create(const HingeJointSettings&
 
 HingeJoint::HingeJoint(const HingeJointSettings& settings, const LocalFrames& frames)
     : Constraint(ConstraintType::kHinge, settings, frames),
-      free_(settings.limits, settings.min_angle, settings.max_angle, settings.max_friction_torque, settings.motor) {}
+      free_(settings.limits, settings.min_angle, settings.max_angle, settings.max_friction_torque,
+            settings.motor) {}
 
 std::string HingeJoint::Describe() const {
   return free_.Describe("hinge joint", "rad");
@@ -65,9 +67,8 @@ void HingeJoint::SolveVelocity(ConstraintBodies& bodies, const ConstraintPassCon
   const WorldFrames frames = Frames(bodies);
   PrepareRows(bodies, frames);
   // The free axis first (drive, then limits); the axis and the point last, which matter most.
-  free_.Solve(bodies, pass, [&] {
-    return SignedAngle(frames.axes_a.col(1), frames.axes_b.col(1), frames.axes_a.col(0));
-  });
+  free_.Solve(bodies, pass,
+              [&] { return SignedAngle(frames.axes_a.col(1), frames.axes_b.col(1), frames.axes_a.col(0)); });
   if (!rigid_rows) return;
   rotation_.Solve(bodies, pass);
   const RowTarget target = EqualityTarget(1.0f, pass);

@@ -92,7 +92,7 @@ GroupLayout JointConstraintKind::PrepareGroup(const SolverGroup& solver_group, B
     for (std::uint32_t j = 0; j < group.joint_count; ++j)
       if (group.exact[j] != 0) rows_of[n++] = group.joints[j];
     group.exact_solver = ExactJointSolver::Create(arena, std::span<Constraint* const>(rows_of, exact),
-                                                   jobs_[job].first_row_of_body.data());
+                                                  jobs_[job].first_row_of_body.data());
   }
   layout.positions = true;
   return layout;

@@ -10,8 +10,8 @@
 #include <vector>
 
 #include "physics/constraints/Constraint.h"
-#include "physics/constraints/ExactJointSolver.h"
 #include "physics/constraints/ConstraintKind.h"
+#include "physics/constraints/ExactJointSolver.h"
 
 namespace strata {
 

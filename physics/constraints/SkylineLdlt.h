@@ -1,5 +1,5 @@
-// SkylineLdlt: the L D L^T factorization (no square roots) of a symmetric matrix stored by its envelope: row r
-// holds its entries from the first column it couples with to the diagonal, so the rows of a chain of joints
+// SkylineLdlt: the L D L^T factorization (no square roots) of a symmetric matrix stored by its envelope: row
+// r holds its entries from the first column it couples with to the diagonal, so the rows of a chain of joints
 // or a stack's contacts (banded once ordered) cost rows x band^2. The exact contact solve and the exact joint
 // solve both factor and solve through it. In double: a heavy body on light links spreads the eigenvalues over
 // about six decades, which a float factorization does not survive. One solve's own object; not shared.

@@ -19,7 +19,8 @@ Result<std::unique_ptr<SliderJoint>> SliderJoint::Create(const SliderJointSettin
   if (!normal) return normal.error();
   if (!std::isfinite(settings.min_position) || !std::isfinite(settings.max_position) ||
       settings.min_position > 0.0f || settings.max_position < 0.0f)
-    return MakeError(ErrorCode::kInvalidArgument, "slider limits must be min_position <= 0 <= max_position (m)");
+    return MakeError(ErrorCode::kInvalidArgument,
+                     "slider limits must be min_position <= 0 <= max_position (m)");
   if (Status valid = ValidateDrive(settings.max_friction_force, "max_friction_force", settings.motor); !valid)
     return valid.error();
   const LocalFrames frames =

@@ -46,7 +46,7 @@ class SliderJoint final : public Constraint {
   void PrepareRows(const ConstraintBodies& bodies, const WorldFrames& frames);
 
   RotationConstraintPart rotation_;
-  AxisConstraintPart side_[2];  // along the frame's y and z: no sideways motion
+  AxisConstraintPart side_[2];         // along the frame's y and z: no sideways motion
   FreeAxis<AxisConstraintPart> free_;  // the position along the axis
 };
 

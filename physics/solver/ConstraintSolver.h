@@ -19,8 +19,8 @@
 #include <span>
 #include <vector>
 
-#include "physics/core/BlockArena.h"
 #include "physics/constraints/ConstraintKind.h"
+#include "physics/core/BlockArena.h"
 #include "physics/solver/LargeIslandSplitter.h"
 
 namespace strata {

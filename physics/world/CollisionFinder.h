@@ -18,10 +18,10 @@
 
 #include "physics/body/BodyManager.h"
 #include "physics/broadphase/BroadPhase.h"
+#include "physics/constraints/ContactConstraint.h"
 #include "physics/core/BlockArena.h"
 #include "physics/narrowphase/BodyPairCache.h"
 #include "physics/narrowphase/CollideShapes.h"
-#include "physics/constraints/ContactConstraint.h"
 #include "physics/solver/IslandBuilder.h"
 #include "physics/world/ContactEventTracker.h"
 #include "physics/world/ContactValidator.h"

@@ -98,8 +98,9 @@ PhysicsSystem::PhysicsSystem(const PhysicsSystemConfig& config, const PhysicsSet
       broad_phase_(config.broad_phase ? config.broad_phase
                                       : std::make_shared<QuadTreeBroadPhase>(config.max_bodies, layers_)),
       bounds_(settings.speculative_distance),
-      body_interface_(std::make_unique<BodyInterface>(BodyInterface::Parts{
-          &body_manager_, broad_phase_.get(), &move_order_, &body_snapshots_, layers_.get(), &wakes_, &bounds_})),
+      body_interface_(std::make_unique<BodyInterface>(
+          BodyInterface::Parts{&body_manager_, broad_phase_.get(), &move_order_, &body_snapshots_,
+                               layers_.get(), &wakes_, &bounds_})),
       query_(std::make_unique<WorldQuery>(body_manager_, *broad_phase_)),
       active_flags_(config.max_bodies, 0),
       solver_index_(config.max_bodies, 0),

@@ -15,26 +15,26 @@
 #include <string>
 #include <vector>
 
-#include "physics/body/BodyManager.h"
-#include "physics/body/BodySnapshotTable.h"
+#include "physics/PhysicsSettings.h"
 #include "physics/body/BodyInterface.h"
+#include "physics/body/BodyManager.h"
 #include "physics/body/BodyMotion.h"
+#include "physics/body/BodySnapshotTable.h"
 #include "physics/body/BroadPhaseMoveOrder.h"
 #include "physics/body/SpeculativeBounds.h"
 #include "physics/body/WakeQueue.h"
 #include "physics/broadphase/BroadPhase.h"
 #include "physics/constraints/ConstraintManager.h"
+#include "physics/constraints/ContactConstraintKind.h"
 #include "physics/constraints/JointConstraintKind.h"
 #include "physics/core/JobGraph.h"
 #include "physics/core/JobSystem.h"
 #include "physics/narrowphase/BodyPairCache.h"
 #include "physics/solver/ConstraintSolver.h"
-#include "physics/constraints/ContactConstraintKind.h"
 #include "physics/solver/IslandBuilder.h"
 #include "physics/world/CollisionFinder.h"
 #include "physics/world/ContactEventTracker.h"
 #include "physics/world/ContactValidator.h"
-#include "physics/PhysicsSettings.h"
 #include "physics/world/SensorTracker.h"
 #include "physics/world/StepEvents.h"
 #include "physics/world/WorldQuery.h"
@@ -186,7 +186,7 @@ class PhysicsSystem {
   BodySnapshotTable body_snapshots_;
   BroadPhaseMoveOrder move_order_;  // orders the broad-phase updates moves make after their lock
   std::shared_ptr<BroadPhase> broad_phase_;
-  WakeQueue wakes_;            // islands BodyInterface woke, taken by the next step
+  WakeQueue wakes_;           // islands BodyInterface woke, taken by the next step
   SpeculativeBounds bounds_;  // the broad phase's bounds of a body, shared with BodyInterface
   std::unique_ptr<BodyInterface> body_interface_;
   std::unique_ptr<WorldQuery> query_;

@@ -229,7 +229,7 @@ Result<std::vector<ShapeCastResult>> WorldQuery::CastShapeAll(const Shape& shape
   const Pose pose{start.position, start.rotation.normalized()};
   std::vector<BroadPhaseRayHit> candidates;
   broad_phase_.CastAABB(shape.WorldBounds(pose).Expanded(settings.tolerance), displacement, filter,
-                                 candidates);
+                        candidates);
   std::vector<ShapeCastResult> hits;
   CollisionScratch scratch;
   for (const BroadPhaseRayHit& candidate : candidates) {

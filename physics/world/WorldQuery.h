@@ -17,7 +17,6 @@
 
 namespace strata {
 
-
 /// A ray hit on a body.
 struct RayCastHit {
   BodyID body;
@@ -58,7 +57,8 @@ struct ClosestPointResult {
 class WorldQuery {
  public:
   /// Queries `bodies` through `broad_phase` (both owned by the world, which outlives the query).
-  WorldQuery(const BodyManager& bodies, BroadPhase& broad_phase) : bodies_(bodies), broad_phase_(broad_phase) {}
+  WorldQuery(const BodyManager& bodies, BroadPhase& broad_phase)
+      : bodies_(bodies), broad_phase_(broad_phase) {}
 
   /// Closest hit of the ray origin + t * direction, t in [0, 1]; nullopt when nothing is hit.
   Result<std::optional<RayCastHit>> CastRay(const Vec3& origin, const Vec3& direction,
