@@ -3,7 +3,7 @@
 // (biased) and relax passes, its position drift corrected after the last substep, its impulses kept from
 // step to step. Islands link through constraints, so a
 // constrained group is solved, sleeps and wakes as one. Each kind of joint is one subclass built from the
-// parts in this folder; see physics/README.md, "Adding a joint". Threading: a constraint is owned by its
+// parts in this folder; see physics/README.md, "Extending". Threading: a constraint is owned by its
 // world's ConstraintManager; the step's jobs solve it (one job at a time per constraint); read or change it
 // between steps only (ConstraintManager's calls wait for a running step).
 #pragma once

@@ -1,5 +1,5 @@
 // CollisionDispatch: the narrow phase's functions by shape type (collide by pair, cast and sweep by target),
-// so a new shape is its own files plus one line in BuildDefault (see physics/README.md, "Adding a shape").
+// so a new shape is its own files plus one line in BuildDefault (see physics/README.md, "Extending").
 // Built once, on first use, and read-only after that: any thread may look up without a lock.
 #pragma once
 

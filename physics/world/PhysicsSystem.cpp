@@ -224,7 +224,7 @@ Status PhysicsSystem::Step(float dt) {
   // before it takes this mutex).
   std::lock_guard joints(constraints_.mutex());
   StepScope no_writers(body_manager_);
-  // An untimed world reads no clock at all (two reads are a tenth of a one-body step).
+  // An untimed world reads no clock at all (see PhysicsSystemConfig::stage_timings).
   const bool timed = start_graph_.timed();
   const auto start = timed ? std::chrono::steady_clock::now() : std::chrono::steady_clock::time_point{};
   stats_ = {};

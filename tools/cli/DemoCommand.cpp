@@ -13,6 +13,7 @@
 #include <map>
 #include <optional>
 #include <random>
+#include <variant>
 
 #include "assets/import/GltfExporter.h"
 #include "navmesh/LevelBake.h"
@@ -317,198 +318,232 @@ Status WriteGltf(PhysicsSystem& world, const LoadedLevel& level, const navmesh::
   return ExportGltf(view::SceneLayers(geometry), path);
 }
 
-int RunDemo(const DemoOptions& options) {
-  navmesh::NavMeshServiceConfig config;
-  config.settings = options.settings;
-  config.worker_threads = options.navmesh_threads;
-  if (Status status = config.Validate(); !status.ok()) {
-    std::cerr << "strata demo: " << status.message() << "\n";
-    return 2;
-  }
-  if (options.player_route.size() % 2 != 0) {
-    std::cerr << "strata demo: --player-route takes x,z pairs (got " << options.player_route.size()
-              << " numbers)\n";
-    return 2;
-  }
+// A demo that could not run: what to print and the exit code (2: bad options or input, 1: the run failed).
+struct DemoFailure {
+  int exit_code;
+  std::string message;
+};
+
+// Everything the game loop runs on, built before it starts.
+struct DemoWorld {
+  std::unique_ptr<PhysicsSystem> world;
+  LoadedLevel level;
+  std::vector<Agent> agents;
+  std::unique_ptr<navmesh::NavMeshService> service;
+  std::unique_ptr<demo::ScriptedWalk> player;  // null with --no-player
+  std::optional<view::Recorder> recorder;      // with --record
+};
+
+// What the foreground saw while the navmesh built in the background.
+struct LoopFigures {
+  double longest_frame_ms = 0.0;
+  double longest_request_ms = 0.0;
+  double longest_step_ms = 0.0;
+  double step_ms_total = 0.0;
+  int steps_with_jobs = 0;
+};
+
+std::optional<DemoFailure> CheckOptions(const DemoOptions& options,
+                                        const navmesh::NavMeshServiceConfig& config) {
+  if (Status status = config.Validate(); !status.ok()) return DemoFailure{2, status.message()};
+  if (options.player_route.size() % 2 != 0)
+    return DemoFailure{2, "--player-route takes x,z pairs (got " +
+                              std::to_string(options.player_route.size()) + " numbers)"};
   // Before the run, not after it: a minute of simulation must not end in "cannot write".
   std::error_code error;
   std::filesystem::create_directories(options.out_dir, error);
-  if (error || !std::filesystem::is_directory(options.out_dir, error)) {
-    std::cerr << "strata demo: --out-dir " << options.out_dir << ": cannot create the directory"
-              << (error ? " (" + error.message() + ")" : std::string()) << "\n";
-    return 2;
-  }
-  if (!options.record.empty()) {
-    const std::filesystem::path record_folder = std::filesystem::path(options.record).parent_path();
-    if (!record_folder.empty() && !std::filesystem::is_directory(record_folder, error)) {
-      std::cerr << "strata demo: --record " << options.record << ": no such directory\n";
-      return 2;
-    }
-  }
+  if (error || !std::filesystem::is_directory(options.out_dir, error))
+    return DemoFailure{2, "--out-dir " + options.out_dir + ": cannot create the directory" +
+                              (error ? " (" + error.message() + ")" : std::string())};
+  if (options.record.empty()) return std::nullopt;
+  const std::filesystem::path record_folder = std::filesystem::path(options.record).parent_path();
+  if (!record_folder.empty() && !std::filesystem::is_directory(record_folder, error))
+    return DemoFailure{2, "--record " + options.record + ": no such directory"};
+  return std::nullopt;
+}
+
+std::optional<DemoFailure> StartRecording(const DemoOptions& options, DemoWorld& demo) {
+  if (options.record.empty()) return std::nullopt;
+  demo.recorder.emplace(*demo.world, "demo",
+                        "strata demo: " + std::filesystem::path(options.level).filename().string());
+  demo.recorder->TrackTiles(*demo.service, demo.level.bounds);
+  if (demo.player) demo.recorder->TrackCharacter(demo.player->character(), "player", demo.player->route());
+  const auto frames = static_cast<std::uint64_t>(options.steps / options.record_every) + 2;
+  if (Status fits = demo.recorder->CheckFrameBudget(frames); !fits)
+    return DemoFailure{2, "--record: " + fits.message()};
+  demo.recorder->Capture(0, 0.0f);
+  return std::nullopt;
+}
+
+// The world, the level, the bodies, the agents, the navmesh service, the player and the recorder.
+std::variant<DemoWorld, DemoFailure> SetUpDemo(const DemoOptions& options,
+                                               const navmesh::NavMeshServiceConfig& config) {
+  DemoWorld demo;
   PhysicsSystemConfig world_config;
   // Room for every crate and boulder asked for besides the level's chunks: none is dropped silently.
   world_config.max_bodies = static_cast<std::uint32_t>(16384 + options.crates + options.boulders);
   world_config.thread_count = options.physics_threads;
   auto created = PhysicsSystem::Create(world_config);
-  if (!created) {
-    std::cerr << "strata demo: " << created.error().message << "\n";
-    return 2;
-  }
-  PhysicsSystem& world = **created;
+  if (!created) return DemoFailure{2, created.error().message};
+  demo.world = std::move(*created);
   const Clock::time_point load_start = Clock::now();
-  Result<LoadedLevel> level = LoadLevel(world, options.level, options.level_options);
-  if (!level) {
-    std::cerr << "strata demo: " << level.error().message << "\n";
-    return 2;
-  }
-  for (const std::string& warning : level->warnings) std::cerr << "strata demo: warning: " << warning << "\n";
+  Result<LoadedLevel> level = LoadLevel(*demo.world, options.level, options.level_options);
+  if (!level) return DemoFailure{2, level.error().message};
+  demo.level = std::move(*level);
+  for (const std::string& warning : demo.level.warnings)
+    std::cerr << "strata demo: warning: " << warning << "\n";
   std::printf("level %s: %zu triangles in %zu chunks, loaded in %.1f ms\n", options.level.c_str(),
-              level->triangles, level->chunks, Milliseconds(Clock::now() - load_start));
-
+              demo.level.triangles, demo.level.chunks, Milliseconds(Clock::now() - load_start));
   std::mt19937 random(options.seed);
-  const FloorSampler floors(world, *level);
-  if (Status spawned = SpawnDynamicBodies(world, level->bounds, floors, options, random); !spawned) {
-    std::cerr << "strata demo: cannot add the crates and boulders: " << spawned.message() << "\n";
-    return 2;
-  }
-  std::vector<Agent> agents = SpawnAgents(world, level->bounds, floors, options.agents, random);
-  const Result<navmesh::NavMeshServiceConfig> level_config = navmesh::ConfigForLevel(config, level->bounds);
-  if (!level_config) {
-    std::cerr << "strata demo: " << options.level << ": " << level_config.error().message << "\n";
-    return 2;
-  }
-  auto service = navmesh::NavMeshService::Create(world, *level_config);
-  if (!service) {
-    std::cerr << "strata demo: " << service.error().message << "\n";
-    return 2;
-  }
-  Result<std::unique_ptr<demo::ScriptedWalk>> player =
-      MakePlayer(world, **service, options, level->bounds, floors, random);
-  if (!player) return 2;
-  std::optional<view::Recorder> recorder;
-  if (!options.record.empty()) {
-    recorder.emplace(world, "demo",
-                     "strata demo: " + std::filesystem::path(options.level).filename().string());
-    recorder->TrackTiles(**service, level->bounds);
-    if (*player) recorder->TrackCharacter((*player)->character(), "player", (*player)->route());
-    if (Status fits =
-            recorder->CheckFrameBudget(static_cast<std::uint64_t>(options.steps / options.record_every) + 2);
-        !fits) {
-      std::cerr << "strata demo: --record: " << fits.message() << "\n";
-      return 2;
-    }
-    recorder->Capture(0, 0.0f);
-  }
-  std::printf("%zu bodies, %zu agents; %d physics thread(s), %d navmesh thread(s)\n",
-              world.body_count_in_world(), agents.size(), options.physics_threads, options.navmesh_threads);
+  const FloorSampler floors(*demo.world, demo.level);
+  if (Status spawned = SpawnDynamicBodies(*demo.world, demo.level.bounds, floors, options, random); !spawned)
+    return DemoFailure{2, "cannot add the crates and boulders: " + spawned.message()};
+  demo.agents = SpawnAgents(*demo.world, demo.level.bounds, floors, options.agents, random);
+  const Result<navmesh::NavMeshServiceConfig> level_config =
+      navmesh::ConfigForLevel(config, demo.level.bounds);
+  if (!level_config) return DemoFailure{2, options.level + ": " + level_config.error().message};
+  auto service = navmesh::NavMeshService::Create(*demo.world, *level_config);
+  if (!service) return DemoFailure{2, service.error().message};
+  demo.service = std::move(*service);
+  auto player = MakePlayer(*demo.world, *demo.service, options, demo.level.bounds, floors, random);
+  if (!player) return DemoFailure{2, std::string()};  // MakePlayer said why
+  demo.player = std::move(*player);
+  if (auto failed = StartRecording(options, demo)) return *failed;
+  return demo;
+}
 
-  // The game loop: agents (re)request tiles around them every second; the world steps at 60 Hz.
-  double longest_frame_ms = 0.0, longest_request_ms = 0.0, longest_step_ms = 0.0, step_ms_total = 0.0;
-  int steps_with_jobs = 0;
+// The game loop: agents (re)request tiles around them every second; the world steps at 60 Hz.
+std::variant<LoopFigures, DemoFailure> RunGameLoop(const DemoOptions& options, DemoWorld& demo) {
+  LoopFigures figures;
   bench::Progress progress("strata demo", "steps");
   for (int step = 0; step < options.steps; ++step) {
     progress.Update(static_cast<std::size_t>(step), static_cast<std::size_t>(options.steps));
     const Clock::time_point frame_start = Clock::now();
     if (step % 60 == 0) {
       // Around where each agent stands and where it wants to go (nearer tiles first).
-      for (const Agent& agent : agents) {
+      for (const Agent& agent : demo.agents) {
         for (const Vec3& point : {agent.position, agent.target}) {
           const Clock::time_point request_start = Clock::now();
-          (void)(*service)->RequestAround(point, options.request_radius);
-          longest_request_ms = std::max(longest_request_ms, Milliseconds(Clock::now() - request_start));
+          (void)demo.service->RequestAround(point, options.request_radius);
+          figures.longest_request_ms =
+              std::max(figures.longest_request_ms, Milliseconds(Clock::now() - request_start));
         }
       }
     }
-    const navmesh::NavMeshServiceStats before = (*service)->stats();
+    const navmesh::NavMeshServiceStats before = demo.service->stats();
     const Clock::time_point step_start = Clock::now();
-    if (Status status = world.Step(1.0f / 60.0f); !status.ok()) {
-      std::cerr << "strata demo: " << status.message() << "\n";
-      return 1;
-    }
+    if (Status status = demo.world->Step(1.0f / 60.0f); !status.ok()) return DemoFailure{1, status.message()};
     const double step_ms = Milliseconds(Clock::now() - step_start);
-    step_ms_total += step_ms;
-    if (*player) {
-      if (Status walked = (*player)->Update(1.0f / 60.0f, static_cast<float>(step + 1) / 60.0f); !walked) {
-        std::cerr << "strata demo: the player: " << walked.message() << "\n";
-        return 1;
-      }
+    figures.step_ms_total += step_ms;
+    if (demo.player) {
+      if (Status walked = demo.player->Update(1.0f / 60.0f, static_cast<float>(step + 1) / 60.0f); !walked)
+        return DemoFailure{1, "the player: " + walked.message()};
     }
-    longest_step_ms = std::max(longest_step_ms, step_ms);
-    steps_with_jobs += before.building > 0 || before.queued > 0;
-    longest_frame_ms = std::max(longest_frame_ms, Milliseconds(Clock::now() - frame_start));
-    if (recorder && ((step + 1) % options.record_every == 0 || step + 1 == options.steps))
-      recorder->Capture(step + 1, static_cast<float>(step + 1) / 60.0f);
+    figures.longest_step_ms = std::max(figures.longest_step_ms, step_ms);
+    figures.steps_with_jobs += before.building > 0 || before.queued > 0;
+    figures.longest_frame_ms = std::max(figures.longest_frame_ms, Milliseconds(Clock::now() - frame_start));
+    if (demo.recorder && ((step + 1) % options.record_every == 0 || step + 1 == options.steps))
+      demo.recorder->Capture(step + 1, static_cast<float>(step + 1) / 60.0f);
   }
-  const bool idle = (*service)->WaitUntilIdle(std::chrono::seconds(60));
-  const navmesh::NavMeshServiceStats stats = (*service)->stats();
+  const bool idle = demo.service->WaitUntilIdle(std::chrono::seconds(60));
+  const navmesh::NavMeshServiceStats stats = demo.service->stats();
   progress.Finish(std::to_string(options.steps) + " steps, " + std::to_string(stats.builds) +
                   " tile builds, " + std::to_string(stats.failures) + " failures");
-
-  PrintTileTable(**service);
+  PrintTileTable(*demo.service);
   std::printf("\n%zu builds (%zu rebuilds of stale tiles), %zu failures; %zu tiles ready%s\n", stats.builds,
               stats.rebuilds, stats.failures, stats.ready, idle ? "" : " (service still busy after 60 s)");
+  return figures;
+}
 
-  auto query = navmesh::NavMeshQuery::Create((*service)->navmesh());
+// Each agent's path to its target on the finished navmesh, printed as a table.
+std::vector<navmesh::PathResult> FindAgentPaths(const DemoWorld& demo) {
+  auto query = navmesh::NavMeshQuery::Create(demo.service->navmesh());
   std::vector<navmesh::PathResult> paths;
   std::printf("\n%-5s %-24s %-24s %6s %8s %9s %7s\n", "agent", "from", "to", "found", "reached", "length m",
               "corners");
-  for (std::size_t i = 0; i < agents.size(); ++i) {
-    auto path = (*query)->FindPath(agents[i].position, agents[i].target);
+  for (std::size_t i = 0; i < demo.agents.size(); ++i) {
+    const Agent& agent = demo.agents[i];
+    auto path = (*query)->FindPath(agent.position, agent.target);
     paths.push_back(path.ok() ? *path : navmesh::PathResult{});
     const navmesh::PathResult& p = paths.back();
     char from[64], to[64];
-    std::snprintf(from, sizeof(from), "(%.1f, %.1f, %.1f)", agents[i].position.x(), agents[i].position.y(),
-                  agents[i].position.z());
-    std::snprintf(to, sizeof(to), "(%.1f, %.1f, %.1f)", agents[i].target.x(), agents[i].target.y(),
-                  agents[i].target.z());
+    std::snprintf(from, sizeof(from), "(%.1f, %.1f, %.1f)", agent.position.x(), agent.position.y(),
+                  agent.position.z());
+    std::snprintf(to, sizeof(to), "(%.1f, %.1f, %.1f)", agent.target.x(), agent.target.y(), agent.target.z());
     std::printf("%-5zu %-24s %-24s %6s %8s %9.2f %7zu%s\n", i, from, to, p.found ? "yes" : "no",
                 p.reached_end ? "yes" : "no", p.length, p.points.size(),
                 path.ok() ? "" : "  (no navmesh at start)");
   }
+  return paths;
+}
 
-  if (*player) PrintWalk(**player);
-  const navmesh::NavMesh& navmesh = (*service)->navmesh();
+void PrintSummary(const DemoOptions& options, const DemoWorld& demo, const LoopFigures& figures) {
+  if (demo.player) PrintWalk(*demo.player);
+  const navmesh::NavMesh& navmesh = demo.service->navmesh();
   std::printf("\nnavmesh: %d tiles, %d polygons, %.1f m^2 walkable, %d islands\n", navmesh.tile_count(),
               navmesh.polygon_count(), navmesh.WalkableArea(), navmesh::CountIslands(navmesh));
   std::printf(
       "foreground: longest frame %.2f ms (step + requests), longest RequestAround %.3f ms; step %.2f ms "
       "mean, %.2f ms max; jobs were running during %d of %d steps (bench-navmesh compares steps with "
       "and without jobs)\n",
-      longest_frame_ms, longest_request_ms, step_ms_total / std::max(1, options.steps), longest_step_ms,
-      steps_with_jobs, options.steps);
+      figures.longest_frame_ms, figures.longest_request_ms,
+      figures.step_ms_total / std::max(1, options.steps), figures.longest_step_ms, figures.steps_with_jobs,
+      options.steps);
+}
 
-  const std::filesystem::path obj = std::filesystem::path(options.out_dir) / "navmesh.obj";
-  const std::filesystem::path png = std::filesystem::path(options.out_dir) / "navmesh.png";
-  const std::filesystem::path glb = std::filesystem::path(options.out_dir) / "scene.glb";
-  for (const Status& written : {navmesh.WriteObj(obj),
-                                DrawPicture(world, *level, **service, agents, paths,
-                                            *player ? (*player)->trail() : std::vector<Vec3>{}, png),
-                                WriteGltf(world, *level, navmesh, paths, glb)})
-    if (!written) {
-      std::cerr << "strata demo: " << written.message() << "\n";
-      return 2;
-    }
+// navmesh.obj, navmesh.png, scene.glb and the recording.
+std::optional<DemoFailure> WriteOutputs(const DemoOptions& options, DemoWorld& demo,
+                                        const std::vector<navmesh::PathResult>& paths) {
+  const navmesh::NavMesh& navmesh = demo.service->navmesh();
+  const std::filesystem::path folder(options.out_dir);
+  const std::filesystem::path obj = folder / "navmesh.obj", png = folder / "navmesh.png",
+                              glb = folder / "scene.glb";
+  const std::vector<Vec3> trail = demo.player ? demo.player->trail() : std::vector<Vec3>{};
+  for (const Status& written :
+       {navmesh.WriteObj(obj),
+        DrawPicture(*demo.world, demo.level, *demo.service, demo.agents, paths, trail, png),
+        WriteGltf(*demo.world, demo.level, navmesh, paths, glb)})
+    if (!written) return DemoFailure{2, written.message()};
   std::printf("wrote %s, %s and %s\n", obj.string().c_str(), png.string().c_str(), glb.string().c_str());
-  if (recorder) {
-    std::vector<view::RecordedAgent> recorded;
-    for (std::size_t i = 0; i < agents.size(); ++i)
-      recorded.push_back({agents[i].position, agents[i].target, paths[i].points});
-    recorder->Finish(&navmesh, recorded);
-    if (Status written = recorder->Write(options.record); !written) {
-      std::cerr << "strata demo: " << written.message() << "\n";
-      return 2;
-    }
-    std::printf("recorded %zu frames to %s (strata view %s --out DIR)\n", recorder->frame_count(),
-                options.record.c_str(), options.record.c_str());
-  }
+  if (!demo.recorder) return std::nullopt;
+  std::vector<view::RecordedAgent> recorded;
+  for (std::size_t i = 0; i < demo.agents.size(); ++i)
+    recorded.push_back({demo.agents[i].position, demo.agents[i].target, paths[i].points});
+  demo.recorder->Finish(&navmesh, recorded);
+  if (Status written = demo.recorder->Write(options.record); !written)
+    return DemoFailure{2, written.message()};
+  std::printf("recorded %zu frames to %s (strata view %s --out DIR)\n", demo.recorder->frame_count(),
+              options.record.c_str(), options.record.c_str());
+  return std::nullopt;
+}
+
+int Fail(const DemoFailure& failure) {
+  if (!failure.message.empty()) std::cerr << "strata demo: " << failure.message << "\n";
+  return failure.exit_code;
+}
+
+int RunDemo(const DemoOptions& options) {
+  navmesh::NavMeshServiceConfig config;
+  config.settings = options.settings;
+  config.worker_threads = options.navmesh_threads;
+  if (auto failed = CheckOptions(options, config)) return Fail(*failed);
+  auto set_up = SetUpDemo(options, config);
+  if (auto* failed = std::get_if<DemoFailure>(&set_up)) return Fail(*failed);
+  DemoWorld& demo = std::get<DemoWorld>(set_up);
+  std::printf("%zu bodies, %zu agents; %d physics thread(s), %d navmesh thread(s)\n",
+              demo.world->body_count_in_world(), demo.agents.size(), options.physics_threads,
+              options.navmesh_threads);
+  auto loop = RunGameLoop(options, demo);
+  if (auto* failed = std::get_if<DemoFailure>(&loop)) return Fail(*failed);
+  const std::vector<navmesh::PathResult> paths = FindAgentPaths(demo);
+  PrintSummary(options, demo, std::get<LoopFigures>(loop));
+  if (auto failed = WriteOutputs(options, demo, paths)) return Fail(*failed);
   // A demo whose agents got no navmesh did not do its job, whatever the reason: say so in the exit code.
-  if (stats.failures > 0 || navmesh.polygon_count() == 0) {
-    std::cerr << "strata demo: the navmesh could not be built"
-              << (stats.failures > 0 ? ": " + (*service)->last_error()
-                                     : std::string(" (no walkable polygon)"))
-              << "\n";
-    return 1;
-  }
+  const navmesh::NavMeshServiceStats stats = demo.service->stats();
+  if (stats.failures > 0 || demo.service->navmesh().polygon_count() == 0)
+    return Fail(
+        {1, "the navmesh could not be built" + (stats.failures > 0 ? ": " + demo.service->last_error()
+                                                                   : std::string(" (no walkable polygon)"))});
   return 0;
 }
 
