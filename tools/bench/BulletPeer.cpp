@@ -18,102 +18,127 @@ btVector3 ToBullet(const Vec3& v) {
   return {v.x(), v.y(), v.z()};
 }
 
-}  // namespace
+// The scene's Bullet objects, declared in the order Bullet needs them torn down in reverse.
+class BulletScene {
+ public:
+  explicit BulletScene(const BenchScene& scene)
+      : scene_(scene),
+        dispatcher_(&configuration_),
+        world_(&dispatcher_, &broadphase_, &solver_, &configuration_) {
+    world_.setGravity(btVector3(0, -9.81f, 0));
+    // As many passes over the contacts as Strata makes in a step.
+    world_.getSolverInfo().m_numIterations =
+        scene.substeps * (scene.velocity_iterations + scene.relax_iterations);
+    for (const auto& triangle : scene.mesh_triangles)
+      for (std::uint32_t index : triangle) indices_.push_back(static_cast<int>(index));
+    for (const BenchBody& body : scene.bodies) AddBody(body);
+    for (const BenchJoint& joint : scene.joints) AddJoint(joint);
+  }
+  ~BulletScene() {
+    for (auto& joint : joints_) world_.removeConstraint(joint.get());
+    for (auto& body : bodies_) world_.removeRigidBody(body.get());
+  }
+  BulletScene(const BulletScene&) = delete;
+  BulletScene& operator=(const BulletScene&) = delete;
 
-EngineResult RunBullet(const BenchScene& scene) {
-  EngineResult result;
-  btDefaultCollisionConfiguration configuration;
-  btCollisionDispatcher dispatcher(&configuration);
-  btDbvtBroadphase broadphase;
-  btSequentialImpulseConstraintSolver solver;
-  btDiscreteDynamicsWorld world(&dispatcher, &broadphase, &solver, &configuration);
-  world.setGravity(btVector3(0, -9.81f, 0));
-  // As many passes over the contacts as Strata makes in a step.
-  world.getSolverInfo().m_numIterations =
-      scene.substeps * (scene.velocity_iterations + scene.relax_iterations);
+  EngineResult Run() {
+    EngineResult result;
+    std::vector<double> times;
+    times.reserve(scene_.steps);
+    for (int step = 0; step < scene_.steps; ++step) {
+      const auto start = std::chrono::steady_clock::now();
+      world_.stepSimulation(scene_.dt, 0, scene_.dt);  // exactly one fixed step, no interpolation
+      times.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    }
+    SummarizeTimes(std::move(times), result);
+    std::vector<FinalPose> poses;
+    for (btRigidBody* body : dynamic_bodies_) {
+      const btTransform& transform = body->getWorldTransform();
+      const btQuaternion q = transform.getRotation();
+      poses.push_back({Vec3(transform.getOrigin().x(), transform.getOrigin().y(), transform.getOrigin().z()),
+                       Quat(q.w(), q.x(), q.y(), q.z())});
+    }
+    Summarize(scene_, poses, result);
+    result.bodies = static_cast<int>(scene_.bodies.size());
+    result.peak_memory_kb = PeakMemoryKb();
+    result.ok = true;
+    return result;
+  }
 
-  std::vector<std::unique_ptr<btCollisionShape>> shapes;
-  std::vector<std::unique_ptr<btDefaultMotionState>> motion_states;
-  std::vector<std::unique_ptr<btRigidBody>> bodies;
-  std::vector<btRigidBody*> dynamic_bodies;
-  std::unique_ptr<btTriangleIndexVertexArray> mesh_data;
-  btCollisionShape* hull = nullptr;
-  Vec3 field_offset = Vec3::Zero();
-  std::vector<int> indices;
-  for (const auto& triangle : scene.mesh_triangles)
-    for (std::uint32_t index : triangle) indices.push_back(static_cast<int>(index));
-
-  for (const BenchBody& body : scene.bodies) {
-    btCollisionShape* shape = nullptr;
+ private:
+  btCollisionShape* ShapeFor(const BenchBody& body) {
     switch (body.shape) {
       case BenchShape::kBox:
-        shapes.push_back(std::make_unique<btBoxShape>(ToBullet(body.half_extents)));
-        break;
+        return Keep(std::make_unique<btBoxShape>(ToBullet(body.half_extents)));
       case BenchShape::kSphere:
-        shapes.push_back(std::make_unique<btSphereShape>(body.radius));
-        break;
+        return Keep(std::make_unique<btSphereShape>(body.radius));
       case BenchShape::kCapsule:
-        shapes.push_back(std::make_unique<btCapsuleShape>(body.radius, 2.0f * body.half_height));
-        break;
+        return Keep(std::make_unique<btCapsuleShape>(body.radius, 2.0f * body.half_height));
       case BenchShape::kHull:
-        if (!hull) {
+        if (!hull_) {
           auto convex = std::make_unique<btConvexHullShape>();
-          for (const Vec3& p : scene.hull_points) convex->addPoint(ToBullet(p));
-          hull = convex.get();
-          shapes.push_back(std::move(convex));
+          for (const Vec3& p : scene_.hull_points) convex->addPoint(ToBullet(p));
+          hull_ = Keep(std::move(convex));
         }
-        shape = hull;
-        break;
-      case BenchShape::kHeightField: {
-        // Bullet centres a height field on its bounds; its flipped quad edges are Strata's diagonals.
-        const auto [low, high] = std::minmax_element(scene.field_heights.begin(), scene.field_heights.end());
-        auto field = std::make_unique<btHeightfieldTerrainShape>(
-            static_cast<int>(scene.field_columns), static_cast<int>(scene.field_rows),
-            scene.field_heights.data(), *low, *high, 1, true);
-        field->setLocalScaling(btVector3(scene.field_cell, 1.0f, scene.field_cell));
-        field_offset =
-            Vec3(0.5f * scene.field_cell * static_cast<float>(scene.field_columns - 1), 0.5f * (*low + *high),
-                 0.5f * scene.field_cell * static_cast<float>(scene.field_rows - 1));
-        shapes.push_back(std::move(field));
-        break;
-      }
-      case BenchShape::kMesh: {
-        mesh_data = std::make_unique<btTriangleIndexVertexArray>(
-            static_cast<int>(scene.mesh_triangles.size()), indices.data(), 3 * static_cast<int>(sizeof(int)),
-            static_cast<int>(scene.mesh_vertices.size()),
-            const_cast<btScalar*>(scene.mesh_vertices.front().data()), static_cast<int>(sizeof(Vec3)));
-        shapes.push_back(std::make_unique<btBvhTriangleMeshShape>(mesh_data.get(), true));
-        break;
-      }
+        return hull_;
+      case BenchShape::kHeightField:
+        return HeightField();
+      case BenchShape::kMesh:
+        mesh_data_ = std::make_unique<btTriangleIndexVertexArray>(
+            static_cast<int>(scene_.mesh_triangles.size()), indices_.data(),
+            3 * static_cast<int>(sizeof(int)), static_cast<int>(scene_.mesh_vertices.size()),
+            const_cast<btScalar*>(scene_.mesh_vertices.front().data()), static_cast<int>(sizeof(Vec3)));
+        return Keep(std::make_unique<btBvhTriangleMeshShape>(mesh_data_.get(), true));
     }
-    if (!shape) shape = shapes.back().get();
+    return nullptr;
+  }
+
+  btCollisionShape* HeightField() {
+    // Bullet centres a height field on its bounds; its flipped quad edges are Strata's diagonals.
+    const auto [low, high] = std::minmax_element(scene_.field_heights.begin(), scene_.field_heights.end());
+    auto field = std::make_unique<btHeightfieldTerrainShape>(
+        static_cast<int>(scene_.field_columns), static_cast<int>(scene_.field_rows),
+        scene_.field_heights.data(), *low, *high, 1, true);
+    field->setLocalScaling(btVector3(scene_.field_cell, 1.0f, scene_.field_cell));
+    field_offset_ =
+        Vec3(0.5f * scene_.field_cell * static_cast<float>(scene_.field_columns - 1), 0.5f * (*low + *high),
+             0.5f * scene_.field_cell * static_cast<float>(scene_.field_rows - 1));
+    return Keep(std::move(field));
+  }
+
+  btCollisionShape* Keep(std::unique_ptr<btCollisionShape> shape) {
+    shapes_.push_back(std::move(shape));
+    return shapes_.back().get();
+  }
+
+  void AddBody(const BenchBody& body) {
+    btCollisionShape* shape = ShapeFor(body);
     btTransform transform;
     transform.setIdentity();
-    transform.setOrigin(ToBullet(body.shape == BenchShape::kHeightField ? Vec3(body.position + field_offset)
+    transform.setOrigin(ToBullet(body.shape == BenchShape::kHeightField ? Vec3(body.position + field_offset_)
                                                                         : body.position));
     transform.setRotation(
         btQuaternion(body.rotation.x(), body.rotation.y(), body.rotation.z(), body.rotation.w()));
     btScalar mass = 0;
     btVector3 inertia(0, 0, 0);
     if (body.dynamic) {
-      mass = BenchMass(scene, body);  // the mass Strata gives the same shape at its default density
+      mass = BenchMass(scene_, body);  // the mass Strata gives the same shape at its default density
       shape->calculateLocalInertia(mass, inertia);
     }
-    motion_states.push_back(std::make_unique<btDefaultMotionState>(transform));
-    btRigidBody::btRigidBodyConstructionInfo info(mass, motion_states.back().get(), shape, inertia);
+    motion_states_.push_back(std::make_unique<btDefaultMotionState>(transform));
+    btRigidBody::btRigidBodyConstructionInfo info(mass, motion_states_.back().get(), shape, inertia);
     info.m_friction = body.friction;
     info.m_restitution = body.restitution;
-    bodies.push_back(std::make_unique<btRigidBody>(info));
-    if (body.dynamic && !scene.sleeping) bodies.back()->setActivationState(DISABLE_DEACTIVATION);
-    world.addRigidBody(bodies.back().get());
-    if (body.dynamic) dynamic_bodies.push_back(bodies.back().get());
+    bodies_.push_back(std::make_unique<btRigidBody>(info));
+    if (body.dynamic && !scene_.sleeping) bodies_.back()->setActivationState(DISABLE_DEACTIVATION);
+    world_.addRigidBody(bodies_.back().get());
+    if (body.dynamic) dynamic_bodies_.push_back(bodies_.back().get());
   }
 
-  // Joints with Bullet's matching constraints; joined bodies do not collide, as in Strata.
-  std::vector<std::unique_ptr<btTypedConstraint>> joints;
-  for (const BenchJoint& joint : scene.joints) {
-    btRigidBody& b = *bodies[joint.body_b];
-    btRigidBody& a = joint.body_a >= 0 ? *bodies[joint.body_a] : btTypedConstraint::getFixedBody();
+  // A joint as Bullet's matching constraint; joined bodies do not collide, as in Strata.
+  void AddJoint(const BenchJoint& joint) {
+    btRigidBody& b = *bodies_[joint.body_b];
+    btRigidBody& a = joint.body_a >= 0 ? *bodies_[joint.body_a] : btTypedConstraint::getFixedBody();
     // The joint's frame (x = its axis) in each body's frame.
     Mat3 axes;
     axes.col(0) = joint.axis.normalized();
@@ -129,7 +154,8 @@ EngineResult RunBullet(const BenchScene& scene) {
     switch (joint.kind) {
       case BenchJointKind::kPoint: {
         const btTransform in_a = frame_in(a, axes), in_b = frame_in(b, axes);
-        joints.push_back(std::make_unique<btPoint2PointConstraint>(a, b, in_a.getOrigin(), in_b.getOrigin()));
+        joints_.push_back(
+            std::make_unique<btPoint2PointConstraint>(a, b, in_a.getOrigin(), in_b.getOrigin()));
         break;
       }
       case BenchJointKind::kHinge: {
@@ -141,42 +167,42 @@ EngineResult RunBullet(const BenchScene& scene) {
         auto hinge =
             std::make_unique<btHingeConstraint>(a, b, frame_in(a, hinge_axes), frame_in(b, hinge_axes));
         hinge->setLimit(joint.min_angle, joint.max_angle);
-        joints.push_back(std::move(hinge));
+        joints_.push_back(std::move(hinge));
         break;
       }
       case BenchJointKind::kSwingTwist: {
         // Bullet's cone twists about its frame's x; both swing spans are the cone's half angle.
         auto cone = std::make_unique<btConeTwistConstraint>(a, b, frame_in(a, axes), frame_in(b, axes));
         cone->setLimit(joint.cone, joint.cone, 0.5f * (joint.max_angle - joint.min_angle));
-        joints.push_back(std::move(cone));
+        joints_.push_back(std::move(cone));
         break;
       }
     }
-    world.addConstraint(joints.back().get(), true);
+    world_.addConstraint(joints_.back().get(), true);
   }
 
-  std::vector<double> times;
-  times.reserve(scene.steps);
-  for (int step = 0; step < scene.steps; ++step) {
-    const auto start = std::chrono::steady_clock::now();
-    world.stepSimulation(scene.dt, 0, scene.dt);  // exactly one fixed step, no interpolation
-    times.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
-  }
-  SummarizeTimes(std::move(times), result);
-  std::vector<FinalPose> poses;
-  for (btRigidBody* body : dynamic_bodies) {
-    const btTransform& transform = body->getWorldTransform();
-    const btQuaternion q = transform.getRotation();
-    poses.push_back({Vec3(transform.getOrigin().x(), transform.getOrigin().y(), transform.getOrigin().z()),
-                     Quat(q.w(), q.x(), q.y(), q.z())});
-  }
-  Summarize(scene, poses, result);
-  result.bodies = static_cast<int>(scene.bodies.size());
-  result.peak_memory_kb = PeakMemoryKb();
-  result.ok = true;
-  for (auto& joint : joints) world.removeConstraint(joint.get());
-  for (auto& body : bodies) world.removeRigidBody(body.get());
-  return result;
+  const BenchScene& scene_;
+  btDefaultCollisionConfiguration configuration_;
+  btCollisionDispatcher dispatcher_;
+  btDbvtBroadphase broadphase_;
+  btSequentialImpulseConstraintSolver solver_;
+  btDiscreteDynamicsWorld world_;
+  std::vector<std::unique_ptr<btCollisionShape>> shapes_;
+  std::vector<std::unique_ptr<btDefaultMotionState>> motion_states_;
+  std::vector<std::unique_ptr<btRigidBody>> bodies_;
+  std::vector<btRigidBody*> dynamic_bodies_;
+  std::unique_ptr<btTriangleIndexVertexArray> mesh_data_;
+  btCollisionShape* hull_ = nullptr;
+  Vec3 field_offset_ = Vec3::Zero();
+  std::vector<int> indices_;
+  std::vector<std::unique_ptr<btTypedConstraint>> joints_;
+};
+
+}  // namespace
+
+EngineResult RunBullet(const BenchScene& scene) {
+  BulletScene bullet(scene);
+  return bullet.Run();
 }
 
 }  // namespace strata::bench

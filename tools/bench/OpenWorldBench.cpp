@@ -131,32 +131,134 @@ struct Snapshot {
   navmesh::NavMeshServiceStats stats;
 };
 
+// What the walk measured.
+struct WalkFigures {
+  int steps = 0;
+  std::size_t checks = 0, on_ready = 0, most_held = 0, late_frames = 0;
+  double longest_request_ms = 0.0, step_ms_total = 0.0, longest_step_ms = 0.0;
+  double walk_ms = 0.0, lock_wait_ms = 0.0;
+  std::vector<Snapshot> snapshots;
+  double on_ready_share() const {
+    return checks == 0 ? 0.0 : static_cast<double>(on_ready) / static_cast<double>(checks);
+  }
+};
+
+// Every kRequestEverySteps steps each agent checks its tile and asks for the tiles around it.
+void RequestTiles(navmesh::NavMeshService& service, const std::vector<Agent>& agents, float radius,
+                  WalkFigures& figures) {
+  for (const Agent& agent : agents) {
+    ++figures.checks;
+    figures.on_ready +=
+        service.GetTileState(service.grid().TileAt(agent.position)) == navmesh::TileState::kReady;
+    const Clock::time_point request_start = Clock::now();
+    (void)service.RequestAround(agent.position, radius);
+    figures.longest_request_ms =
+        std::max(figures.longest_request_ms, Milliseconds(Clock::now() - request_start));
+  }
+  figures.most_held = std::max(figures.most_held, service.stats().tiles_holding_data);
+}
+
+// The agents walk in frames of 60 Hz wall time while the world steps; fails if a step does.
+Status WalkAgents(const OpenWorldOptions& options, PhysicsSystem& world, navmesh::NavMeshService& service,
+                  std::vector<Agent>& agents, Progress& progress, WalkFigures& figures) {
+  const float step_distance = options.agent_speed * kStep;
+  const int steps = figures.steps;
+  figures.snapshots.push_back({0, ResidentMegabytes(), service.stats()});
+  const std::uint64_t lock_wait_start = ThreadBodyLockWaitNanoseconds();
+  const Clock::time_point walk_start = Clock::now();
+  for (int step = 0; step < steps; ++step) {
+    progress.Update(static_cast<std::size_t>(step), static_cast<std::size_t>(steps));
+    if (step % kRequestEverySteps == 0) RequestTiles(service, agents, options.request_radius, figures);
+    const Clock::time_point step_start = Clock::now();
+    if (Status stepped = world.Step(kStep); !stepped) return stepped;
+    const double step_ms = Milliseconds(Clock::now() - step_start);
+    figures.step_ms_total += step_ms;
+    figures.longest_step_ms = std::max(figures.longest_step_ms, step_ms);
+    for (Agent& agent : agents) Walk(agent, step_distance, options.world_size);
+    // Frames at 60 Hz of wall time, as in a game: the service builds while the frame waits for its slot.
+    const Clock::time_point frame_end = walk_start + std::chrono::duration_cast<Clock::duration>(
+                                                         std::chrono::duration<double>(kStep * (step + 1)));
+    if (Clock::now() > frame_end) ++figures.late_frames;
+    std::this_thread::sleep_until(frame_end);
+    if ((step + 1) % std::max(1, steps / 4) == 0 || step + 1 == steps)
+      figures.snapshots.push_back({step + 1, ResidentMegabytes(), service.stats()});
+  }
+  figures.walk_ms = Milliseconds(Clock::now() - walk_start);
+  progress.Hide();
+  figures.lock_wait_ms = static_cast<double>(ThreadBodyLockWaitNanoseconds() - lock_wait_start) * 1e-6;
+  return Status::Ok();
+}
+
+void PrintWalk(const OpenWorldOptions& options, const WalkFigures& figures,
+               const navmesh::NavMeshServiceStats& stats) {
+  std::printf(
+      "walk: %.0f ms wall for %.0f s simulated (60 Hz frames, %zu late); step %.3f ms mean, %.3f ms max; "
+      "step blocked on body locks %.3f ms in all; longest RequestAround %.3f ms\n",
+      figures.walk_ms, figures.steps * static_cast<double>(kStep), figures.late_frames,
+      figures.step_ms_total / std::max(1, figures.steps), figures.longest_step_ms, figures.lock_wait_ms,
+      figures.longest_request_ms);
+  std::printf("tiles: %zu built, %zu evictions, %zu failures; at most %zu of the %d-tile budget held\n",
+              stats.builds, stats.evictions, stats.failures, figures.most_held, options.tile_budget);
+  std::printf("agents on a ready tile when they asked again: %.1f%% of %zu checks\n",
+              100.0 * figures.on_ready_share(), figures.checks);
+  std::printf("memory over the walk (resident MB / tiles built / held):");
+  for (const Snapshot& snapshot : figures.snapshots)
+    std::printf("  step %d: %.1f / %zu / %zu", snapshot.step, snapshot.resident_mb, snapshot.stats.builds,
+                snapshot.stats.tiles_holding_data);
+  std::printf("\n");
+}
+
+nlohmann::json WalkReport(const OpenWorldOptions& options, const PhysicsSystem& world,
+                          const WalkFigures& figures, const navmesh::NavMeshServiceStats& stats) {
+  nlohmann::json memory = nlohmann::json::array();
+  for (const Snapshot& snapshot : figures.snapshots)
+    memory.push_back({{"step", snapshot.step},
+                      {"resident_mb", snapshot.resident_mb},
+                      {"tiles_built", snapshot.stats.builds},
+                      {"tiles_held", snapshot.stats.tiles_holding_data}});
+  return {{"world_size_m", options.world_size},
+          {"bodies", world.body_count_in_world()},
+          {"agents", options.agents},
+          {"walk_m", options.walk_distance},
+          {"steps", figures.steps},
+          {"tile_budget", options.tile_budget},
+          {"physics_threads", options.physics_threads},
+          {"navmesh_threads", options.navmesh_threads},
+          {"hardware_threads", std::thread::hardware_concurrency()},
+          {"walk_wall_ms", figures.walk_ms},
+          {"late_frames", figures.late_frames},
+          {"step_mean_ms", figures.step_ms_total / std::max(1, figures.steps)},
+          {"step_max_ms", figures.longest_step_ms},
+          {"step_body_lock_wait_ms", figures.lock_wait_ms},
+          {"longest_request_ms", figures.longest_request_ms},
+          {"tiles_built", stats.builds},
+          {"evictions", stats.evictions},
+          {"failures", stats.failures},
+          {"most_tiles_held", figures.most_held},
+          {"on_ready_tile_share", figures.on_ready_share()},
+          {"memory", memory}};
+}
+
+int Fail(const std::string& message) {
+  std::fprintf(stderr, "strata bench-navmesh: %s\n", message.c_str());
+  return 2;
+}
+
 }  // namespace
 
 int RunOpenWorldBench(const OpenWorldOptions& options) {
-  if (Status valid = options.settings.Validate(); !valid) {
-    std::fprintf(stderr, "strata bench-navmesh: %s\n", valid.message().c_str());
-    return 2;
-  }
-  if (!options.json.empty() && !JsonDestinationExists(options.json)) {
-    std::fprintf(stderr, "strata bench-navmesh: --json %s: no such directory\n", options.json.c_str());
-    return 2;
-  }
+  if (Status valid = options.settings.Validate(); !valid) return Fail(valid.message());
+  if (!options.json.empty() && !JsonDestinationExists(options.json))
+    return Fail("--json " + options.json + ": no such directory");
   PhysicsSystemConfig config;
   config.max_bodies = static_cast<std::uint32_t>(options.bodies) + 16;
   config.thread_count = options.physics_threads;
   auto created = PhysicsSystem::Create(config);
-  if (!created) {
-    std::fprintf(stderr, "strata bench-navmesh: %s\n", created.error().message.c_str());
-    return 2;
-  }
+  if (!created) return Fail(created.error().message);
   PhysicsSystem& world = **created;
   std::mt19937 random(options.seed);
   const Clock::time_point populate_start = Clock::now();
-  if (Status populated = Populate(world, options, random); !populated) {
-    std::fprintf(stderr, "strata bench-navmesh: %s\n", populated.message().c_str());
-    return 2;
-  }
+  if (Status populated = Populate(world, options, random); !populated) return Fail(populated.message());
   const double populate_ms = Milliseconds(Clock::now() - populate_start);
 
   navmesh::NavMeshServiceConfig service_config;
@@ -164,118 +266,32 @@ int RunOpenWorldBench(const OpenWorldOptions& options) {
   service_config.worker_threads = options.navmesh_threads;
   service_config.max_tiles = options.tile_budget;
   auto service = navmesh::NavMeshService::Create(world, service_config);
-  if (!service) {
-    std::fprintf(stderr, "strata bench-navmesh: %s\n", service.error().message.c_str());
-    return 2;
-  }
+  if (!service) return Fail(service.error().message);
   std::vector<Agent> agents = MakeAgents(options, random);
-  const float step_distance = options.agent_speed * kStep;
-  const int steps = static_cast<int>(std::ceil(options.walk_distance / step_distance));
+  WalkFigures figures;
+  figures.steps = static_cast<int>(std::ceil(options.walk_distance / (options.agent_speed * kStep)));
   std::printf(
       "open world: %.0f m x %.0f m, %zu bodies (populated in %.0f ms), %d agents in squads of %d walking "
       "%.0f m at %.1f m/s (%d steps), requests of %.1f m every %d steps, tile budget %d; %d physics "
       "thread(s), %d navmesh thread(s)\n",
       options.world_size, options.world_size, world.body_count_in_world(), populate_ms, options.agents,
-      kSquadSize, options.walk_distance, options.agent_speed, steps, options.request_radius,
+      kSquadSize, options.walk_distance, options.agent_speed, figures.steps, options.request_radius,
       kRequestEverySteps, options.tile_budget, options.physics_threads, options.navmesh_threads);
-
-  std::vector<Snapshot> snapshots{{0, ResidentMegabytes(), (*service)->stats()}};
-  std::size_t checks = 0, on_ready = 0, most_held = 0, late_frames = 0;
-  double longest_request_ms = 0.0, step_ms_total = 0.0, longest_step_ms = 0.0;
-  const std::uint64_t lock_wait_start = ThreadBodyLockWaitNanoseconds();
-  const Clock::time_point walk_start = Clock::now();
   Progress progress("strata bench-navmesh --open-world", "steps");
-  for (int step = 0; step < steps; ++step) {
-    progress.Update(static_cast<std::size_t>(step), static_cast<std::size_t>(steps));
-    if (step % kRequestEverySteps == 0) {
-      for (const Agent& agent : agents) {
-        ++checks;
-        on_ready +=
-            (*service)->GetTileState((*service)->grid().TileAt(agent.position)) == navmesh::TileState::kReady;
-        const Clock::time_point request_start = Clock::now();
-        (void)(*service)->RequestAround(agent.position, options.request_radius);
-        longest_request_ms = std::max(longest_request_ms, Milliseconds(Clock::now() - request_start));
-      }
-      most_held = std::max(most_held, (*service)->stats().tiles_holding_data);
-    }
-    const Clock::time_point step_start = Clock::now();
-    if (Status stepped = world.Step(kStep); !stepped) {
-      std::fprintf(stderr, "strata bench-navmesh: %s\n", stepped.message().c_str());
-      return 2;
-    }
-    const double step_ms = Milliseconds(Clock::now() - step_start);
-    step_ms_total += step_ms;
-    longest_step_ms = std::max(longest_step_ms, step_ms);
-    for (Agent& agent : agents) Walk(agent, step_distance, options.world_size);
-    // Frames at 60 Hz of wall time, as in a game: the service builds while the frame waits for its slot.
-    const Clock::time_point frame_end = walk_start + std::chrono::duration_cast<Clock::duration>(
-                                                         std::chrono::duration<double>(kStep * (step + 1)));
-    if (Clock::now() > frame_end) ++late_frames;
-    std::this_thread::sleep_until(frame_end);
-    if ((step + 1) % std::max(1, steps / 4) == 0 || step + 1 == steps)
-      snapshots.push_back({step + 1, ResidentMegabytes(), (*service)->stats()});
-  }
-  const double walk_ms = Milliseconds(Clock::now() - walk_start);
-  progress.Hide();
-  const double lock_wait_ms = static_cast<double>(ThreadBodyLockWaitNanoseconds() - lock_wait_start) * 1e-6;
+  if (Status walked = WalkAgents(options, world, **service, agents, progress, figures); !walked)
+    return Fail(walked.message());
   (void)(*service)->WaitUntilIdle(std::chrono::seconds(60));
   const navmesh::NavMeshServiceStats stats = (*service)->stats();
-  most_held = std::max(most_held, stats.tiles_holding_data);
-
-  std::printf(
-      "walk: %.0f ms wall for %.0f s simulated (60 Hz frames, %zu late); step %.3f ms mean, %.3f ms max; "
-      "step blocked on body locks %.3f ms in all; longest RequestAround %.3f ms\n",
-      walk_ms, steps * static_cast<double>(kStep), late_frames, step_ms_total / std::max(1, steps),
-      longest_step_ms, lock_wait_ms, longest_request_ms);
-  std::printf("tiles: %zu built, %zu evictions, %zu failures; at most %zu of the %d-tile budget held\n",
-              stats.builds, stats.evictions, stats.failures, most_held, options.tile_budget);
-  std::printf("agents on a ready tile when they asked again: %.1f%% of %zu checks\n",
-              checks == 0 ? 0.0 : 100.0 * static_cast<double>(on_ready) / static_cast<double>(checks),
-              checks);
-  std::printf("memory over the walk (resident MB / tiles built / held):");
-  for (const Snapshot& snapshot : snapshots)
-    std::printf("  step %d: %.1f / %zu / %zu", snapshot.step, snapshot.resident_mb, snapshot.stats.builds,
-                snapshot.stats.tiles_holding_data);
-  std::printf("\n");
-  if (!options.json.empty()) {
-    nlohmann::json memory = nlohmann::json::array();
-    for (const Snapshot& snapshot : snapshots)
-      memory.push_back({{"step", snapshot.step},
-                        {"resident_mb", snapshot.resident_mb},
-                        {"tiles_built", snapshot.stats.builds},
-                        {"tiles_held", snapshot.stats.tiles_holding_data}});
-    const nlohmann::json report = {
-        {"world_size_m", options.world_size},
-        {"bodies", world.body_count_in_world()},
-        {"agents", options.agents},
-        {"walk_m", options.walk_distance},
-        {"steps", steps},
-        {"tile_budget", options.tile_budget},
-        {"physics_threads", options.physics_threads},
-        {"navmesh_threads", options.navmesh_threads},
-        {"hardware_threads", std::thread::hardware_concurrency()},
-        {"walk_wall_ms", walk_ms},
-        {"late_frames", late_frames},
-        {"step_mean_ms", step_ms_total / std::max(1, steps)},
-        {"step_max_ms", longest_step_ms},
-        {"step_body_lock_wait_ms", lock_wait_ms},
-        {"longest_request_ms", longest_request_ms},
-        {"tiles_built", stats.builds},
-        {"evictions", stats.evictions},
-        {"failures", stats.failures},
-        {"most_tiles_held", most_held},
-        {"on_ready_tile_share",
-         checks == 0 ? 0.0 : static_cast<double>(on_ready) / static_cast<double>(checks)},
-        {"memory", memory}};
-    if (const Status written = WriteJsonReport(options.json, report); !written) {
-      std::fprintf(stderr, "strata bench-navmesh: %s\n", written.message().c_str());
-      return 2;
-    }
-  }
+  figures.most_held = std::max(figures.most_held, stats.tiles_holding_data);
+  PrintWalk(options, figures, stats);
+  if (!options.json.empty())
+    if (const Status written = WriteJsonReport(options.json, WalkReport(options, world, figures, stats));
+        !written)
+      return Fail(written.message());
   std::fflush(stdout);
-  progress.Finish(std::to_string(steps) + " steps, " + std::to_string(stats.builds) + " tiles built, " +
-                  std::to_string(stats.evictions) + " evicted, " + std::to_string(stats.failures) +
-                  " failures");
+  progress.Finish(std::to_string(figures.steps) + " steps, " + std::to_string(stats.builds) +
+                  " tiles built, " + std::to_string(stats.evictions) + " evicted, " +
+                  std::to_string(stats.failures) + " failures");
   if (stats.failures > 0) {
     std::fprintf(stderr, "strata bench-navmesh: %zu tile builds failed: %s\n", stats.failures,
                  (*service)->last_error().c_str());
