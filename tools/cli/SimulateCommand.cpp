@@ -150,127 +150,125 @@ void PrintSummary(const Scene& scene, SceneWorld& world, const SimulateOptions& 
   }
 }
 
-int RunSimulate(const SimulateOptions& options) {
-  Result<Scene> scene = LoadScene(options.scene);
-  if (!scene) {
-    std::cerr << "strata simulate: " << scene.error().message << "\n";
-    return 2;
-  }
-  PhysicsSystemConfig config;
-  config.thread_count = options.threads;
-  Result<SceneWorld> world = BuildSceneWorld(*scene, config);
-  if (!world) {
-    std::cerr << "strata simulate: " << options.scene << ": " << world.error().message << "\n";
-    return 2;
-  }
-  // Written beside --out and renamed over it at the end: a failed or killed run leaves the old file whole.
+// Where a run's lines go: --out (or standard output), --events and --record, each written whole at the end.
+struct SimulateOutputs {
   std::optional<OutputFile> file;
-  if (!options.out.empty()) {
-    file.emplace(options.out);
-    if (!file->status()) {
-      std::cerr << "strata simulate: " << file->status().message() << "\n";
-      return 2;
-    }
-  }
   std::optional<OutputFile> events_file;
-  std::vector<std::string> names;  // by body index
+  std::vector<std::string> names;  // by body index, for the events
+  std::optional<view::Recorder> recorder;
+  int record_every = 1;
+};
+
+int Fail(const std::string& message, int exit_code = 2) {
+  std::cerr << "strata simulate: " << message << "\n";
+  return exit_code;
+}
+
+// Opens every output before the run, so a run never ends in "cannot write"; a message on failure.
+std::optional<std::string> OpenOutputs(const SimulateOptions& options, const Scene& scene, SceneWorld& world,
+                                       SimulateOutputs& outputs) {
+  // Written beside --out and renamed over it at the end: a failed or killed run leaves the old file whole.
+  if (!options.out.empty()) {
+    outputs.file.emplace(options.out);
+    if (!outputs.file->status()) return outputs.file->status().message();
+  }
   if (!options.events.empty()) {
     // One file written twice would end as whichever was renamed over it last.
     const auto same = [](const std::string& a, const std::string& b) {
       return !b.empty() && std::filesystem::absolute(a).lexically_normal() ==
                                std::filesystem::absolute(b).lexically_normal();
     };
-    if (same(options.events, options.out) || same(options.events, options.record)) {
-      std::cerr << "strata simulate: --events names the same file as --out or --record\n";
-      return 2;
-    }
-    events_file.emplace(options.events);
-    if (!events_file->status()) {
-      std::cerr << "strata simulate: " << events_file->status().message() << "\n";
-      return 2;
-    }
-    for (std::size_t i = 0; i < world->ids.size(); ++i) {
-      if (names.size() <= world->ids[i].index) names.resize(world->ids[i].index + 1);
-      names[world->ids[i].index] = scene->bodies[i].name;
+    if (same(options.events, options.out) || same(options.events, options.record))
+      return std::string("--events names the same file as --out or --record");
+    outputs.events_file.emplace(options.events);
+    if (!outputs.events_file->status()) return outputs.events_file->status().message();
+    for (std::size_t i = 0; i < world.ids.size(); ++i) {
+      if (outputs.names.size() <= world.ids[i].index) outputs.names.resize(world.ids[i].index + 1);
+      outputs.names[world.ids[i].index] = scene.bodies[i].name;
     }
   }
   // Frames about 30 times a simulated second, whatever the scene's dt.
-  const int record_every = std::max(1, static_cast<int>(std::lround(1.0f / (30.0f * scene->dt))));
-  std::optional<view::Recorder> recorder;
-  if (!options.record.empty()) {
-    recorder.emplace(*world->system, "simulate",
-                     "strata simulate: " + std::filesystem::path(options.scene).filename().string());
-    if (Status fits =
-            recorder->CheckFrameBudget(static_cast<std::uint64_t>(options.steps / record_every) + 2);
-        !fits) {
-      std::cerr << "strata simulate: --record: " << fits.message() << "\n";
-      return 2;
-    }
-    recorder->Capture(0, 0.0f);
-  }
-  std::ostream& out = file ? file->stream() : std::cout;
+  outputs.record_every = std::max(1, static_cast<int>(std::lround(1.0f / (30.0f * scene.dt))));
+  if (options.record.empty()) return std::nullopt;
+  outputs.recorder.emplace(*world.system, "simulate",
+                           "strata simulate: " + std::filesystem::path(options.scene).filename().string());
+  const auto frames = static_cast<std::uint64_t>(options.steps / outputs.record_every) + 2;
+  if (Status fits = outputs.recorder->CheckFrameBudget(frames); !fits) return "--record: " + fits.message();
+  outputs.recorder->Capture(0, 0.0f);
+  return std::nullopt;
+}
+
+// Renames every output over its target (standard output flushed); the first failure's message.
+std::optional<std::string> CommitOutputs(const SimulateOptions& options, SimulateOutputs& outputs) {
+  const Status written =
+      outputs.file ? outputs.file->Commit()
+                   : (std::cout.flush()
+                          ? Status::Ok()
+                          : Status(MakeError(ErrorCode::kInvalidArgument, "standard output: write failed")));
+  if (!written) return written.message();
+  if (outputs.events_file)
+    if (Status committed = outputs.events_file->Commit(); !committed) return committed.message();
+  if (!outputs.recorder) return std::nullopt;
+  outputs.recorder->Finish(nullptr, {});
+  if (Status recorded = outputs.recorder->Write(options.record); !recorded) return recorded.message();
+  return std::nullopt;
+}
+
+// What the run counted, for the summary.
+struct RunFigures {
   double slowest_ms = 0.0, total_ms = 0.0;
   int lines = 0, event_lines = 0;
   std::size_t linear_clamps = 0, angular_clamps = 0;
+};
+
+int RunSimulate(const SimulateOptions& options) {
+  Result<Scene> scene = LoadScene(options.scene);
+  if (!scene) return Fail(scene.error().message);
+  PhysicsSystemConfig config;
+  config.thread_count = options.threads;
+  Result<SceneWorld> world = BuildSceneWorld(*scene, config);
+  if (!world) return Fail(options.scene + ": " + world.error().message);
+  SimulateOutputs outputs;
+  if (auto failed = OpenOutputs(options, *scene, *world, outputs)) return Fail(*failed);
+  std::ostream& out = outputs.file ? outputs.file->stream() : std::cout;
+  RunFigures figures;
   // State lines going to the terminal are progress enough; a bar would break them up.
-  bench::Progress progress("strata simulate", "steps", stderr, file && isatty(STDERR_FILENO));
+  bench::Progress progress("strata simulate", "steps", stderr, outputs.file && isatty(STDERR_FILENO));
   for (int step = 1; step <= options.steps; ++step) {
     progress.Update(static_cast<std::size_t>(step - 1), static_cast<std::size_t>(options.steps));
     const auto start = std::chrono::steady_clock::now();
-    if (Status stepped = world->system->Step(scene->dt); !stepped) {
-      std::cerr << "strata simulate: step " << step << ": " << stepped.message() << "\n";
-      return 1;
-    }
+    if (Status stepped = world->system->Step(scene->dt); !stepped)
+      return Fail("step " + std::to_string(step) + ": " + stepped.message(), 1);
     const double ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-    slowest_ms = std::max(slowest_ms, ms);
-    total_ms += ms;
-    if (recorder && (step % record_every == 0 || step == options.steps))
-      recorder->Capture(step, static_cast<float>(step) * scene->dt);
-    if (events_file)
-      event_lines += WriteEvents(world->system->events(), names, step, static_cast<float>(step) * scene->dt,
-                                 events_file->stream());
-    linear_clamps += world->system->last_step_stats().linear_velocity_clamps;
-    angular_clamps += world->system->last_step_stats().angular_velocity_clamps;
+    figures.slowest_ms = std::max(figures.slowest_ms, ms);
+    figures.total_ms += ms;
+    const float time = static_cast<float>(step) * scene->dt;
+    if (outputs.recorder && (step % outputs.record_every == 0 || step == options.steps))
+      outputs.recorder->Capture(step, time);
+    if (outputs.events_file)
+      figures.event_lines +=
+          WriteEvents(world->system->events(), outputs.names, step, time, outputs.events_file->stream());
+    figures.linear_clamps += world->system->last_step_stats().linear_velocity_clamps;
+    figures.angular_clamps += world->system->last_step_stats().angular_velocity_clamps;
     if (step % options.every == 0 || step == options.steps) {
-      out << StateLine(*scene, *world, step, static_cast<float>(step) * scene->dt, options.constraint_forces)
-                 .dump()
-          << "\n";
-      ++lines;
+      out << StateLine(*scene, *world, step, time, options.constraint_forces).dump() << "\n";
+      ++figures.lines;
     }
   }
-  const Status written =
-      file ? file->Commit()
-           : (std::cout.flush()
-                  ? Status::Ok()
-                  : Status(MakeError(ErrorCode::kInvalidArgument, "standard output: write failed")));
-  if (!written) {
-    std::cerr << "strata simulate: " << written.message() << "\n";
-    return 2;
-  }
-  if (events_file) {
-    if (Status committed = events_file->Commit(); !committed) {
-      std::cerr << "strata simulate: " << committed.message() << "\n";
-      return 2;
-    }
-  }
-  if (recorder) {
-    recorder->Finish(nullptr, {});
-    if (Status recorded = recorder->Write(options.record); !recorded) {
-      std::cerr << "strata simulate: " << recorded.message() << "\n";
-      return 2;
-    }
-  }
-  progress.Finish(std::to_string(options.steps) + " steps, " + std::to_string(lines) + " state lines" +
-                  (events_file ? ", " + std::to_string(event_lines) + " event lines" : "") +
-                  (recorder ? ", " + std::to_string(recorder->frame_count()) + " frames recorded" : "") +
-                  ", peak memory " + std::to_string(PeakMemoryMegabytes()) + " MB");
-  if (!options.out.empty()) PrintSummary(*scene, *world, options, lines, total_ms, slowest_ms);
+  if (auto failed = CommitOutputs(options, outputs)) return Fail(*failed);
+  progress.Finish(
+      std::to_string(options.steps) + " steps, " + std::to_string(figures.lines) + " state lines" +
+      (outputs.events_file ? ", " + std::to_string(figures.event_lines) + " event lines" : "") +
+      (outputs.recorder ? ", " + std::to_string(outputs.recorder->frame_count()) + " frames recorded" : "") +
+      ", peak memory " + std::to_string(PeakMemoryMegabytes()) + " MB");
+  if (!options.out.empty())
+    PrintSummary(*scene, *world, options, figures.lines, figures.total_ms, figures.slowest_ms);
   // Limits are never silent: a body that hit its max_linear_velocity or max_angular_velocity is reported.
-  if (linear_clamps + angular_clamps > 0)
+  if (figures.linear_clamps + figures.angular_clamps > 0)
     std::cerr
-        << "strata simulate: warning: velocities were clamped to their limits " << linear_clamps
-        << " time(s) (linear) and " << angular_clamps
+        << "strata simulate: warning: velocities were clamped to their limits " << figures.linear_clamps
+        << " time(s) (linear) and " << figures.angular_clamps
         << " time(s) (angular); raise max_linear_velocity / max_angular_velocity if that was not meant\n";
   return 0;
 }
