@@ -112,12 +112,90 @@ nlohmann::json ToJson(const bench::EngineResult& r, double speedup) {
   return run;
 }
 
+// Counts the runs and keeps the progress bar on the one in progress (the rows print as runs end).
+class RunProgress {
+ public:
+  explicit RunProgress(std::size_t total) : progress_("strata bench", "runs"), total_(total) {}
+  template <class Run>
+  bench::EngineResult operator()(Run&& run) {
+    progress_.Update(done_, total_);
+    bench::EngineResult result = bench::RunIsolated(std::forward<Run>(run));
+    progress_.Hide();
+    ++done_;
+    return result;
+  }
+  void Finish(std::size_t scenes) {
+    progress_.Finish(std::to_string(done_) + " runs of " + std::to_string(scenes) + " scene(s)");
+  }
+
+ private:
+  bench::Progress progress_;
+  std::size_t total_;
+  std::size_t done_ = 0;
+};
+
+void PrintSceneHeader(const std::string& name, const bench::BenchScene& scene) {
+  std::printf(
+      "%s: %zu bodies, %d steps of %.4f s, %d substeps x (%d velocity + %d relax passes), sleeping %s, "
+      "pair cache %.2f mm / %.1f deg\n",
+      name.c_str(), scene.bodies.size(), scene.steps, scene.dt, scene.substeps, scene.velocity_iterations,
+      scene.relax_iterations, scene.sleeping ? "on" : "off", scene.pair_cache_max_distance * 1000.0f,
+      scene.pair_cache_max_angle);
+  std::printf("  %-7s %7s %9s %10s %9s %9s %9s %6s %-12s %s\n", "engine", "threads", "steps/s", "ms median",
+              "ms max", "MiB peak", "speedup", "bodies", "", "state hash");
+}
+
+// Bullet's run of the scene beside Strata's, with the ratios (when Bullet was built and not turned off).
+void RunBulletBeside(const bench::BenchScene& scene, const std::vector<bench::EngineResult>& runs,
+                     bool bullet, RunProgress& run, nlohmann::json& scene_json) {
+#ifdef STRATA_HAVE_BULLET
+  if (!bullet) return;
+  const bench::EngineResult result = run([&] { return bench::RunBullet(scene); });
+  PrintRow("bullet", scene, result, 1.0);
+  scene_json["bullet"] = ToJson(result, 1.0);
+  if (!result.ok) return;
+  for (const bench::EngineResult& strata : runs)
+    if (strata.ok)
+      std::printf("  strata/bullet at %d thread%s: %.2fx steps/s, %.2fx peak memory\n", strata.threads,
+                  strata.threads == 1 ? "" : "s", strata.StepsPerSecond() / result.StepsPerSecond(),
+                  static_cast<double>(strata.peak_memory_kb) / static_cast<double>(result.peak_memory_kb));
+#else
+  (void)scene, (void)runs, (void)run, (void)scene_json;
+  if (bullet) std::printf("  bullet   not built (install libbullet-dev and reconfigure)\n");
+#endif
+}
+
+// One scene at every thread count (and Bullet beside it); false if a run failed.
+bool RunScene(const bench::BenchScene& scene, const BenchOptions& options, bench::JobSystemKind job_system,
+              RunProgress& run, nlohmann::json& document) {
+  PrintSceneHeader(scene.name, scene);
+  std::vector<bench::EngineResult> runs;
+  nlohmann::json scene_json = {{"name", scene.name},
+                               {"bodies", scene.bodies.size()},
+                               {"steps", scene.steps},
+                               {"pair_cache_mm", scene.pair_cache_max_distance * 1000.0f},
+                               {"pair_cache_degrees", scene.pair_cache_max_angle}};
+  nlohmann::json strata_json = nlohmann::json::array();
+  for (const int threads : options.threads) {
+    runs.push_back(run([&] { return bench::RunStrata(scene, threads, job_system); }));
+    const double base = runs.front().StepsPerSecond();
+    const double speedup = base > 0.0 ? runs.back().StepsPerSecond() / base : 0.0;
+    PrintRow("strata", scene, runs.back(), speedup);
+    strata_json.push_back(ToJson(runs.back(), speedup));
+    std::fflush(stdout);
+  }
+  scene_json["strata"] = strata_json;
+  RunBulletBeside(scene, runs, options.bullet, run, scene_json);
+  PrintStages(runs);
+  document["scenes"].push_back(scene_json);
+  std::fflush(stdout);
+  return std::all_of(runs.begin(), runs.end(), [](const bench::EngineResult& r) { return r.ok; });
+}
+
 int RunBench(BenchOptions options) {
-  std::vector<std::string> names;
-  if (options.scene == "all")
-    names = {"pyramid", "convex_vs_mesh", "ragdolls", "chains"};
-  else
-    names = {options.scene};
+  const std::vector<std::string> names =
+      options.scene == "all" ? std::vector<std::string>{"pyramid", "convex_vs_mesh", "ragdolls", "chains"}
+                             : std::vector<std::string>{options.scene};
   if (options.job_system != "default" && options.job_system != "pool") {
     std::cerr << "strata bench: --job-system must be 'default' or 'pool'\n";
     return 2;
@@ -132,21 +210,11 @@ int RunBench(BenchOptions options) {
   nlohmann::json document = {{"hardware_threads", std::thread::hardware_concurrency()},
                              {"job_system", options.job_system},
                              {"scenes", nlohmann::json::array()}};
-  bench::Progress progress("strata bench", "runs");
   bool with_bullet = false;
 #ifdef STRATA_HAVE_BULLET
   with_bullet = options.bullet;
 #endif
-  const std::size_t total_runs = names.size() * (options.threads.size() + (with_bullet ? 1 : 0));
-  std::size_t runs_done = 0;
-  // The rows print as runs end; the bar says which run a long wait is in.
-  const auto run_with_progress = [&](auto&& run) {
-    progress.Update(runs_done, total_runs);
-    bench::EngineResult result = run();
-    progress.Hide();
-    ++runs_done;
-    return result;
-  };
+  RunProgress run(names.size() * (options.threads.size() + (with_bullet ? 1 : 0)));
   for (const std::string& name : names) {
     bench::BenchScene scene = bench::MakeBenchScene(name);
     if (scene.bodies.empty()) {
@@ -158,59 +226,13 @@ int RunBench(BenchOptions options) {
     if (options.pair_cache_distance_mm)
       scene.pair_cache_max_distance = *options.pair_cache_distance_mm / 1000.0f;
     if (options.pair_cache_angle) scene.pair_cache_max_angle = *options.pair_cache_angle;
-    std::printf(
-        "%s: %zu bodies, %d steps of %.4f s, %d substeps x (%d velocity + %d relax passes), sleeping %s, "
-        "pair "
-        "cache %.2f mm / %.1f deg\n",
-        name.c_str(), scene.bodies.size(), scene.steps, scene.dt, scene.substeps, scene.velocity_iterations,
-        scene.relax_iterations, scene.sleeping ? "on" : "off", scene.pair_cache_max_distance * 1000.0f,
-        scene.pair_cache_max_angle);
-    std::printf("  %-7s %7s %9s %10s %9s %9s %9s %6s %-12s %s\n", "engine", "threads", "steps/s", "ms median",
-                "ms max", "MiB peak", "speedup", "bodies", "", "state hash");
-    std::vector<bench::EngineResult> runs;
-    nlohmann::json scene_json = {{"name", name},
-                                 {"bodies", scene.bodies.size()},
-                                 {"steps", scene.steps},
-                                 {"pair_cache_mm", scene.pair_cache_max_distance * 1000.0f},
-                                 {"pair_cache_degrees", scene.pair_cache_max_angle}};
-    nlohmann::json strata_json = nlohmann::json::array();
-    for (const int threads : options.threads) {
-      runs.push_back(run_with_progress(
-          [&] { return bench::RunIsolated([&] { return bench::RunStrata(scene, threads, job_system); }); }));
-      const double base = runs.front().StepsPerSecond();
-      const double speedup = base > 0.0 ? runs.back().StepsPerSecond() / base : 0.0;
-      PrintRow("strata", scene, runs.back(), speedup);
-      strata_json.push_back(ToJson(runs.back(), speedup));
-      std::fflush(stdout);
-    }
-    scene_json["strata"] = strata_json;
-#ifdef STRATA_HAVE_BULLET
-    if (options.bullet) {
-      const bench::EngineResult bullet =
-          run_with_progress([&] { return bench::RunIsolated([&] { return bench::RunBullet(scene); }); });
-      PrintRow("bullet", scene, bullet, 1.0);
-      scene_json["bullet"] = ToJson(bullet, 1.0);
-      if (bullet.ok)
-        for (const bench::EngineResult& run : runs)
-          if (run.ok)
-            std::printf("  strata/bullet at %d thread%s: %.2fx steps/s, %.2fx peak memory\n", run.threads,
-                        run.threads == 1 ? "" : "s", run.StepsPerSecond() / bullet.StepsPerSecond(),
-                        static_cast<double>(run.peak_memory_kb) / static_cast<double>(bullet.peak_memory_kb));
-    }
-#else
-    if (options.bullet) std::printf("  bullet   not built (install libbullet-dev and reconfigure)\n");
-#endif
-    PrintStages(runs);
-    document["scenes"].push_back(scene_json);
-    std::fflush(stdout);
-    for (const bench::EngineResult& run : runs)
-      if (!run.ok) return 1;
+    if (!RunScene(scene, options, job_system, run, document)) return 1;
   }
   if (!options.json.empty() && !bench::WriteJsonReport(options.json, document).ok()) {
     std::cerr << "strata bench: cannot write " << options.json << "\n";
     return 1;
   }
-  progress.Finish(std::to_string(runs_done) + " runs of " + std::to_string(names.size()) + " scene(s)");
+  run.Finish(names.size());
   return 0;
 }
 
