@@ -112,22 +112,15 @@ bool Inside(const float* v, const float* low, const float* high, float margin) {
   return true;
 }
 
-/// What is wrong with a tile, or nothing: counts, indices and sizes must agree (so Detour never reads
-/// outside the tile), bounds and vertices must be finite with every vertex inside the bounds, and the bounds
-/// must lie in the grid cell the header names (a tile moved to another cell would answer paths there).
-std::string TileProblem(std::span<const unsigned char> bytes, const dtNavMeshParams& params) {
-  if (bytes.size() < sizeof(dtMeshHeader)) return "too short for a tile header";
-  dtMeshHeader header;
-  std::memcpy(&header, bytes.data(), sizeof(header));
-  if (header.magic != DT_NAVMESH_MAGIC || header.version != DT_NAVMESH_VERSION)
-    return "not a Detour tile (magic or version)";
+/// What is wrong with a tile's header, or nothing: counts in range and agreeing with the size, bounds finite
+/// and in the grid cell the header names (a tile moved to another cell would answer paths there).
+std::string HeaderProblem(const dtMeshHeader& header, std::size_t size, const dtNavMeshParams& params) {
   const int counts[] = {header.vertCount,       header.polyCount,       header.maxLinkCount,
                         header.detailMeshCount, header.detailVertCount, header.detailTriCount,
                         header.bvNodeCount,     header.offMeshConCount};
   for (const int count : counts)
     if (count < 0 || count > (1 << 24)) return "a count is out of range";
-  if (ExpectedTileSize(header) != static_cast<long>(bytes.size()))
-    return "its size does not match its counts";
+  if (ExpectedTileSize(header) != static_cast<long>(size)) return "its size does not match its counts";
   if (header.detailMeshCount != header.polyCount) return "detail meshes do not match polygons";
   if (!Finite3(header.bmin) || !Finite3(header.bmax) || !Inside(header.bmin, header.bmin, header.bmax, 0.0f))
     return "its bounds are not finite or inside out";
@@ -143,6 +136,89 @@ std::string TileProblem(std::span<const unsigned char> bytes, const dtNavMeshPar
              ") but its bounds lie elsewhere";
   }
 
+  return {};
+}
+
+/// What is wrong with polygon `p`, or nothing: vertex and detail indices in range, ground only, neighbours
+/// in the tile or through a side, detail triangles Detour can walk.
+std::string PolygonProblem(std::size_t p, const dtPoly& poly, const dtPolyDetail& detail,
+                           const unsigned char* detail_tris, const dtMeshHeader& header) {
+  const std::string which = "polygon " + std::to_string(p);
+  if (poly.vertCount < 3 || poly.vertCount > DT_VERTS_PER_POLYGON) return which + " has a bad vertex count";
+  // Off-mesh links would index a table we never write.
+  if (poly.getType() != DT_POLYTYPE_GROUND) return which + " is not a ground polygon";
+  for (int v = 0; v < poly.vertCount; ++v) {
+    if (poly.verts[v] >= header.vertCount) return which + " has a vertex index out of range";
+    // 0: a border; 1..polyCount: a polygon of this tile; DT_EXT_LINK | side: a link out of the tile
+    // through side 0, 2, 4 or 6 (another side makes Detour link the tile to itself in ways it cannot read).
+    const unsigned short neighbour = poly.neis[v];
+    const bool inner = neighbour <= header.polyCount;
+    const unsigned side = neighbour & 0xffu;
+    const bool outer = neighbour == (DT_EXT_LINK | side) && side <= 6 && side % 2 == 0;
+    if (!inner && !outer) return which + " has a neighbour that is neither in the tile nor a side of it";
+  }
+  if (static_cast<long>(detail.vertBase) + detail.vertCount > header.detailVertCount ||
+      static_cast<long>(detail.triBase) + detail.triCount > header.detailTriCount)
+    return which + " has detail ranges out of range";
+  if (detail.triCount == 0) return which + " has no detail triangles";
+  int boundary_edges = 0;
+  for (int t = 0; t < detail.triCount; ++t) {
+    const unsigned char* corners = detail_tris + (detail.triBase + t) * 4;
+    // The fourth byte flags which of the triangle's edges lie on the polygon's outline (2 bits an edge,
+    // only the low one used). Detour's nearest point falls back to those edges and reads through a null
+    // pointer when a polygon has none (fuzz_navmesh found the flags of a triangle flipped): the outline
+    // needs at least one flagged edge a polygon side.
+    const unsigned char flags = corners[3];
+    if ((flags & 0xC0u) != 0 || (flags & 0x2Au) != 0)
+      return which + " has a detail triangle with bad edge flags";
+    boundary_edges += (flags & 1u) + ((flags >> 2) & 1u) + ((flags >> 4) & 1u);
+    for (int k = 0; k < 3; ++k)
+      if (corners[k] >= poly.vertCount + detail.vertCount)
+        return which + " has a detail triangle index out of range";
+    // Three distinct corners: Detour's nearest-point search walks the edges between them and reads
+    // through a null pointer when a polygon's triangles give it none (fuzz_navmesh found 0, 0, 0).
+    if (corners[0] == corners[1] || corners[1] == corners[2] || corners[2] == corners[0])
+      return which + " has a detail triangle with a repeated corner";
+  }
+  if (boundary_edges < poly.vertCount)
+    return which + " has fewer outline edges in its detail mesh than sides";
+  return {};
+}
+
+/// A neighbour inside the tile shares the edge and names the polygon back through it (checked once every
+/// polygon's counts are known good): Detour's walks (raycasts, paths) follow these links, and a polygon that
+/// is its own neighbour, or a one-way link, sends a raycast round in circles forever (fuzz_navmesh found
+/// one).
+std::string NeighbourProblem(const std::vector<dtPoly>& polys) {
+  for (std::size_t p = 0; p < polys.size(); ++p) {
+    const dtPoly& poly = polys[p];
+    for (int v = 0; v < poly.vertCount; ++v) {
+      const unsigned short neighbour = poly.neis[v];
+      if (neighbour == 0 || (neighbour & DT_EXT_LINK)) continue;
+      const std::size_t other = neighbour - 1u;
+      const unsigned short from = poly.verts[v], to = poly.verts[(v + 1) % poly.vertCount];
+      const dtPoly& back = polys[other];
+      bool shared = false;
+      for (int w = 0; w < back.vertCount && other != p && !shared; ++w)
+        shared = back.verts[w] == to && back.verts[(w + 1) % back.vertCount] == from && back.neis[w] == p + 1;
+      if (!shared)
+        return "polygon " + std::to_string(p) + " names polygon " + std::to_string(other) +
+               " as a neighbour it does not share an edge with";
+    }
+  }
+  return {};
+}
+
+/// What is wrong with a tile, or nothing: counts, indices and sizes must agree (so Detour never reads
+/// outside the tile), bounds and vertices must be finite with every vertex inside the bounds, and the bounds
+/// must lie in the grid cell the header names.
+std::string TileProblem(std::span<const unsigned char> bytes, const dtNavMeshParams& params) {
+  if (bytes.size() < sizeof(dtMeshHeader)) return "too short for a tile header";
+  dtMeshHeader header;
+  std::memcpy(&header, bytes.data(), sizeof(header));
+  if (header.magic != DT_NAVMESH_MAGIC || header.version != DT_NAVMESH_VERSION)
+    return "not a Detour tile (magic or version)";
+  if (std::string problem = HeaderProblem(header, bytes.size(), params); !problem.empty()) return problem;
   const unsigned char* cursor = bytes.data() + Align4(sizeof(dtMeshHeader));
   const std::vector<float> verts = TakeArray<float>(cursor, 3 * header.vertCount);
   const std::vector<dtPoly> polys = TakeArray<dtPoly>(cursor, header.polyCount);
@@ -160,69 +236,10 @@ std::string TileProblem(std::span<const unsigned char> bytes, const dtNavMeshPar
       if (!Inside(&(*list)[v], header.bmin, header.bmax, margin))
         return std::string(list == &verts ? "vertex " : "detail vertex ") + std::to_string(v / 3) +
                " is not finite or lies outside the tile";
-  for (std::size_t p = 0; p < polys.size(); ++p) {
-    const dtPoly& poly = polys[p];
-    const std::string which = "polygon " + std::to_string(p);
-    if (poly.vertCount < 3 || poly.vertCount > DT_VERTS_PER_POLYGON) return which + " has a bad vertex count";
-    // Off-mesh links would index a table we never write.
-    if (poly.getType() != DT_POLYTYPE_GROUND) return which + " is not a ground polygon";
-    for (int v = 0; v < poly.vertCount; ++v) {
-      if (poly.verts[v] >= header.vertCount) return which + " has a vertex index out of range";
-      // 0: a border; 1..polyCount: a polygon of this tile; DT_EXT_LINK | side: a link out of the tile
-      // through side 0, 2, 4 or 6 (another side makes Detour link the tile to itself in ways it cannot read).
-      const unsigned short neighbour = poly.neis[v];
-      const bool inner = neighbour <= header.polyCount;
-      const unsigned side = neighbour & 0xffu;
-      const bool outer = neighbour == (DT_EXT_LINK | side) && side <= 6 && side % 2 == 0;
-      if (!inner && !outer) return which + " has a neighbour that is neither in the tile nor a side of it";
-    }
-    const dtPolyDetail& detail = details[p];
-    if (static_cast<long>(detail.vertBase) + detail.vertCount > header.detailVertCount ||
-        static_cast<long>(detail.triBase) + detail.triCount > header.detailTriCount)
-      return which + " has detail ranges out of range";
-    if (detail.triCount == 0) return which + " has no detail triangles";
-    int boundary_edges = 0;
-    for (int t = 0; t < detail.triCount; ++t) {
-      const unsigned char* corners = detail_tris + (detail.triBase + t) * 4;
-      // The fourth byte flags which of the triangle's edges lie on the polygon's outline (2 bits an edge,
-      // only the low one used). Detour's nearest point falls back to those edges and reads through a null
-      // pointer when a polygon has none (fuzz_navmesh found the flags of a triangle flipped): the outline
-      // needs at least one flagged edge a polygon side.
-      const unsigned char flags = corners[3];
-      if ((flags & 0xC0u) != 0 || (flags & 0x2Au) != 0)
-        return which + " has a detail triangle with bad edge flags";
-      boundary_edges += (flags & 1u) + ((flags >> 2) & 1u) + ((flags >> 4) & 1u);
-      for (int k = 0; k < 3; ++k)
-        if (corners[k] >= poly.vertCount + detail.vertCount)
-          return which + " has a detail triangle index out of range";
-      // Three distinct corners: Detour's nearest-point search walks the edges between them and reads
-      // through a null pointer when a polygon's triangles give it none (fuzz_navmesh found 0, 0, 0).
-      if (corners[0] == corners[1] || corners[1] == corners[2] || corners[2] == corners[0])
-        return which + " has a detail triangle with a repeated corner";
-    }
-    if (boundary_edges < poly.vertCount)
-      return which + " has fewer outline edges in its detail mesh than sides";
-  }
-  // A neighbour inside the tile shares the edge and names the polygon back through it (checked once every
-  // polygon's counts are known good): Detour's walks (raycasts, paths) follow these links, and a polygon that
-  // is its own neighbour, or a one-way link, sends a raycast round in circles forever (fuzz_navmesh found
-  // one).
-  for (std::size_t p = 0; p < polys.size(); ++p) {
-    const dtPoly& poly = polys[p];
-    for (int v = 0; v < poly.vertCount; ++v) {
-      const unsigned short neighbour = poly.neis[v];
-      if (neighbour == 0 || (neighbour & DT_EXT_LINK)) continue;
-      const std::size_t other = neighbour - 1u;
-      const unsigned short from = poly.verts[v], to = poly.verts[(v + 1) % poly.vertCount];
-      const dtPoly& back = polys[other];
-      bool shared = false;
-      for (int w = 0; w < back.vertCount && other != p && !shared; ++w)
-        shared = back.verts[w] == to && back.verts[(w + 1) % back.vertCount] == from && back.neis[w] == p + 1;
-      if (!shared)
-        return "polygon " + std::to_string(p) + " names polygon " + std::to_string(other) +
-               " as a neighbour it does not share an edge with";
-    }
-  }
+  for (std::size_t p = 0; p < polys.size(); ++p)
+    if (std::string problem = PolygonProblem(p, polys[p], details[p], detail_tris, header); !problem.empty())
+      return problem;
+  if (std::string problem = NeighbourProblem(polys); !problem.empty()) return problem;
   for (const dtBVNode& node : nodes)
     if (node.i >= header.polyCount || node.i < -header.bvNodeCount)
       return "a bounding-volume node is out of range";
