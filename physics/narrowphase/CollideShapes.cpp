@@ -251,6 +251,100 @@ bool CollideByGjk(const ConvexShape& a, const Pose& pose_a, const ConvexShape& b
   return manifold.count > 0;
 }
 
+// CollideConvexTriangles' convex, posed once in the mesh's frame for every triangle it meets: the contact
+// test for its kind (separating axes for boxes and hulls, closed forms for spheres and capsules, GJK/EPA on
+// the cores for the rest) and its supporting faces.
+class ConvexInMesh {
+ public:
+  ConvexInMesh(const ConvexShape& shape, const Pose& pose)
+      : shape_(shape),
+        pose_(pose),
+        rotation_(pose.rotation.toRotationMatrix()),
+        core_(shape, pose_, true),
+        exact_(shape, pose_, false) {
+    use_sat_ = IsPolyhedron(shape) && MakePolyhedron(shape, pose_, polyhedron_);
+    if (shape.type() != ShapeType::kCapsule) return;
+    const Vec3 half_axis = rotation_.col(1) * static_cast<const CapsuleShape&>(shape).half_height();
+    capsule_core_[0] = pose_.position - half_axis;
+    capsule_core_[1] = pose_.position + half_axis;
+  }
+  ConvexInMesh(const ConvexInMesh&) = delete;
+  ConvexInMesh& operator=(const ConvexInMesh&) = delete;
+
+  bool use_sat() const { return use_sat_; }
+  /// Whether the convex's deepest point below the triangle's plane comes within `max_separation` of it: if
+  /// not, no feature of the triangle can come closer.
+  bool Reaches(const Vec3& face_normal, const Vec3& corner, float max_separation) const {
+    const Vec3 lowest = pose_.position + rotation_ * shape_.Support(rotation_.transpose() * -face_normal);
+    return face_normal.dot(lowest - corner) <= max_separation;
+  }
+  /// The contact with one triangle: its normal and deepest point (and, by separating axes, the whole
+  /// manifold). False when they are apart beyond `max_separation`.
+  bool Contact(const TriangleSupport& triangle, const MeshTriangle& corners, float max_separation,
+               EpaScratch& epa, ContactManifold& manifold, Vec3& normal, ContactPoint& deepest) {
+    if (use_sat_) return PolyhedronContact(triangle, corners, max_separation, manifold, normal, deepest);
+    if (shape_.type() == ShapeType::kSphere)
+      return SphereTriangleContact(pose_.position, shape_.core_radius(), triangle, corners.normal,
+                                   max_separation, normal, deepest);
+    bool within = true;
+    if (shape_.type() == ShapeType::kCapsule &&
+        CapsuleTriangleContact(capsule_core_[0], capsule_core_[1], shape_.core_radius(), corners,
+                               max_separation, within, normal, deepest))
+      return within;
+    return FindContact(core_, exact_, shape_.core_radius(), triangle, triangle, 0.0f, max_separation, normal,
+                       deepest, epa);
+  }
+  /// The convex's face most aligned with `normal`, in the mesh's frame.
+  void Face(const Vec3& normal, SupportingFace& face) const {
+    if (use_sat_)
+      polyhedron_.Face(MostAlignedFace(polyhedron_, normal), face);
+    else
+      WorldFace(shape_, pose_, normal, face);
+  }
+
+ private:
+  bool PolyhedronContact(const TriangleSupport& triangle, const MeshTriangle& corners, float max_separation,
+                         ContactManifold& manifold, Vec3& normal, ContactPoint& deepest) {
+    if (shape_.type() == ShapeType::kBox) {
+      if (!CollideBoxTriangle(static_cast<const BoxShape&>(shape_), rotation_, pose_.position, corners,
+                              max_separation, manifold))
+        return false;
+    } else {
+      thread_local Polyhedron triangle_polyhedron;
+      MakeTrianglePolyhedron(triangle.vertex(0), triangle.vertex(1), triangle.vertex(2), corners.normal,
+                             triangle_polyhedron);
+      if (!CollidePolyhedra(polyhedron_, triangle_polyhedron, max_separation, manifold)) return false;
+    }
+    normal = manifold.normal;
+    deepest = manifold.points[0];
+    for (int i = 1; i < manifold.count; ++i)
+      if (manifold.points[i].separation < deepest.separation) deepest = manifold.points[i];
+    return true;
+  }
+
+  const ConvexShape& shape_;
+  const Pose pose_;
+  const Mat3 rotation_;
+  const PosedConvex core_, exact_;
+  bool use_sat_ = false;
+  Vec3 capsule_core_[2];
+  static thread_local Polyhedron polyhedron_;
+};
+
+thread_local Polyhedron ConvexInMesh::polyhedron_;
+
+// Manifolds found in the mesh's frame, from `first` on, back to world space.
+void ManifoldsToWorld(const Pose& pose_mesh, std::size_t first, std::vector<ContactManifold>& out) {
+  for (std::size_t m = first; m < out.size(); ++m) {
+    ContactManifold& manifold = out[m];
+    manifold.normal = pose_mesh.rotation * manifold.normal;
+    for (int i = 0; i < manifold.count; ++i) {
+      manifold.points[i].position_a = pose_mesh.ToWorld(manifold.points[i].position_a);
+      manifold.points[i].position_b = pose_mesh.ToWorld(manifold.points[i].position_b);
+    }
+  }
+}
+
 // A convex shape against anything made of triangles that TriangleMeshShape's triangle interface describes
 // (QueryBox, Vertex, Normal, ActiveEdges): the mesh and the height field.
 template <class TriangleShape>
@@ -270,60 +364,22 @@ void CollideConvexTriangles(const ConvexShape& a, const Pose& pose_a, const Tria
   // of a hierarchy: the same triangles collide the same whatever shape holds them (a mesh and its height
   // field), and on every run.
   std::sort(triangles.begin(), triangles.end());
-  const PosedConvex core_a(a, local_a, true), exact_a(a, local_a, false);
-  const Mat3 rotation_a = local_a.rotation.toRotationMatrix();
-  thread_local Polyhedron polyhedron_a, triangle_polyhedron;
-  const bool use_sat = IsPolyhedron(a) && MakePolyhedron(a, local_a, polyhedron_a);
-  Vec3 capsule_core[2];
-  if (a.type() == ShapeType::kCapsule) {
-    const Vec3 half_axis = rotation_a.col(1) * static_cast<const CapsuleShape&>(a).half_height();
-    capsule_core[0] = local_a.position - half_axis;
-    capsule_core[1] = local_a.position + half_axis;
-  }
+  ConvexInMesh convex(a, local_a);
   const std::size_t first = out.size();
   for (std::uint32_t t : triangles) {
     const Vec3 face_normal = mesh.Normal(t);
     const TriangleSupport triangle(mesh.Vertex(t, 0), mesh.Vertex(t, 1), mesh.Vertex(t, 2));
-    // The convex's deepest point below the triangle's plane: if even that stays above it by more than the
-    // speculative reach, no feature of the triangle can come closer.
-    const Vec3 lowest = local_a.position + rotation_a * a.Support(rotation_a.transpose() * -face_normal);
-    if (face_normal.dot(lowest - triangle.vertex(0)) > max_separation) continue;
+    if (!convex.Reaches(face_normal, triangle.vertex(0), max_separation)) continue;
     ContactManifold manifold = prototype;
     manifold.sub_shape_b = t;
     Vec3 normal;
     ContactPoint deepest;
     const MeshTriangle corners{{triangle.vertex(0), triangle.vertex(1), triangle.vertex(2)}, face_normal};
-    bool within = true;
-    if (use_sat) {
-      if (a.type() == ShapeType::kBox) {
-        if (!CollideBoxTriangle(static_cast<const BoxShape&>(a), rotation_a, local_a.position, corners,
-                                max_separation, manifold))
-          continue;
-      } else {
-        MakeTrianglePolyhedron(triangle.vertex(0), triangle.vertex(1), triangle.vertex(2), face_normal,
-                               triangle_polyhedron);
-        if (!CollidePolyhedra(polyhedron_a, triangle_polyhedron, max_separation, manifold)) continue;
-      }
-      normal = manifold.normal;
-      deepest = manifold.points[0];
-      for (int i = 1; i < manifold.count; ++i)
-        if (manifold.points[i].separation < deepest.separation) deepest = manifold.points[i];
-    } else if (a.type() == ShapeType::kSphere) {
-      if (!SphereTriangleContact(local_a.position, a.core_radius(), triangle, face_normal, max_separation,
-                                 normal, deepest))
-        continue;
-    } else if (a.type() == ShapeType::kCapsule &&
-               CapsuleTriangleContact(capsule_core[0], capsule_core[1], a.core_radius(), corners,
-                                      max_separation, within, normal, deepest)) {
-      if (!within) continue;
-    } else if (!FindContact(core_a, exact_a, a.core_radius(), triangle, triangle, 0.0f, max_separation,
-                            normal, deepest, scratch.epa)) {
-      continue;
-    }
+    if (!convex.Contact(triangle, corners, max_separation, scratch.epa, manifold, normal, deepest)) continue;
     // A normal along the front face normal would pull the body through the triangle from behind.
     if (normal.dot(face_normal) > 0.0f) continue;
     const Vec3 corrected = CorrectTriangleNormal(mesh, t, face_normal, triangle, deepest.position_b, normal);
-    if (use_sat && corrected == normal) {
+    if (convex.use_sat() && corrected == normal) {
       MergeManifold(manifold, first, out);
       continue;
     }
@@ -341,23 +397,12 @@ void CollideConvexTriangles(const ConvexShape& a, const Pose& pose_a, const Tria
       continue;
     }
     SupportingFace face_a, face_b;
-    if (use_sat)
-      polyhedron_a.Face(MostAlignedFace(polyhedron_a, normal), face_a);
-    else
-      WorldFace(a, local_a, normal, face_a);
+    convex.Face(normal, face_a);
     TriangleFace(triangle, face_normal, -normal, face_b);
-    manifold.normal = normal;
     BuildManifold(face_a, face_b, deepest, max_separation, manifold);
     if (manifold.count > 0) MergeManifold(manifold, first, out);
   }
-  for (std::size_t m = first; m < out.size(); ++m) {
-    ContactManifold& manifold = out[m];
-    manifold.normal = pose_mesh.rotation * manifold.normal;
-    for (int i = 0; i < manifold.count; ++i) {
-      manifold.points[i].position_a = pose_mesh.ToWorld(manifold.points[i].position_a);
-      manifold.points[i].position_b = pose_mesh.ToWorld(manifold.points[i].position_b);
-    }
-  }
+  ManifoldsToWorld(pose_mesh, first, out);
 }
 
 const ConvexShape& AsConvex(const Shape& shape) {

@@ -238,7 +238,8 @@ class RecordingChecker {
   std::string file_;
 };
 
-Status CheckRecording(const nlohmann::json& document, const RecordingChecker& check) {
+// The header, the static mesh, the shapes and the bodies that use them.
+Status CheckBodies(const nlohmann::json& document, const RecordingChecker& check) {
   const nlohmann::json& format = Member(document, "format");
   if (!format.is_string() || format.get<std::string>() != "strata-recording")
     return check.Fail("format", "not a strata recording (\"format\": \"strata-recording\" expected)");
@@ -260,7 +261,12 @@ Status CheckRecording(const nlohmann::json& document, const RecordingChecker& ch
     if (bodies[i].contains("sensor") && !bodies[i]["sensor"].is_boolean())
       return check.Fail("bodies[" + std::to_string(i) + "].sensor", "must be true or false");
   }
-  std::size_t tile_count = 0;
+  return Status::Ok();
+}
+
+// The tile grid, if any; `tile_count` is how many tiles every frame must hold a state for.
+Status CheckTiles(const nlohmann::json& document, const RecordingChecker& check, std::size_t& tile_count) {
+  tile_count = 0;
   if (document.contains("tiles")) {
     const nlohmann::json& tiles = document["tiles"];
     if (!tiles.is_object() || !Member(tiles, "size").is_number() || !(tiles["size"].get<double>() > 0.0) ||
@@ -273,6 +279,10 @@ Status CheckRecording(const nlohmann::json& document, const RecordingChecker& ch
         return check.Fail("tiles.coords", "must be [x, z] pairs of whole numbers");
     tile_count = tiles["coords"].size();
   }
+  return Status::Ok();
+}
+
+Status CheckCharacters(const nlohmann::json& document, const RecordingChecker& check) {
   const nlohmann::json& characters = Member(document, "characters", Missing::kEmptyArray);
   if (!characters.is_array()) return check.Fail("characters", "must be an array");
   for (std::size_t i = 0; i < characters.size(); ++i) {
@@ -289,6 +299,13 @@ Status CheckRecording(const nlohmann::json& document, const RecordingChecker& ch
       if (Status status = check.Numbers(point, field + ".route", 3); !status || point.size() != 3)
         return check.Fail(field + ".route", "must be an array of x, y, z points");
   }
+  return Status::Ok();
+}
+
+// Every frame: a pose a body, feet a character, a state a tile.
+Status CheckFrames(const nlohmann::json& document, const RecordingChecker& check, std::size_t tile_count) {
+  const nlohmann::json& bodies = Member(document, "bodies");
+  const nlohmann::json& characters = Member(document, "characters", Missing::kEmptyArray);
   const nlohmann::json& frames = Member(document, "frames");
   if (!frames.is_array()) return check.Fail("frames", "must be an array");
   for (std::size_t i = 0; i < frames.size(); ++i) {
@@ -316,6 +333,11 @@ Status CheckRecording(const nlohmann::json& document, const RecordingChecker& ch
           return check.Fail(field + ".tiles", "holds an unknown tile state");
     }
   }
+  return Status::Ok();
+}
+
+// The navmesh by island, and the agents with their paths.
+Status CheckNavMeshAndAgents(const nlohmann::json& document, const RecordingChecker& check) {
   if (document.contains("navmesh")) {
     const nlohmann::json& surface = document["navmesh"];
     if (!surface.is_object()) return check.Fail("navmesh", "must be an object");
@@ -345,6 +367,15 @@ Status CheckRecording(const nlohmann::json& document, const RecordingChecker& ch
         return check.Fail(field + ".path", "must be an array of x, y, z points");
   }
   return Status::Ok();
+}
+
+Status CheckRecording(const nlohmann::json& document, const RecordingChecker& check) {
+  std::size_t tile_count = 0;
+  if (Status status = CheckBodies(document, check); !status) return status;
+  if (Status status = CheckTiles(document, check, tile_count); !status) return status;
+  if (Status status = CheckCharacters(document, check); !status) return status;
+  if (Status status = CheckFrames(document, check, tile_count); !status) return status;
+  return CheckNavMeshAndAgents(document, check);
 }
 
 }  // namespace
