@@ -122,14 +122,14 @@ QuerySet MakeQuerySet(const OpenWorld& world, int count, unsigned seed) {
   return set;
 }
 
-BroadPhaseFigures MeasureStrata(const OpenWorld& world, const QuerySet& queries) {
-  BroadPhaseFigures figures;
-  const auto body_count = static_cast<std::uint32_t>(world.bounds.size());
-  constexpr std::uint32_t kExtra = 10000;
-  QuadTreeBroadPhase broad_phase(body_count + kExtra + 16, std::make_shared<DefaultLayerSetup>());
-  auto id_of = [](std::uint32_t index) { return BodyID{index, 1}; };
+BodyID BenchId(std::uint32_t index) {
+  return BodyID{index, 1};
+}
 
-  // Stream the tiles in: prepare on this thread (timed per body), finalize each tile.
+// Streams the tiles in: prepare on this thread (timed per body), finalize each tile; then a full rebuild.
+void StreamIn(QuadTreeBroadPhase& broad_phase, const OpenWorld& world, BroadPhaseFigures& figures) {
+  const auto body_count = static_cast<std::uint32_t>(world.bounds.size());
+  auto id_of = BenchId;
   double prepare_us = 0.0;
   for (const auto& tile : world.tiles) {
     std::vector<BodyID> ids;
@@ -146,8 +146,13 @@ BroadPhaseFigures MeasureStrata(const OpenWorld& world, const QuerySet& queries)
   auto start = Clock::now();
   broad_phase.Optimize();
   figures.full_rebuild_ms = MicrosecondsSince(start) / 1000.0;
+}
 
-  // Finalize cost per batch size (prepared beforehand, removed again afterwards).
+// Finalize cost per batch size (prepared beforehand, removed again afterwards).
+void MeasureFinalize(QuadTreeBroadPhase& broad_phase, const OpenWorld& world, BroadPhaseFigures& figures) {
+  const auto body_count = static_cast<std::uint32_t>(world.bounds.size());
+  auto id_of = BenchId;
+  Clock::time_point start;
   std::mt19937 random(9);
   std::uniform_real_distribution<float> x(world.extent.min.x(), world.extent.max.x()),
       z(world.extent.min.z(), world.extent.max.z());
@@ -171,11 +176,15 @@ BroadPhaseFigures MeasureStrata(const OpenWorld& world, const QuerySet& queries)
     }
     figures.finalize_us.push_back(Median(samples));
   }
+}
 
-  // Remove single bodies, then stream them back in.
+// Removes single bodies, then streams them back in.
+void MeasureRemove(QuadTreeBroadPhase& broad_phase, const OpenWorld& world, BroadPhaseFigures& figures) {
+  const auto body_count = static_cast<std::uint32_t>(world.bounds.size());
+  auto id_of = BenchId;
   std::vector<BodyID> victims;
   for (std::uint32_t i = 0; i < body_count; i += 10) victims.push_back(id_of(i));
-  start = Clock::now();
+  auto start = Clock::now();
   for (const BodyID id : victims) (void)broad_phase.RemoveBody(id);
   figures.remove_us = MicrosecondsSince(start) / static_cast<double>(victims.size());
   {
@@ -187,11 +196,13 @@ BroadPhaseFigures MeasureStrata(const OpenWorld& world, const QuerySet& queries)
     (void)broad_phase.AddBodiesFinalize(*batch);
     broad_phase.Optimize();
   }
+}
 
-  // A step's worth of moving bodies, then the incremental rebuild the step runs.
-  std::vector<std::uint32_t> dynamic;
-  for (std::uint32_t i = 0; i < body_count; ++i)
-    if (world.layers[i] == layers::kMoving) dynamic.push_back(i);
+// A step's worth of moving bodies, then the incremental rebuild the step runs.
+void MeasureMoves(QuadTreeBroadPhase& broad_phase, const OpenWorld& world,
+                  const std::vector<std::uint32_t>& dynamic, BroadPhaseFigures& figures) {
+  auto id_of = BenchId;
+  Clock::time_point start;
   std::vector<double> move_samples, rebuild_samples;
   for (int round = 0; round < 20; ++round) {
     start = Clock::now();
@@ -208,12 +219,13 @@ BroadPhaseFigures MeasureStrata(const OpenWorld& world, const QuerySet& queries)
   figures.move_us = Median(move_samples);
   figures.incremental_rebuild_ms = Median(rebuild_samples);
   broad_phase.Optimize();
+}
 
-  const QueryTimes idle = TimeQueries(broad_phase, queries);
-  figures.aabb_query_us = idle.aabb_us, figures.ray_10m_us = idle.ray_10m_us,
-  figures.ray_100m_us = idle.ray_100m_us;
-  figures.hits_per_block = idle.hits_per_block, figures.hits_per_100m_ray = idle.hits_per_100m_ray;
-
+// The queries again while two threads remove, re-add (as batches) and move their own dynamic bodies.
+void MeasureQueriesUnderChurn(QuadTreeBroadPhase& broad_phase, const OpenWorld& world,
+                              const std::vector<std::uint32_t>& dynamic, const QuerySet& queries,
+                              BroadPhaseFigures& figures) {
+  auto id_of = BenchId;
   // The same queries while two threads remove, re-add (as batches) and move their own dynamic bodies.
   std::atomic<bool> stop{false};
   // Two threads change their own dynamic bodies at a game's pace: every 16 ms frame each removes 100 and
@@ -255,6 +267,26 @@ BroadPhaseFigures MeasureStrata(const OpenWorld& world, const QuerySet& queries)
   second_churn.join();
   figures.aabb_query_busy_us = busy.aabb_us, figures.ray_10m_busy_us = busy.ray_10m_us;
   figures.ray_100m_busy_us = busy.ray_100m_us;
+}
+
+BroadPhaseFigures MeasureStrata(const OpenWorld& world, const QuerySet& queries) {
+  BroadPhaseFigures figures;
+  const auto body_count = static_cast<std::uint32_t>(world.bounds.size());
+  constexpr std::uint32_t kExtra = 10000;
+  QuadTreeBroadPhase broad_phase(body_count + kExtra + 16, std::make_shared<DefaultLayerSetup>());
+  StreamIn(broad_phase, world, figures);
+  MeasureFinalize(broad_phase, world, figures);
+  MeasureRemove(broad_phase, world, figures);
+  std::vector<std::uint32_t> dynamic;
+  for (std::uint32_t i = 0; i < body_count; ++i)
+    if (world.layers[i] == layers::kMoving) dynamic.push_back(i);
+  MeasureMoves(broad_phase, world, dynamic, figures);
+  const QueryTimes idle = TimeQueries(broad_phase, queries);
+  figures.aabb_query_us = idle.aabb_us, figures.ray_10m_us = idle.ray_10m_us,
+  figures.ray_100m_us = idle.ray_100m_us;
+  figures.hits_per_block = idle.hits_per_block, figures.hits_per_100m_ray = idle.hits_per_100m_ray;
+
+  MeasureQueriesUnderChurn(broad_phase, world, dynamic, queries, figures);
   return figures;
 }
 
