@@ -55,38 +55,9 @@ nlohmann::json ToJson(const bench::BroadPhaseFigures& f) {
           {"hits_per_100m_ray", f.hits_per_100m_ray}};
 }
 
-int Run(const BroadPhaseBenchOptions& options) {
-  if (!options.json.empty() && !bench::JsonDestinationExists(options.json)) {
-    std::cerr << "strata bench-broadphase: --json " << options.json << ": no such directory\n";
-    return 2;
-  }
-  const bench::OpenWorld world = bench::MakeOpenWorld(options.bodies, options.tiles, 42);
-  const bench::QuerySet queries = bench::MakeQuerySet(world, options.queries, 7);
-  std::printf("broad phase: %d bodies in %d tiles of 256 m (%.0f x %.0f m), %d queries of each kind\n",
-              options.bodies, options.tiles, world.extent.Size().x(), world.extent.Size().z(),
-              options.queries);
-  bench::Progress progress("strata bench-broadphase", "parts");
-  const int hardware = static_cast<int>(std::thread::hardware_concurrency());
-  const int max_threads = options.max_threads > 0 ? options.max_threads : hardware;
-  int thread_counts = 0;
-  for (int threads = 1; threads <= max_threads; threads *= 2) ++thread_counts;
-  // Strata's and Bullet's figures, then each (logic, threads, mutexes) run of the game-object update.
-  const std::size_t parts =
-      2 + static_cast<std::size_t>(thread_counts) * 2 * (options.object_work_us > 0.0 ? 2 : 1);
-  std::size_t parts_done = 0;
-  progress.Update(parts_done, parts);
-  const bench::BroadPhaseFigures strata = bench::MeasureStrata(world, queries);
-  progress.Update(++parts_done, parts);
-  bench::BroadPhaseFigures bullet;
-#ifdef STRATA_HAVE_BULLET
-  if (options.bullet) bullet = bench::MeasureBullet(world, queries);
-#endif
-  progress.Hide();
-  ++parts_done;
-#ifndef STRATA_HAVE_BULLET
-  if (options.bullet) std::printf("  (Bullet not built: install libbullet-dev and reconfigure)\n");
-#endif
-  const bool with_bullet = bullet.aabb_query_us >= 0.0;
+// The broad-phase operations, Strata beside Bullet (-1: Bullet was not run).
+void PrintOperations(const bench::BroadPhaseFigures& strata, const bench::BroadPhaseFigures& bullet,
+                     bool with_bullet) {
   auto peer = [&](double value) { return with_bullet ? value : -1.0; };
   Row("add: prepare per body (bullet: createProxy)", strata.prepare_per_body_us,
       peer(bullet.prepare_per_body_us), "us");
@@ -114,13 +85,13 @@ int Run(const BroadPhaseBenchOptions& options) {
               with_bullet ? (" bullet " + std::to_string(bullet.hits_per_block)).c_str() : "",
               strata.hits_per_100m_ray,
               with_bullet ? (" bullet " + std::to_string(bullet.hits_per_100m_ray)).c_str() : "");
+}
 
-  nlohmann::json report = {{"bodies", options.bodies},
-                           {"tiles", options.tiles},
-                           {"queries", options.queries},
-                           {"strata", ToJson(strata)},
-                           {"game_object_update", nlohmann::json::array()}};
-  if (with_bullet) report["bullet"] = ToJson(bullet);
+// Each (logic, threads, mutexes) run of the game-object update, printed and added to `report`.
+void RunGameObjectUpdates(const BroadPhaseBenchOptions& options, const bench::OpenWorld& world,
+                          int max_threads, bench::Progress& progress, std::size_t& parts_done,
+                          std::size_t parts, nlohmann::json& report) {
+  const int hardware = static_cast<int>(std::thread::hardware_concurrency());
   std::printf(
       "game-object update: each thread takes a range of the %zu kinematic bodies, reads and sets each\n"
       "one's position and ray casts for every 4th, %d frames; lock wait = time blocked on body mutexes\n"
@@ -157,6 +128,49 @@ int Run(const BroadPhaseBenchOptions& options) {
     }
     if (options.object_work_us <= 0.0) break;
   }
+}
+
+int Run(const BroadPhaseBenchOptions& options) {
+  if (!options.json.empty() && !bench::JsonDestinationExists(options.json)) {
+    std::cerr << "strata bench-broadphase: --json " << options.json << ": no such directory\n";
+    return 2;
+  }
+  const bench::OpenWorld world = bench::MakeOpenWorld(options.bodies, options.tiles, 42);
+  const bench::QuerySet queries = bench::MakeQuerySet(world, options.queries, 7);
+  std::printf("broad phase: %d bodies in %d tiles of 256 m (%.0f x %.0f m), %d queries of each kind\n",
+              options.bodies, options.tiles, world.extent.Size().x(), world.extent.Size().z(),
+              options.queries);
+  bench::Progress progress("strata bench-broadphase", "parts");
+  const int hardware = static_cast<int>(std::thread::hardware_concurrency());
+  const int max_threads = options.max_threads > 0 ? options.max_threads : hardware;
+  int thread_counts = 0;
+  for (int threads = 1; threads <= max_threads; threads *= 2) ++thread_counts;
+  // Strata's and Bullet's figures, then each (logic, threads, mutexes) run of the game-object update.
+  const std::size_t parts =
+      2 + static_cast<std::size_t>(thread_counts) * 2 * (options.object_work_us > 0.0 ? 2 : 1);
+  std::size_t parts_done = 0;
+  progress.Update(parts_done, parts);
+  const bench::BroadPhaseFigures strata = bench::MeasureStrata(world, queries);
+  progress.Update(++parts_done, parts);
+  bench::BroadPhaseFigures bullet;
+#ifdef STRATA_HAVE_BULLET
+  if (options.bullet) bullet = bench::MeasureBullet(world, queries);
+#endif
+  progress.Hide();
+  ++parts_done;
+#ifndef STRATA_HAVE_BULLET
+  if (options.bullet) std::printf("  (Bullet not built: install libbullet-dev and reconfigure)\n");
+#endif
+  const bool with_bullet = bullet.aabb_query_us >= 0.0;
+  PrintOperations(strata, bullet, with_bullet);
+
+  nlohmann::json report = {{"bodies", options.bodies},
+                           {"tiles", options.tiles},
+                           {"queries", options.queries},
+                           {"strata", ToJson(strata)},
+                           {"game_object_update", nlohmann::json::array()}};
+  if (with_bullet) report["bullet"] = ToJson(bullet);
+  RunGameObjectUpdates(options, world, max_threads, progress, parts_done, parts, report);
   report["hardware_threads"] = hardware;
   report["frames"] = options.frames;
   if (!options.json.empty()) {
