@@ -51,33 +51,58 @@ class CountingRayCallback final : public btBroadphaseRayCallback {
   std::size_t hits = 0;
 };
 
-}  // namespace
+// Bullet's DBVT with one proxy slot per body of the world and room for the batches.
+class BulletBroadPhase {
+ public:
+  explicit BulletBroadPhase(std::size_t slots) : dispatcher_(&configuration_), proxies_(slots, nullptr) {}
+  ~BulletBroadPhase() {
+    for (btBroadphaseProxy* proxy : proxies_)
+      if (proxy != nullptr) broad_phase_.destroyProxy(proxy, &dispatcher_);
+  }
+  BulletBroadPhase(const BulletBroadPhase&) = delete;
+  BulletBroadPhase& operator=(const BulletBroadPhase&) = delete;
 
-BroadPhaseFigures MeasureBullet(const OpenWorld& world, const QuerySet& queries) {
-  BroadPhaseFigures figures;
-  btDefaultCollisionConfiguration configuration;
-  btCollisionDispatcher dispatcher(&configuration);
-  btDbvtBroadphase broad_phase;
-  const std::size_t body_count = world.bounds.size();
-  std::vector<btBroadphaseProxy*> proxies(body_count + 10000, nullptr);
-  auto create = [&](std::size_t i, const AABB& bounds, ObjectLayer layer) {
+  void Create(std::size_t i, const AABB& bounds, ObjectLayer layer) {
     const bool is_static = layer == layers::kNonMoving;
-    proxies[i] = broad_phase.createProxy(
+    proxies_[i] = broad_phase_.createProxy(
         ToBullet(bounds.min), ToBullet(bounds.max), BOX_SHAPE_PROXYTYPE, nullptr,
         is_static ? int(btBroadphaseProxy::StaticFilter) : int(btBroadphaseProxy::DefaultFilter),
         is_static ? int(btBroadphaseProxy::AllFilter ^ btBroadphaseProxy::StaticFilter)
                   : int(btBroadphaseProxy::AllFilter),
-        &dispatcher);
-  };
-  // Bullet has no batch insertion: the streamed tiles go in one createProxy at a time.
+        &dispatcher_);
+  }
+  void Destroy(std::size_t i) {
+    broad_phase_.destroyProxy(proxies_[i], &dispatcher_);
+    proxies_[i] = nullptr;
+  }
+  void Move(std::size_t i, const AABB& bounds) {
+    broad_phase_.setAabb(proxies_[i], ToBullet(bounds.min), ToBullet(bounds.max), &dispatcher_);
+  }
+  btDbvtBroadphase& tree() { return broad_phase_; }
+
+ private:
+  btDefaultCollisionConfiguration configuration_;
+  btCollisionDispatcher dispatcher_;
+  btDbvtBroadphase broad_phase_;
+  std::vector<btBroadphaseProxy*> proxies_;
+};
+
+double MedianOf(std::vector<double> samples) {
+  std::nth_element(samples.begin(), samples.begin() + static_cast<std::ptrdiff_t>(samples.size() / 2),
+                   samples.end());
+  return samples[samples.size() / 2];
+}
+
+// Bullet has no batch insertion: the streamed tiles, then batches of each size, go in one proxy at a time.
+void MeasureAdds(BulletBroadPhase& bullet, const OpenWorld& world, BroadPhaseFigures& figures) {
+  const std::size_t body_count = world.bounds.size();
   auto start = Clock::now();
   for (const auto& tile : world.tiles)
-    for (const std::uint32_t i : tile) create(i, world.bounds[i], world.layers[i]);
+    for (const std::uint32_t i : tile) bullet.Create(i, world.bounds[i], world.layers[i]);
   figures.prepare_per_body_us = MicrosecondsSince(start) / static_cast<double>(body_count);
   start = Clock::now();
-  broad_phase.optimize();
+  bullet.tree().optimize();
   figures.full_rebuild_ms = MicrosecondsSince(start) / 1000.0;
-
   std::mt19937 random(9);
   std::uniform_real_distribution<float> x(world.extent.min.x(), world.extent.max.x()),
       z(world.extent.min.z(), world.extent.max.z());
@@ -90,27 +115,24 @@ BroadPhaseFigures MeasureBullet(const OpenWorld& world, const QuerySet& queries)
         bounds.push_back(AABB::FromCenterHalfExtents(Vec3(x(random), 2.0f, z(random)), Vec3::Constant(0.5f)));
       start = Clock::now();
       for (int i = 0; i < size; ++i)
-        create(body_count + static_cast<std::size_t>(i), bounds[static_cast<std::size_t>(i)],
-               layers::kMoving);
+        bullet.Create(body_count + static_cast<std::size_t>(i), bounds[static_cast<std::size_t>(i)],
+                      layers::kMoving);
       samples.push_back(MicrosecondsSince(start));
-      for (int i = 0; i < size; ++i) {
-        broad_phase.destroyProxy(proxies[body_count + static_cast<std::size_t>(i)], &dispatcher);
-        proxies[body_count + static_cast<std::size_t>(i)] = nullptr;
-      }
+      for (int i = 0; i < size; ++i) bullet.Destroy(body_count + static_cast<std::size_t>(i));
     }
-    std::nth_element(samples.begin(), samples.begin() + static_cast<std::ptrdiff_t>(samples.size() / 2),
-                     samples.end());
-    figures.finalize_us.push_back(samples[samples.size() / 2]);
+    figures.finalize_us.push_back(MedianOf(std::move(samples)));
   }
+}
 
+void MeasureRemovesAndMoves(BulletBroadPhase& bullet, const OpenWorld& world, BroadPhaseFigures& figures) {
+  const std::size_t body_count = world.bounds.size();
   std::vector<std::size_t> victims;
   for (std::size_t i = 0; i < body_count; i += 10) victims.push_back(i);
-  start = Clock::now();
-  for (const std::size_t i : victims) broad_phase.destroyProxy(proxies[i], &dispatcher);
+  auto start = Clock::now();
+  for (const std::size_t i : victims) bullet.Destroy(i);
   figures.remove_us = MicrosecondsSince(start) / static_cast<double>(victims.size());
-  for (const std::size_t i : victims) create(i, world.bounds[i], world.layers[i]);
-  broad_phase.optimize();
-
+  for (const std::size_t i : victims) bullet.Create(i, world.bounds[i], world.layers[i]);
+  bullet.tree().optimize();
   std::vector<std::size_t> dynamic;
   for (std::size_t i = 0; i < body_count; ++i)
     if (world.layers[i] == layers::kMoving) dynamic.push_back(i);
@@ -120,19 +142,20 @@ BroadPhaseFigures MeasureBullet(const OpenWorld& world, const QuerySet& queries)
     for (std::size_t k = 0; k < 600; ++k) {
       const std::size_t i = dynamic[(static_cast<std::size_t>(round) * 600 + k * 7) % dynamic.size()];
       const Vec3 nudge(0.05f * static_cast<float>(round % 3), -0.1f, 0.05f);
-      broad_phase.setAabb(proxies[i], ToBullet(world.bounds[i].min + nudge),
-                          ToBullet(world.bounds[i].max + nudge), &dispatcher);
+      bullet.Move(i, AABB(world.bounds[i].min + nudge, world.bounds[i].max + nudge));
     }
     move_samples.push_back(MicrosecondsSince(start) / 600.0);
   }
   std::nth_element(move_samples.begin(), move_samples.begin() + 10, move_samples.end());
   figures.move_us = move_samples[10];
-  broad_phase.optimize();
+  bullet.tree().optimize();
+}
 
+void MeasureQueries(BulletBroadPhase& bullet, const QuerySet& queries, BroadPhaseFigures& figures) {
   CountingAabbCallback blocks;
-  start = Clock::now();
+  auto start = Clock::now();
   for (const AABB& block : queries.blocks)
-    broad_phase.aabbTest(ToBullet(block.min), ToBullet(block.max), blocks);
+    bullet.tree().aabbTest(ToBullet(block.min), ToBullet(block.max), blocks);
   figures.aabb_query_us = MicrosecondsSince(start) / static_cast<double>(queries.blocks.size());
   figures.hits_per_block = static_cast<double>(blocks.hits) / static_cast<double>(queries.blocks.size());
   for (const bool long_ray : {false, true}) {
@@ -142,7 +165,7 @@ BroadPhaseFigures MeasureBullet(const OpenWorld& world, const QuerySet& queries)
       const Vec3 to = queries.ray_origins[i] +
                       (long_ray ? queries.ray_directions_100m[i] : queries.ray_directions_10m[i]);
       CountingRayCallback callback(ToBullet(queries.ray_origins[i]), ToBullet(to));
-      broad_phase.rayTest(ToBullet(queries.ray_origins[i]), ToBullet(to), callback);
+      bullet.tree().rayTest(ToBullet(queries.ray_origins[i]), ToBullet(to), callback);
       hits += callback.hits;
     }
     const double per_ray = MicrosecondsSince(start) / static_cast<double>(queries.ray_origins.size());
@@ -150,8 +173,16 @@ BroadPhaseFigures MeasureBullet(const OpenWorld& world, const QuerySet& queries)
     if (long_ray)
       figures.hits_per_100m_ray = static_cast<double>(hits) / static_cast<double>(queries.ray_origins.size());
   }
-  for (btBroadphaseProxy* proxy : proxies)
-    if (proxy != nullptr) broad_phase.destroyProxy(proxy, &dispatcher);
+}
+
+}  // namespace
+
+BroadPhaseFigures MeasureBullet(const OpenWorld& world, const QuerySet& queries) {
+  BroadPhaseFigures figures;
+  BulletBroadPhase bullet(world.bounds.size() + 10000);
+  MeasureAdds(bullet, world, figures);
+  MeasureRemovesAndMoves(bullet, world, figures);
+  MeasureQueries(bullet, queries, figures);
   return figures;
 }
 
