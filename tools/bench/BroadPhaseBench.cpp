@@ -290,18 +290,9 @@ BroadPhaseFigures MeasureStrata(const OpenWorld& world, const QuerySet& queries)
   return figures;
 }
 
-GameObjectFigures MeasureGameObjectUpdate(const OpenWorld& world, int threads, std::uint32_t mutexes,
-                                          int frames, double work_us) {
-  GameObjectFigures figures;
-  figures.threads = threads;
-  figures.mutexes = mutexes;
-  PhysicsSystemConfig config;
-  config.max_bodies = static_cast<std::uint32_t>(world.bounds.size()) + 16;
-  config.body_mutex_count = mutexes;
-  config.job_system = std::make_shared<SerialJobSystem>();
-  auto system = std::move(*PhysicsSystem::Create(config));
-  BodyInterface& bodies = system->bodies();
-  // Static level geometry and kinematic game objects (they move only when the game moves them).
+// Static level geometry and kinematic game objects (they move only when the game moves them); returns the
+// objects.
+std::vector<BodyID> AddOpenWorld(BodyInterface& bodies, const OpenWorld& world) {
   std::vector<BodyID> objects;
   for (const auto& tile : world.tiles) {
     std::vector<BodyID> batch;
@@ -318,6 +309,44 @@ GameObjectFigures MeasureGameObjectUpdate(const OpenWorld& world, int threads, s
     }
     (void)bodies.AddBodies(batch);
   }
+  return objects;
+}
+
+// The lock-wait figures over every thread's frames.
+void SummarizeLockWaits(const std::vector<std::vector<double>>& waits,
+                        const std::vector<std::uint64_t>& acquisitions,
+                        const std::vector<std::uint64_t>& contended, int threads, int frames,
+                        GameObjectFigures& figures) {
+  std::vector<double> all_waits;
+  for (const auto& per_thread : waits)
+    all_waits.insert(all_waits.end(), per_thread.begin(), per_thread.end());
+  double total = 0.0;
+  for (const double wait : all_waits)
+    total += wait, figures.max_lock_wait_us = std::max(figures.max_lock_wait_us, wait);
+  figures.lock_wait_us_per_thread_frame =
+      all_waits.empty() ? 0.0 : total / static_cast<double>(all_waits.size());
+  figures.median_lock_wait_us = Median(all_waits);
+  const double thread_frames = static_cast<double>(threads) * static_cast<double>(frames);
+  for (int t = 0; t < threads; ++t) {
+    const auto thread = static_cast<std::size_t>(t);
+    figures.acquisitions_per_thread_frame += static_cast<double>(acquisitions[thread]) / thread_frames;
+    figures.contended_per_thread_frame += static_cast<double>(contended[thread]) / thread_frames;
+  }
+  figures.p99_lock_wait_us = Percentile(all_waits, 0.99);
+}
+
+GameObjectFigures MeasureGameObjectUpdate(const OpenWorld& world, int threads, std::uint32_t mutexes,
+                                          int frames, double work_us) {
+  GameObjectFigures figures;
+  figures.threads = threads;
+  figures.mutexes = mutexes;
+  PhysicsSystemConfig config;
+  config.max_bodies = static_cast<std::uint32_t>(world.bounds.size()) + 16;
+  config.body_mutex_count = mutexes;
+  config.job_system = std::make_shared<SerialJobSystem>();
+  auto system = std::move(*PhysicsSystem::Create(config));
+  BodyInterface& bodies = system->bodies();
+  const std::vector<BodyID> objects = AddOpenWorld(bodies, world);
   system->broad_phase().Optimize();
 
   // Each thread takes a contiguous range of the game objects, as a parallel-for over them would.
@@ -364,22 +393,7 @@ GameObjectFigures MeasureGameObjectUpdate(const OpenWorld& world, int threads, s
   std::vector<std::thread> pool;
   for (int t = 0; t < threads; ++t) pool.emplace_back(update, t);
   for (std::thread& thread : pool) thread.join();
-  std::vector<double> all_waits;
-  for (const auto& per_thread : waits)
-    all_waits.insert(all_waits.end(), per_thread.begin(), per_thread.end());
-  double total = 0.0;
-  for (const double wait : all_waits)
-    total += wait, figures.max_lock_wait_us = std::max(figures.max_lock_wait_us, wait);
-  figures.lock_wait_us_per_thread_frame =
-      all_waits.empty() ? 0.0 : total / static_cast<double>(all_waits.size());
-  figures.median_lock_wait_us = Median(all_waits);
-  const double thread_frames = static_cast<double>(threads) * static_cast<double>(frames);
-  for (int t = 0; t < threads; ++t) {
-    const auto thread = static_cast<std::size_t>(t);
-    figures.acquisitions_per_thread_frame += static_cast<double>(acquisitions[thread]) / thread_frames;
-    figures.contended_per_thread_frame += static_cast<double>(contended[thread]) / thread_frames;
-  }
-  figures.p99_lock_wait_us = Percentile(all_waits, 0.99);
+  SummarizeLockWaits(waits, acquisitions, contended, threads, frames, figures);
   figures.frame_ms = Median(frame_ms);
   return figures;
 }
