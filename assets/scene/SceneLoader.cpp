@@ -190,6 +190,28 @@ Result<ShapeRef> ParseShape(const Reader& reader, const Json& shape, const std::
       "type", "must be one of sphere, box, capsule, convex_hull, mesh, heightfield (got '" + type + "')");
 }
 
+// "motion" and "motion_quality", and the layer the motion puts the body on.
+Status ParseMotion(const Reader& reader, const Json& body, BodyCreationSettings& settings) {
+  std::string motion = "dynamic";
+  STRATA_TRY(reader.String(body, "motion", motion));
+  if (motion == "static")
+    settings.motion_type = MotionType::kStatic;
+  else if (motion == "kinematic")
+    settings.motion_type = MotionType::kKinematic;
+  else if (motion == "dynamic")
+    settings.motion_type = MotionType::kDynamic;
+  else
+    return reader.Fail("motion", "must be static, kinematic or dynamic (got '" + motion + "')");
+  std::string quality = "discrete";
+  STRATA_TRY(reader.String(body, "motion_quality", quality));
+  if (quality == "linear_cast")
+    settings.motion_quality = MotionQuality::kLinearCast;
+  else if (quality != "discrete")
+    return reader.Fail("motion_quality", "must be discrete or linear_cast (got '" + quality + "')");
+  settings.object_layer = settings.motion_type == MotionType::kStatic ? layers::kNonMoving : layers::kMoving;
+  return Status::Ok();
+}
+
 Result<SceneBody> ParseBody(const Reader& reader, const Json& body, const std::filesystem::path& base) {
   if (!body.is_object()) return reader.Fail("", "must be an object");
   STRATA_TRY(reader.OnlyKeys(body, {"name",
@@ -226,23 +248,7 @@ Result<SceneBody> ParseBody(const Reader& reader, const Json& body, const std::f
   if (settings.position.cwiseAbs().maxCoeff() > kMaxScenePosition)
     return reader.Fail("position", "must be within 1e9 m of the origin on every axis");
   STRATA_TRY(reader.Rotation(body, "rotation", settings.rotation));
-  std::string motion = "dynamic";
-  STRATA_TRY(reader.String(body, "motion", motion));
-  if (motion == "static")
-    settings.motion_type = MotionType::kStatic;
-  else if (motion == "kinematic")
-    settings.motion_type = MotionType::kKinematic;
-  else if (motion == "dynamic")
-    settings.motion_type = MotionType::kDynamic;
-  else
-    return reader.Fail("motion", "must be static, kinematic or dynamic (got '" + motion + "')");
-  std::string quality = "discrete";
-  STRATA_TRY(reader.String(body, "motion_quality", quality));
-  if (quality == "linear_cast")
-    settings.motion_quality = MotionQuality::kLinearCast;
-  else if (quality != "discrete")
-    return reader.Fail("motion_quality", "must be discrete or linear_cast (got '" + quality + "')");
-  settings.object_layer = settings.motion_type == MotionType::kStatic ? layers::kNonMoving : layers::kMoving;
+  STRATA_TRY(ParseMotion(reader, body, settings));
   if (body.contains("mass") && body.contains("density"))
     return reader.Fail("mass", "give mass or density, not both");
   if (body.contains("mass")) {
