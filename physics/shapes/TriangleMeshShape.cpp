@@ -92,6 +92,48 @@ void SetLane(float (&min_x)[4], float (&min_y)[4], float (&min_z)[4], float (&ma
   max_x[lane] = box.max.x(), max_y[lane] = box.max.y(), max_z[lane] = box.max.z();
 }
 
+// A binary tree over the triangles (median split of the centres along their longest axis: O(n log n) and
+// balanced); a leaf holds at most `max_leaf` triangles, a run of `order`. Node 0 is the root.
+std::vector<BinaryNode> BuildBinaryTree(const std::vector<Vec3>& centers, const std::vector<AABB>& bounds,
+                                        std::uint32_t max_leaf, std::vector<std::uint32_t>& order) {
+  const auto count = static_cast<std::uint32_t>(bounds.size());
+  std::vector<BinaryNode> binary;
+  binary.reserve(2 * count / max_leaf + 1);
+  binary.push_back({});
+  struct Task {
+    std::uint32_t node, begin, end;
+  };
+  std::vector<Task> stack = {{0, 0, count}};
+  while (!stack.empty()) {
+    const Task task = stack.back();
+    stack.pop_back();
+    AABB node_bounds, center_bounds;
+    for (std::uint32_t i = task.begin; i < task.end; ++i) {
+      node_bounds.Encapsulate(bounds[order[i]]);
+      center_bounds.Encapsulate(centers[order[i]]);
+    }
+    binary[task.node].bounds = node_bounds;
+    if (task.end - task.begin <= max_leaf) {
+      binary[task.node].first = task.begin;
+      binary[task.node].count = task.end - task.begin;
+      continue;
+    }
+    int axis = 0;
+    center_bounds.Size().maxCoeff(&axis);
+    const std::uint32_t middle = task.begin + (task.end - task.begin) / 2;
+    std::nth_element(order.begin() + task.begin, order.begin() + middle, order.begin() + task.end,
+                     [&](std::uint32_t a, std::uint32_t b) { return centers[a][axis] < centers[b][axis]; });
+    const auto left = static_cast<std::uint32_t>(binary.size());
+    binary.push_back({});
+    binary.push_back({});
+    binary[task.node].first = left;
+    binary[task.node].count = 0;
+    stack.push_back({left, task.begin, middle});
+    stack.push_back({left + 1, middle, task.end});
+  }
+  return binary;
+}
+
 }  // namespace
 
 int TriangleMeshShape::Bounds4::OverlapMask(const AABB& box) const {
@@ -115,41 +157,7 @@ void TriangleMeshShape::BuildHierarchy() {
     for (int corner = 0; corner < 3; ++corner) bounds[t].Encapsulate(Vertex(t, corner));
     centers[t] = bounds[t].Center();
   }
-  std::vector<BinaryNode> binary;
-  binary.reserve(2 * count / kMaxLeafTriangles + 1);
-  binary.push_back({});
-  struct Task {
-    std::uint32_t node, begin, end;
-  };
-  std::vector<Task> stack = {{0, 0, count}};
-  while (!stack.empty()) {
-    const Task task = stack.back();
-    stack.pop_back();
-    AABB node_bounds, center_bounds;
-    for (std::uint32_t i = task.begin; i < task.end; ++i) {
-      node_bounds.Encapsulate(bounds[order[i]]);
-      center_bounds.Encapsulate(centers[order[i]]);
-    }
-    binary[task.node].bounds = node_bounds;
-    if (task.end - task.begin <= kMaxLeafTriangles) {
-      binary[task.node].first = task.begin;
-      binary[task.node].count = task.end - task.begin;
-      continue;
-    }
-    // Median split along the longest axis of the centres: O(n log n) overall and balanced.
-    int axis = 0;
-    center_bounds.Size().maxCoeff(&axis);
-    const std::uint32_t middle = task.begin + (task.end - task.begin) / 2;
-    std::nth_element(order.begin() + task.begin, order.begin() + middle, order.begin() + task.end,
-                     [&](std::uint32_t a, std::uint32_t b) { return centers[a][axis] < centers[b][axis]; });
-    const auto left = static_cast<std::uint32_t>(binary.size());
-    binary.push_back({});
-    binary.push_back({});
-    binary[task.node].first = left;
-    binary[task.node].count = 0;
-    stack.push_back({left, task.begin, middle});
-    stack.push_back({left + 1, middle, task.end});
-  }
+  const std::vector<BinaryNode> binary = BuildBinaryTree(centers, bounds, kMaxLeafTriangles, order);
   bounds_ = binary[0].bounds;
 
   // Fold two binary levels into one 4-wide level: a node's children are its binary grandchildren (or its
