@@ -8,7 +8,6 @@
 #include <filesystem>
 #include <fstream>
 #include <optional>
-#include <regex>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -55,6 +54,25 @@ bool IsSource(const fs::path& path) {
   return extension == ".h" || extension == ".cpp";
 }
 
+// The header a line includes with quotes (`#include "physics/..."`), or nothing.
+std::optional<std::string> QuotedInclude(std::string_view line) {
+  auto skip_blanks = [&] {
+    while (!line.empty() && (line.front() == ' ' || line.front() == '\t')) line.remove_prefix(1);
+  };
+  skip_blanks();
+  if (!line.starts_with('#')) return std::nullopt;
+  line.remove_prefix(1);
+  skip_blanks();
+  if (!line.starts_with("include")) return std::nullopt;
+  line.remove_prefix(7);
+  skip_blanks();
+  if (!line.starts_with('"')) return std::nullopt;
+  line.remove_prefix(1);
+  const std::size_t end = line.find('"');
+  if (end == std::string_view::npos) return std::nullopt;
+  return std::string(line.substr(0, end));
+}
+
 struct Layering {
   std::vector<std::string> upward;     // "file:line: header (floor a above floor b)"
   std::vector<std::string> unfloored;  // source files no floor names
@@ -62,7 +80,6 @@ struct Layering {
 
 Layering CheckLayering(const fs::path& root) {
   Layering result;
-  static const std::regex include_line(R"re(^\s*#\s*include\s*"([^"]+)")re");
   for (const std::string_view folder : kLayeredFolders) {
     if (!fs::exists(root / folder)) continue;
     for (const fs::directory_entry& entry : fs::recursive_directory_iterator(root / folder)) {
@@ -76,11 +93,11 @@ Layering CheckLayering(const fs::path& root) {
       std::ifstream in(entry.path());
       std::string line;
       for (int number = 1; std::getline(in, line); ++number) {
-        std::smatch match;
-        if (!std::regex_search(line, match, include_line)) continue;
-        const std::optional<Floor> included = FloorOf(match[1].str());
+        const std::optional<std::string> header = QuotedInclude(line);
+        if (!header) continue;
+        const std::optional<Floor> included = FloorOf(*header);
         if (included && included->level > own->level)
-          result.upward.push_back(file + ":" + std::to_string(number) + ": " + match[1].str() + " (" +
+          result.upward.push_back(file + ":" + std::to_string(number) + ": " + *header + " (" +
                                   std::string(included->prefix) + " above " + std::string(own->prefix) + ")");
       }
     }
