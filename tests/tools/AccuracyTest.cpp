@@ -95,14 +95,14 @@ TEST(AccuracyReport, GapsSayWhetherTheUncoveredBulletRunsFailTheTolerance) {
 // point above rest. Gravity gives the contact 0.33 m/s of approach each step, which bounces the box only
 // where the scene's restitution threshold lets that speed through.
 double SlidingBouncyBoxRise(AccuracyEngine& engine, float min_velocity_for_restitution) {
-  AccuracyScene scene;
+  SceneDescription scene;
   scene.min_velocity_for_restitution = min_velocity_for_restitution;
-  AccuracyBody floor;
+  BodyDescription floor;
   floor.dynamic = false;
   floor.half_extents = Vec3(20.0f, 0.5f, 5.0f);
   floor.position = Vec3(0.0f, -0.5f, 0.0f);
   floor.friction = 0.0f;
-  AccuracyBody box;
+  BodyDescription box;
   box.position = Vec3(0.0f, 0.5f, 0.0f);
   box.friction = 0.0f;
   box.restitution = 1.0f;
@@ -190,7 +190,7 @@ class ScriptedSlider final : public AccuracyEngine {
  public:
   explicit ScriptedSlider(double rise) : rise_(rise) {}
   std::string name() const override { return "scripted"; }
-  Status Build(const AccuracyScene& scene, const AccuracySetting& setting) override {
+  Status Build(const SceneDescription& scene, const AccuracySetting& setting) override {
     scene_ = scene;
     steps_ = static_cast<int>(std::ceil(60.0 / setting.dt - 1e-6));
     step_ = 0;
@@ -201,7 +201,7 @@ class ScriptedSlider final : public AccuracyEngine {
     return Status::Ok();
   }
   AccuracyBodyState State(std::size_t body) const override {
-    const AccuracyBody& start = scene_.bodies[body];
+    const BodyDescription& start = scene_.bodies[body];
     AccuracyBodyState state{start.position.cast<double>(), start.rotation, start.linear_velocity,
                             start.angular_velocity};
     if (step_ == steps_ / 2) state.position.y() += rise_;
@@ -211,7 +211,7 @@ class ScriptedSlider final : public AccuracyEngine {
 
  private:
   double rise_;
-  AccuracyScene scene_;
+  SceneDescription scene_;
   int steps_ = 0;
   int step_ = 0;
 };

@@ -20,7 +20,7 @@ bool IsFiniteState(const AccuracyBodyState& s) {
 
 // Builds `scene`, steps it for `seconds` and calls `observe(time)` after every step. Fails on an engine
 // error; a non-finite state of any body ends the run with finite = false.
-Result<bool> Run(AccuracyEngine& engine, const AccuracyScene& scene, const AccuracySetting& setting,
+Result<bool> Run(AccuracyEngine& engine, const SceneDescription& scene, const AccuracySetting& setting,
                  double seconds, const std::function<void(double)>& observe = {}) {
   if (Status built = engine.Build(scene, setting); !built) return built.error();
   const int steps = static_cast<int>(std::ceil(seconds / setting.dt - 1e-6));
@@ -40,9 +40,9 @@ Result<CaseOutcome> Outcome(const Result<bool>& ran, double error) {
   return CaseOutcome{error, true};
 }
 
-AccuracyBody StaticBox(const Vec3& half_extents, const Vec3& position,
-                       const Quat& rotation = Quat::Identity(), float friction = 0.5f) {
-  AccuracyBody body;
+BodyDescription StaticBox(const Vec3& half_extents, const Vec3& position,
+                          const Quat& rotation = Quat::Identity(), float friction = 0.5f) {
+  BodyDescription body;
   body.half_extents = half_extents;
   body.position = position;
   body.rotation = rotation;
@@ -51,21 +51,21 @@ AccuracyBody StaticBox(const Vec3& half_extents, const Vec3& position,
   return body;
 }
 
-AccuracyBody Floor(float friction = 0.5f, const Vec3& at = Vec3::Zero()) {
+BodyDescription Floor(float friction = 0.5f, const Vec3& at = Vec3::Zero()) {
   return StaticBox(Vec3(50, 1, 50), at + Vec3(0, -1, 0), Quat::Identity(), friction);
 }
 
-AccuracyBody DynamicBox(const Vec3& half_extents, const Vec3& position, float friction = 0.5f) {
-  AccuracyBody body;
+BodyDescription DynamicBox(const Vec3& half_extents, const Vec3& position, float friction = 0.5f) {
+  BodyDescription body;
   body.half_extents = half_extents;
   body.position = position;
   body.friction = friction;
   return body;
 }
 
-AccuracyBody DynamicSphere(float radius, const Vec3& position, float friction = 0.5f) {
-  AccuracyBody body;
-  body.shape = AccuracyShape::kSphere;
+BodyDescription DynamicSphere(float radius, const Vec3& position, float friction = 0.5f) {
+  BodyDescription body;
+  body.shape = SceneShape::kSphere;
   body.radius = radius;
   body.position = position;
   body.friction = friction;
@@ -73,7 +73,7 @@ AccuracyBody DynamicSphere(float radius, const Vec3& position, float friction = 
 }
 
 Result<CaseOutcome> FreeFall(AccuracyEngine& engine, const AccuracySetting& setting) {
-  AccuracyScene scene;
+  SceneDescription scene;
   scene.bodies.push_back(DynamicSphere(0.5f, Vec3::Zero()));
   constexpr double kSeconds = 2.0;
   const Result<bool> ran = Run(engine, scene, setting, kSeconds);
@@ -86,10 +86,10 @@ Result<CaseOutcome> Incline(AccuracyEngine& engine, const AccuracySetting& setti
                             float friction, bool sphere, double expected_acceleration, bool relative) {
   const Quat tilt(Eigen::AngleAxisf(degrees * kPi / 180.0f, Vec3::UnitZ()));
   const Vec3 up = tilt * Vec3::UnitY();
-  AccuracyScene scene;
+  SceneDescription scene;
   scene.bodies.push_back(StaticBox(Vec3(50, 1, 50), -up, tilt, friction));
-  AccuracyBody body = sphere ? DynamicSphere(0.5f, 0.5f * up, friction)
-                             : DynamicBox(Vec3::Constant(0.5f), 0.5f * up, friction);
+  BodyDescription body = sphere ? DynamicSphere(0.5f, 0.5f * up, friction)
+                                : DynamicBox(Vec3::Constant(0.5f), 0.5f * up, friction);
   body.rotation = tilt;
   scene.bodies.push_back(body);
   constexpr double kSeconds = 2.0;
@@ -106,10 +106,10 @@ Result<CaseOutcome> Incline(AccuracyEngine& engine, const AccuracySetting& setti
 Result<CaseOutcome> RestitutionApex(AccuracyEngine& engine, const AccuracySetting& setting) {
   constexpr float kRestitution = 0.8f;
   constexpr std::array<float, 3> kDrops = {1.3f, 1.7f, 2.0f};
-  AccuracyScene scene;
+  SceneDescription scene;
   scene.bodies.push_back(Floor());
   for (std::size_t i = 0; i < kDrops.size(); ++i) {
-    AccuracyBody ball = DynamicSphere(0.5f, Vec3(3.0f * static_cast<float>(i), 0.5f + kDrops[i], 0));
+    BodyDescription ball = DynamicSphere(0.5f, Vec3(3.0f * static_cast<float>(i), 0.5f + kDrops[i], 0));
     ball.restitution = kRestitution;
     scene.bodies.push_back(ball);
   }
@@ -137,9 +137,9 @@ Result<CaseOutcome> RestitutionApex(AccuracyEngine& engine, const AccuracySettin
 // approach speed.
 Result<CaseOutcome> Collision(AccuracyEngine& engine, const AccuracySetting& setting, float restitution) {
   constexpr float kMassA = 1.0f, kMassB = 3.0f, kSpeed = 2.0f;
-  AccuracyScene scene;
+  SceneDescription scene;
   scene.gravity = Vec3::Zero();
-  AccuracyBody a = DynamicSphere(0.5f, Vec3(0, 0, 0), 0.0f), b = DynamicSphere(0.5f, Vec3(2, 0, 0), 0.0f);
+  BodyDescription a = DynamicSphere(0.5f, Vec3(0, 0, 0), 0.0f), b = DynamicSphere(0.5f, Vec3(2, 0, 0), 0.0f);
   a.mass = kMassA, b.mass = kMassB;
   a.restitution = b.restitution = restitution;
   a.linear_velocity = Vec3(kSpeed, 0, 0);
@@ -162,9 +162,9 @@ Vec3 AngularMomentum(const AccuracyBodyState& s, const Vec3& inertia) {
 
 // A box spinning about a non-principal axis in zero gravity for 10 s: largest |L(t) - L(0)| / |L(0)|.
 Result<CaseOutcome> AngularMomentumDrift(AccuracyEngine& engine, const AccuracySetting& setting) {
-  AccuracyScene scene;
+  SceneDescription scene;
   scene.gravity = Vec3::Zero();
-  AccuracyBody box = DynamicBox(Vec3(0.5f, 0.3f, 0.1f), Vec3::Zero());
+  BodyDescription box = DynamicBox(Vec3(0.5f, 0.3f, 0.1f), Vec3::Zero());
   box.rotation = Quat(Eigen::AngleAxisf(0.7f, Vec3(1, 2, 3).normalized()));
   box.angular_velocity = Vec3(1.0f, 2.0f, 3.0f);
   scene.bodies.push_back(box);
@@ -188,9 +188,9 @@ Result<CaseOutcome> AngularMomentumDrift(AccuracyEngine& engine, const AccuracyS
 
 // Spin about the intermediate axis with a small perturbation: when does it first flip, against RK4?
 Result<CaseOutcome> IntermediateAxisFlip(AccuracyEngine& engine, const AccuracySetting& setting) {
-  AccuracyScene scene;
+  SceneDescription scene;
   scene.gravity = Vec3::Zero();
-  AccuracyBody box = DynamicBox(Vec3(0.5f, 0.3f, 0.1f), Vec3::Zero());
+  BodyDescription box = DynamicBox(Vec3(0.5f, 0.3f, 0.1f), Vec3::Zero());
   const Vec3 spin(0.02f, 4.0f, 0.02f);  // body frame = world frame at the start
   box.angular_velocity = spin;
   scene.bodies.push_back(box);
@@ -217,9 +217,9 @@ double KineticEnergy(const AccuracyBodyState& s, float mass, const Vec3& inertia
 // that a wall hit sets tumbling and hopping trades kinetic for potential energy and back, so the end alone
 // can look right after a run that gained several times its energy on the way.
 Result<CaseOutcome> EnergyDrift(AccuracyEngine& engine, const AccuracySetting& setting) {
-  const AccuracyScene scene = SlidingBoxScene();
+  const SceneDescription scene = SlidingBoxScene();
   const std::size_t slider = 3;
-  const AccuracyBody& box = scene.bodies[slider];
+  const BodyDescription& box = scene.bodies[slider];
   const double start = 0.5 * box.mass * box.linear_velocity.squaredNorm();  // it starts without spin
   double worst = 0.0;
   const Result<bool> ran = Run(engine, scene, setting, 60.0, [&](double) {
@@ -236,7 +236,7 @@ Result<CaseOutcome> EnergyDrift(AccuracyEngine& engine, const AccuracySetting& s
 
 // A tower of `count` unit boxes for 10 s: how far the top box moved (m).
 Result<CaseOutcome> Tower(AccuracyEngine& engine, const AccuracySetting& setting, int count) {
-  AccuracyScene scene;
+  SceneDescription scene;
   scene.bodies.push_back(Floor());
   for (int i = 0; i < count; ++i)
     scene.bodies.push_back(DynamicBox(Vec3::Constant(0.5f), Vec3(0, 0.5f + static_cast<float>(i), 0)));
@@ -249,8 +249,8 @@ Result<CaseOutcome> Tower(AccuracyEngine& engine, const AccuracySetting& setting
 // A heavy unit box resting on a 1 kg one for 5 s: how far the heavy one got from where it rests, after the
 // first second (m): sinking, or sliding off.
 Result<CaseOutcome> MassRatio(AccuracyEngine& engine, const AccuracySetting& setting, float ratio) {
-  const AccuracyScene scene = HeavyOnLightScene(ratio);
-  const AccuracyBody& heavy = scene.bodies[2];
+  const SceneDescription scene = HeavyOnLightScene(ratio);
+  const BodyDescription& heavy = scene.bodies[2];
   double farthest = 0.0;
   const Result<bool> ran = Run(engine, scene, setting, 5.0, [&](double time) {
     if (time > 1.0)
@@ -261,10 +261,10 @@ Result<CaseOutcome> MassRatio(AccuracyEngine& engine, const AccuracySetting& set
 
 // A 5 cm sphere at 500 m/s against a 10 cm static wall: how far past the wall's face it got (m).
 Result<CaseOutcome> FastBodyThinWall(AccuracyEngine& engine, const AccuracySetting& setting) {
-  AccuracyScene scene;
+  SceneDescription scene;
   scene.gravity = Vec3::Zero();
   scene.bodies.push_back(StaticBox(Vec3(0.05f, 2, 2), Vec3(10, 0, 0)));
-  AccuracyBody bullet = DynamicSphere(0.05f, Vec3::Zero());
+  BodyDescription bullet = DynamicSphere(0.05f, Vec3::Zero());
   bullet.linear_velocity = Vec3(500, 0, 0);
   scene.bodies.push_back(bullet);
   double farthest = 0.0;
@@ -278,9 +278,9 @@ Result<CaseOutcome> FastBodyThinWall(AccuracyEngine& engine, const AccuracySetti
 // A frictionless box sliding at 2 cm/s on a floor 10 km from the origin: relative error of its travel.
 Result<CaseOutcome> FarFromOrigin(AccuracyEngine& engine, const AccuracySetting& setting) {
   const Vec3 far(10000.0f, 0.0f, 10000.0f);
-  AccuracyScene scene;
+  SceneDescription scene;
   scene.bodies.push_back(Floor(0.0f, far));
-  AccuracyBody box = DynamicBox(Vec3::Constant(0.5f), far + Vec3(0, 0.5f, 0), 0.0f);
+  BodyDescription box = DynamicBox(Vec3::Constant(0.5f), far + Vec3(0, 0.5f, 0), 0.0f);
   box.linear_velocity = Vec3(0.02f, 0, 0);
   scene.bodies.push_back(box);
   constexpr double kSeconds = 2.0;
@@ -293,11 +293,11 @@ Result<CaseOutcome> FarFromOrigin(AccuracyEngine& engine, const AccuracySetting&
 
 }  // namespace
 
-AccuracyScene SlidingBoxScene() {
-  AccuracyScene scene;
-  AccuracyBody left = StaticBox(Vec3(0.5f, 2, 5), Vec3(-5, 1, 0), Quat::Identity(), 0.0f);
-  AccuracyBody right = StaticBox(Vec3(0.5f, 2, 5), Vec3(5, 1, 0), Quat::Identity(), 0.0f);
-  AccuracyBody slider = DynamicBox(Vec3::Constant(0.5f), Vec3(0, 0.5f, 0), 0.0f);
+SceneDescription SlidingBoxScene() {
+  SceneDescription scene;
+  BodyDescription left = StaticBox(Vec3(0.5f, 2, 5), Vec3(-5, 1, 0), Quat::Identity(), 0.0f);
+  BodyDescription right = StaticBox(Vec3(0.5f, 2, 5), Vec3(5, 1, 0), Quat::Identity(), 0.0f);
+  BodyDescription slider = DynamicBox(Vec3::Constant(0.5f), Vec3(0, 0.5f, 0), 0.0f);
   slider.mass = 1.0f;
   slider.restitution = 1.0f;
   slider.linear_velocity = Vec3(3, 0, 0);
@@ -305,12 +305,12 @@ AccuracyScene SlidingBoxScene() {
   return scene;
 }
 
-AccuracyScene HeavyOnLightScene(float ratio) {
-  AccuracyScene scene;
+SceneDescription HeavyOnLightScene(float ratio) {
+  SceneDescription scene;
   scene.bodies.push_back(Floor());
-  AccuracyBody light = DynamicBox(Vec3::Constant(0.5f), Vec3(0, 0.5f, 0));
+  BodyDescription light = DynamicBox(Vec3::Constant(0.5f), Vec3(0, 0.5f, 0));
   light.mass = 1.0f;
-  AccuracyBody heavy = DynamicBox(Vec3::Constant(0.5f), Vec3(0, 1.5f, 0));
+  BodyDescription heavy = DynamicBox(Vec3::Constant(0.5f), Vec3(0, 1.5f, 0));
   heavy.mass = ratio;
   scene.bodies.push_back(light);
   scene.bodies.push_back(heavy);

@@ -37,9 +37,9 @@ AccuracySetting DefaultAccuracySetting();
 
 /// The `energy_drift` scene: a frictionless 1 kg unit box sliding at 3 m/s on a floor between two walls, e
 /// = 1.
-AccuracyScene SlidingBoxScene();
+SceneDescription SlidingBoxScene();
 /// The `mass_ratio_*` scenes: a unit box of `ratio` kg resting on a 1 kg one on a floor.
-AccuracyScene HeavyOnLightScene(float ratio);
+SceneDescription HeavyOnLightScene(float ratio);
 
 /// RK4 reference for the intermediate-axis flip: the first time the spin about the middle axis of a free
 /// body with principal `inertia` changes sign, starting from body-frame `spin` (s; < 0 if none by `limit`).

@@ -2,10 +2,9 @@
 
 #include <chrono>
 
+#include "assets/scene/SceneBuilder.h"
 #include "physics/body/BodyInterface.h"
 #include "physics/core/JobSystem.h"
-#include "physics/shapes/BoxShape.h"
-#include "physics/shapes/SphereShape.h"
 #include "physics/world/PhysicsSystem.h"
 
 namespace strata::accuracy {
@@ -16,7 +15,7 @@ class StrataEngine final : public AccuracyEngine {
  public:
   std::string name() const override { return "strata"; }
 
-  Status Build(const AccuracyScene& scene, const AccuracySetting& setting) override {
+  Status Build(const SceneDescription& scene, const AccuracySetting& setting) override {
     PhysicsSettings settings;
     settings.gravity = scene.gravity;
     settings.min_velocity_for_restitution = scene.min_velocity_for_restitution;
@@ -34,25 +33,14 @@ class StrataEngine final : public AccuracyEngine {
     world_ = std::move(*world);
     dt_ = setting.dt;
     ids_.clear();
-    for (const AccuracyBody& body : scene.bodies) {
-      Result<ShapeRef> shape = body.shape == AccuracyShape::kBox ? BoxShape::Create(body.half_extents)
-                                                                 : SphereShape::Create(body.radius);
+    for (const BodyDescription& body : scene.bodies) {
+      Result<ShapeRef> shape = MakeShape(scene, body);
       if (!shape) return shape.error();
-      BodyCreationSettings created;
-      created.shape = *shape;
-      created.position = body.position;
-      created.rotation = body.rotation;
-      created.motion_type = body.dynamic ? MotionType::kDynamic : MotionType::kStatic;
-      created.object_layer = body.dynamic ? layers::kMoving : layers::kNonMoving;
+      BodyCreationSettings created = ToBodySettings(body, *shape);
       created.motion_quality =
           body.dynamic && setting.linear_cast ? MotionQuality::kLinearCast : MotionQuality::kDiscrete;
-      if (body.mass > 0.0f) created.mass = body.mass;
-      created.friction = body.friction;
-      created.restitution = body.restitution;
       created.linear_damping = 0.0f;
       created.angular_damping = 0.0f;
-      created.linear_velocity = body.linear_velocity;
-      created.angular_velocity = body.angular_velocity;
       created.max_angular_velocity = 1000.0f;
       created.max_linear_velocity = 1000.0f;
       Result<BodyID> id = world_->bodies().CreateAndAddBody(created);

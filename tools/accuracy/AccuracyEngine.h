@@ -1,52 +1,27 @@
-// AccuracyEngine: one physics engine behind the accuracy suite's small scene vocabulary (boxes and spheres,
-// static or dynamic), so the same analytic cases run on Strata and, side by side, on Bullet. One engine
-// object per run; single-threaded use.
+// AccuracyEngine: one physics engine behind the accuracy suite, building its scenes (SceneDescription: the
+// cases use boxes and spheres, static or dynamic) so the same analytic cases run on Strata and, side by side,
+// on Bullet. One engine object per run; single-threaded use.
 #pragma once
 
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "assets/scene/SceneDescription.h"
+#include "physics/PhysicsSettings.h"
 #include "physics/core/Result.h"
 #include "physics/math/Math.h"
-#include "physics/PhysicsSettings.h"
 
 namespace strata::accuracy {
-
-enum class AccuracyShape { kBox, kSphere };
-
-/// A body of an accuracy scene. Every body is undamped; friction and restitution are the pair's values
-/// (engines that combine per-body values differently are given what yields them).
-struct AccuracyBody {
-  AccuracyShape shape = AccuracyShape::kBox;
-  Vec3 half_extents = Vec3::Constant(0.5f);  ///< box
-  float radius = 0.5f;                       ///< sphere
-  Vec3 position = Vec3::Zero();
-  Quat rotation = Quat::Identity();
-  bool dynamic = true;
-  float mass = 0.0f;  ///< kg; 0 = density 1000
-  float friction = 0.5f;
-  float restitution = 0.0f;
-  Vec3 linear_velocity = Vec3::Zero();
-  Vec3 angular_velocity = Vec3::Zero();
-};
-
-struct AccuracyScene {
-  std::vector<AccuracyBody> bodies;
-  Vec3 gravity = Vec3(0.0f, -9.81f, 0.0f);
-  /// Approaches slower than this (m/s) do not bounce, in every engine: Strata's default. Bullet's own, 0.2
-  /// m/s, lets an e = 1 box sliding on a floor bounce on the speed gravity gives it in one step at dt 1/30.
-  float min_velocity_for_restitution = PhysicsSettings{}.min_velocity_for_restitution;
-};
 
 /// How a run is stepped.
 struct AccuracySetting {
   std::string name;
   float dt = 1.0f / 60.0f;
   int substeps = 4;
-  int velocity_iterations = 1;       ///< per substep
-  int relax_iterations = 1;          ///< per substep
-  bool linear_cast = true;           ///< continuous collision for dynamic bodies
+  int velocity_iterations = 1;      ///< per substep
+  int relax_iterations = 1;         ///< per substep
+  bool linear_cast = true;          ///< continuous collision for dynamic bodies
   bool exact_small_islands = true;  ///< Strata only: PhysicsSettings::exact_small_islands
 };
 
@@ -68,7 +43,7 @@ class AccuracyEngine {
     return true;
   }
   /// Creates the scene's bodies (in order) with the setting's solver parameters.
-  virtual Status Build(const AccuracyScene& scene, const AccuracySetting& setting) = 0;
+  virtual Status Build(const SceneDescription& scene, const AccuracySetting& setting) = 0;
   /// One step of the setting's dt; its wall time is added to step_ms().
   virtual Status Step() = 0;
   virtual AccuracyBodyState State(std::size_t body) const = 0;

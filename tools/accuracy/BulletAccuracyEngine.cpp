@@ -28,14 +28,14 @@ class BulletEngine final : public AccuracyEngine {
   std::string name() const override { return "bullet"; }
   bool Runs(const AccuracySetting& setting) const override { return setting.exact_small_islands; }
 
-  Status Build(const AccuracyScene& scene, const AccuracySetting& setting) override {
+  Status Build(const SceneDescription& scene, const AccuracySetting& setting) override {
     world_.setGravity(ToBullet(scene.gravity));
     world_.getSolverInfo().m_numIterations = setting.velocity_iterations + setting.relax_iterations;
     world_.getSolverInfo().m_restitutionVelocityThreshold = scene.min_velocity_for_restitution;
     dt_ = setting.dt;
     substeps_ = setting.substeps;
-    for (const AccuracyBody& body : scene.bodies) {
-      if (body.shape == AccuracyShape::kBox)
+    for (const BodyDescription& body : scene.bodies) {
+      if (body.shape == SceneShape::kBox)
         shapes_.push_back(std::make_unique<btBoxShape>(ToBullet(body.half_extents)));
       else
         shapes_.push_back(std::make_unique<btSphereShape>(body.radius));
@@ -48,7 +48,7 @@ class BulletEngine final : public AccuracyEngine {
       btScalar mass = 0;
       btVector3 inertia(0, 0, 0);
       if (body.dynamic) {
-        const float volume = body.shape == AccuracyShape::kBox
+        const float volume = body.shape == SceneShape::kBox
                                  ? 8.0f * body.half_extents.prod()
                                  : 4.0f / 3.0f * kPi * body.radius * body.radius * body.radius;
         mass = body.mass > 0.0f ? body.mass : 1000.0f * volume;
@@ -70,7 +70,7 @@ class BulletEngine final : public AccuracyEngine {
         created.setAngularVelocity(ToBullet(body.angular_velocity));
         created.setFlags(created.getFlags() | BT_ENABLE_GYROSCOPIC_FORCE_IMPLICIT_BODY);
         if (setting.linear_cast) {
-          const float size = body.shape == AccuracyShape::kBox ? body.half_extents.minCoeff() : body.radius;
+          const float size = body.shape == SceneShape::kBox ? body.half_extents.minCoeff() : body.radius;
           created.setCcdMotionThreshold(0.5f * size);
           created.setCcdSweptSphereRadius(0.9f * size);
         }

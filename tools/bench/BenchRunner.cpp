@@ -11,14 +11,9 @@
 #include <optional>
 #include <string>
 
+#include "assets/scene/SceneBuilder.h"
 #include "physics/body/BodyInterface.h"
 #include "physics/core/ThreadPoolJobSystem.h"
-#include "physics/shapes/BoxShape.h"
-#include "physics/shapes/CapsuleShape.h"
-#include "physics/shapes/ConvexHullShape.h"
-#include "physics/shapes/HeightFieldShape.h"
-#include "physics/shapes/SphereShape.h"
-#include "physics/shapes/TriangleMeshShape.h"
 #include "physics/world/PhysicsSystem.h"
 
 namespace strata::bench {
@@ -31,25 +26,6 @@ void HashBytes(std::uint64_t& hash, const void* data, std::size_t size) {
     hash ^= bytes[i];
     hash *= 1099511628211ull;
   }
-}
-
-ShapeRef MakeShape(const BenchScene& scene, const BenchBody& body) {
-  switch (body.shape) {
-    case BenchShape::kBox:
-      return *BoxShape::Create(body.half_extents);
-    case BenchShape::kSphere:
-      return *SphereShape::Create(body.radius);
-    case BenchShape::kCapsule:
-      return *CapsuleShape::Create(body.half_height, body.radius);
-    case BenchShape::kHull:
-      return *ConvexHullShape::Create(scene.hull_points);
-    case BenchShape::kMesh:
-      return *TriangleMeshShape::Create(scene.mesh_vertices, scene.mesh_triangles);
-    case BenchShape::kHeightField:
-      return *HeightFieldShape::Create(scene.field_columns, scene.field_rows, scene.field_cell,
-                                       scene.field_heights);
-  }
-  return nullptr;
 }
 
 // Sums a step's stage figures into `result` (stages matched by position; every step has the same list).
@@ -68,9 +44,9 @@ void AddProfile(const StepProfile& profile, EngineResult& result) {
 
 }  // namespace
 
-float BenchMass(const BenchScene& scene, const BenchBody& body) {
+float BenchMass(const BenchScene& scene, const BodyDescription& body) {
   if (body.mass > 0.0f) return body.mass;
-  return MakeShape(scene, body)->ComputeMassProperties(BodyCreationSettings().density).mass;
+  return (*MakeShape(scene, body))->ComputeMassProperties(BodyCreationSettings().density).mass;
 }
 
 void Summarize(const BenchScene& scene, const std::vector<FinalPose>& poses, EngineResult& result) {
@@ -121,60 +97,23 @@ std::optional<StrataScene> BuildStrataScene(const BenchScene& scene, PhysicsSyst
   PhysicsSystem& world = *built.world;
   ShapeRef hull, mesh, field;  // shared by all bodies that use them, as a game would
   std::vector<BodyID> all_ids;
-  for (const BenchBody& body : scene.bodies) {
-    BodyCreationSettings create;
-    if (body.shape == BenchShape::kHull)
-      create.shape = hull ? hull : (hull = MakeShape(scene, body));
-    else if (body.shape == BenchShape::kMesh)
-      create.shape = mesh ? mesh : (mesh = MakeShape(scene, body));
-    else if (body.shape == BenchShape::kHeightField)
-      create.shape = field ? field : (field = MakeShape(scene, body));
-    else
-      create.shape = MakeShape(scene, body);
-    create.position = body.position;
-    create.rotation = body.rotation;
-    create.motion_type = body.dynamic ? MotionType::kDynamic : MotionType::kStatic;
-    create.object_layer = body.dynamic ? layers::kMoving : layers::kNonMoving;
-    create.friction = body.friction;
-    create.restitution = body.restitution;
+  for (const BodyDescription& body : scene.bodies) {
+    ShapeRef* shared = body.shape == SceneShape::kHull          ? &hull
+                       : body.shape == SceneShape::kMesh        ? &mesh
+                       : body.shape == SceneShape::kHeightField ? &field
+                                                                : nullptr;
+    ShapeRef shape = shared && *shared ? *shared : *MakeShape(scene, body);
+    if (shared) *shared = shape;
+    BodyCreationSettings create = ToBodySettings(body, std::move(shape));
     create.report_contacts = scene.report_contacts && body.dynamic;
-    if (body.mass > 0.0f) create.mass = body.mass;
     auto id = world.bodies().CreateBody(create);
     if (!id) return std::nullopt;
     all_ids.push_back(*id);
     if (body.dynamic) built.dynamic_bodies.push_back(*id);
   }
   if (!world.bodies().AddBodies(all_ids).ok()) return std::nullopt;
-  for (const BenchJoint& joint : scene.joints) {
-    const BodyID a = joint.body_a >= 0 ? all_ids[joint.body_a] : BodyID{};
-    const BodyID b = all_ids[joint.body_b];
-    JointSettings made;
-    switch (joint.kind) {
-      case BenchJointKind::kPoint: {
-        PointJointSettings point;
-        point.body_a = a, point.body_b = b, point.anchor = joint.anchor;
-        made = point;
-        break;
-      }
-      case BenchJointKind::kHinge: {
-        HingeJointSettings hinge;
-        hinge.body_a = a, hinge.body_b = b, hinge.anchor = joint.anchor;
-        hinge.axis = joint.axis, hinge.normal = joint.normal;
-        hinge.limits = true, hinge.min_angle = joint.min_angle, hinge.max_angle = joint.max_angle;
-        made = hinge;
-        break;
-      }
-      case BenchJointKind::kSwingTwist: {
-        SwingTwistJointSettings cone;
-        cone.body_a = a, cone.body_b = b, cone.anchor = joint.anchor;
-        cone.twist_axis = joint.axis, cone.normal = joint.normal, cone.cone_half_angle = joint.cone;
-        cone.min_twist = joint.min_angle, cone.max_twist = joint.max_angle;
-        made = cone;
-        break;
-      }
-    }
-    if (!world.constraints().Add(made)) return std::nullopt;
-  }
+  for (const JointDescription& joint : scene.joints)
+    if (!world.constraints().Add(ToJointSettings(joint, all_ids))) return std::nullopt;
   return built;
 }
 

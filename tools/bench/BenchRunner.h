@@ -58,7 +58,7 @@ void SummarizeTimes(std::vector<double> step_seconds, EngineResult& result);
 long PeakMemoryKb();
 
 /// Mass (kg) of a dynamic benchmark body at Strata's default density, so every engine moves the same mass.
-float BenchMass(const BenchScene& scene, const BenchBody& body);
+float BenchMass(const BenchScene& scene, const BodyDescription& body);
 
 /// A Strata world holding a scene's bodies and joints.
 struct StrataScene {

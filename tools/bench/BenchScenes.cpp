@@ -7,14 +7,14 @@ namespace strata::bench {
 BenchScene MakePyramid() {
   BenchScene scene;
   scene.name = "pyramid";
-  scene.bodies.push_back({BenchShape::kBox, Vec3(50, 1, 50), 0, 0, Vec3(0, -1, 0), false, 0.5f, 0.0f});
+  scene.bodies.push_back({SceneShape::kBox, Vec3(50, 1, 50), 0, 0, Vec3(0, -1, 0), false, 0.5f, 0.0f});
   constexpr int kLevels = 15;
   for (int i = 0; i < kLevels; ++i) {
     const float offset = (i % 2 == 1) ? 1.0f : 0.0f;
     for (int j = i / 2; j < kLevels - (i + 1) / 2; ++j) {
       for (int k = i / 2; k < kLevels - (i + 1) / 2; ++k) {
         const Vec3 position(-15.0f + 2.0f * j + offset, 1.0f + 2.5f * i, -15.0f + 2.0f * k + offset);
-        scene.bodies.push_back({BenchShape::kBox, Vec3(1, 1, 1), 0, 0, position, true, 0.5f, 0.0f});
+        scene.bodies.push_back({SceneShape::kBox, Vec3(1, 1, 1), 0, 0, position, true, 0.5f, 0.0f});
       }
     }
   }
@@ -39,31 +39,31 @@ BenchScene MakeConvexVsMesh() {
       scene.mesh_triangles.push_back({i1, i2, i3});
     }
   }
-  scene.bodies.push_back({BenchShape::kMesh, Vec3::Zero(), 0, 0, Vec3(0, 5, 0), false, 0.5f, 0.6f});
+  scene.bodies.push_back({SceneShape::kMesh, Vec3::Zero(), 0, 0, Vec3(0, 5, 0), false, 0.5f, 0.6f});
   scene.hull_points = {Vec3(0, 1, 0), Vec3(1, 0, 0), Vec3(-1, 0, 0), Vec3(0, 0, 1), Vec3(0, 0, -1)};
   for (int x = -10; x <= 10; ++x) {
     for (int y = 0; y < 4; ++y) {
       for (int z = -10; z <= 10; ++z) {
-        BenchBody body{BenchShape::kBox,
-                       Vec3::Zero(),
-                       0,
-                       0,
-                       Vec3(7.5f * x, 15.0f + 2.0f * y, 7.5f * z),
-                       true,
-                       0.5f,
-                       0.6f};
+        BodyDescription body{SceneShape::kBox,
+                             Vec3::Zero(),
+                             0,
+                             0,
+                             Vec3(7.5f * x, 15.0f + 2.0f * y, 7.5f * z),
+                             true,
+                             0.5f,
+                             0.6f};
         switch (y) {
           case 0:
-            body.shape = BenchShape::kBox, body.half_extents = Vec3(0.5f, 0.75f, 1.0f);
+            body.shape = SceneShape::kBox, body.half_extents = Vec3(0.5f, 0.75f, 1.0f);
             break;
           case 1:
-            body.shape = BenchShape::kSphere, body.radius = 0.5f;
+            body.shape = SceneShape::kSphere, body.radius = 0.5f;
             break;
           case 2:
-            body.shape = BenchShape::kCapsule, body.half_height = 0.75f, body.radius = 0.5f;
+            body.shape = SceneShape::kCapsule, body.half_height = 0.75f, body.radius = 0.5f;
             break;
           default:
-            body.shape = BenchShape::kHull;
+            body.shape = SceneShape::kHull;
             break;
         }
         scene.bodies.push_back(body);
@@ -80,23 +80,23 @@ BenchScene MakeConvexVsMesh() {
 
 void AddRagdoll(BenchScene& scene, const Vec3& pelvis, const Quat& rotation) {
   // Standing, facing +z, arms down, in metres from the pelvis; a part's capsule runs along y.
-  auto part = [&](BenchShape shape, const Vec3& at, const Vec3& half_extents, float radius,
+  auto part = [&](SceneShape shape, const Vec3& at, const Vec3& half_extents, float radius,
                   float half_height) {
-    BenchBody body{shape, half_extents, radius, half_height, pelvis + rotation * at, true, 0.5f, 0.0f};
+    BodyDescription body{shape, half_extents, radius, half_height, pelvis + rotation * at, true, 0.5f, 0.0f};
     body.rotation = rotation;
     scene.bodies.push_back(body);
     return static_cast<int>(scene.bodies.size()) - 1;
   };
   auto capsule = [&](const Vec3& at, float half_height, float radius) {
-    return part(BenchShape::kCapsule, at, Vec3::Zero(), radius, half_height);
+    return part(SceneShape::kCapsule, at, Vec3::Zero(), radius, half_height);
   };
-  const int hips = part(BenchShape::kBox, Vec3::Zero(), Vec3(0.15f, 0.1f, 0.1f), 0, 0);
+  const int hips = part(SceneShape::kBox, Vec3::Zero(), Vec3(0.15f, 0.1f, 0.1f), 0, 0);
   const int belly = capsule(Vec3(0.0f, 0.22f, 0.0f), 0.04f, 0.1f);
-  const int chest = part(BenchShape::kBox, Vec3(0.0f, 0.46f, 0.0f), Vec3(0.17f, 0.12f, 0.1f), 0, 0);
-  const int head = part(BenchShape::kSphere, Vec3(0.0f, 0.72f, 0.0f), Vec3::Zero(), 0.11f, 0);
-  auto joint = [&](BenchJointKind kind, int a, int b, const Vec3& at, const Vec3& axis, float low, float high,
+  const int chest = part(SceneShape::kBox, Vec3(0.0f, 0.46f, 0.0f), Vec3(0.17f, 0.12f, 0.1f), 0, 0);
+  const int head = part(SceneShape::kSphere, Vec3(0.0f, 0.72f, 0.0f), Vec3::Zero(), 0.11f, 0);
+  auto joint = [&](JointKind kind, int a, int b, const Vec3& at, const Vec3& axis, float low, float high,
                    float cone) {
-    BenchJoint j;
+    JointDescription j;
     j.kind = kind;
     j.body_a = a;
     j.body_b = b;
@@ -109,19 +109,18 @@ void AddRagdoll(BenchScene& scene, const Vec3& pelvis, const Quat& rotation) {
     scene.joints.push_back(j);
   };
   const Vec3 up = Vec3::UnitY(), down = -Vec3::UnitY(), side = Vec3::UnitX();
-  joint(BenchJointKind::kSwingTwist, hips, belly, Vec3(0.0f, 0.1f, 0.0f), up, -0.3f, 0.3f, 0.4f);
-  joint(BenchJointKind::kSwingTwist, belly, chest, Vec3(0.0f, 0.34f, 0.0f), up, -0.3f, 0.3f, 0.4f);
-  joint(BenchJointKind::kSwingTwist, chest, head, Vec3(0.0f, 0.6f, 0.0f), up, -0.8f, 0.8f, 0.6f);
+  joint(JointKind::kSwingTwist, hips, belly, Vec3(0.0f, 0.1f, 0.0f), up, -0.3f, 0.3f, 0.4f);
+  joint(JointKind::kSwingTwist, belly, chest, Vec3(0.0f, 0.34f, 0.0f), up, -0.3f, 0.3f, 0.4f);
+  joint(JointKind::kSwingTwist, chest, head, Vec3(0.0f, 0.6f, 0.0f), up, -0.8f, 0.8f, 0.6f);
   for (const float x : {-1.0f, 1.0f}) {
     const int upper_arm = capsule(Vec3(0.24f * x, 0.42f, 0.0f), 0.1f, 0.05f);
     const int forearm = capsule(Vec3(0.24f * x, 0.12f, 0.0f), 0.1f, 0.045f);
     const int thigh = capsule(Vec3(0.09f * x, -0.33f, 0.0f), 0.15f, 0.07f);
     const int shin = capsule(Vec3(0.09f * x, -0.79f, 0.0f), 0.15f, 0.06f);
-    joint(BenchJointKind::kSwingTwist, chest, upper_arm, Vec3(0.22f * x, 0.56f, 0.0f), down, -0.8f, 0.8f,
-          1.2f);
-    joint(BenchJointKind::kHinge, upper_arm, forearm, Vec3(0.24f * x, 0.27f, 0.0f), side, -2.4f, 0.0f, 0.0f);
-    joint(BenchJointKind::kSwingTwist, hips, thigh, Vec3(0.09f * x, -0.1f, 0.0f), down, -0.4f, 0.4f, 0.8f);
-    joint(BenchJointKind::kHinge, thigh, shin, Vec3(0.09f * x, -0.565f, 0.0f), side, 0.0f, 2.4f, 0.0f);
+    joint(JointKind::kSwingTwist, chest, upper_arm, Vec3(0.22f * x, 0.56f, 0.0f), down, -0.8f, 0.8f, 1.2f);
+    joint(JointKind::kHinge, upper_arm, forearm, Vec3(0.24f * x, 0.27f, 0.0f), side, -2.4f, 0.0f, 0.0f);
+    joint(JointKind::kSwingTwist, hips, thigh, Vec3(0.09f * x, -0.1f, 0.0f), down, -0.4f, 0.4f, 0.8f);
+    joint(JointKind::kHinge, thigh, shin, Vec3(0.09f * x, -0.565f, 0.0f), side, 0.0f, 2.4f, 0.0f);
   }
 }
 
@@ -134,8 +133,8 @@ BenchScene MakeRagdolls() {
   for (std::uint32_t z = 0; z < scene.field_rows; ++z)
     for (std::uint32_t x = 0; x < scene.field_columns; ++x)
       scene.field_heights.push_back(0.6f * std::sin(0.3f * x) * std::cos(0.25f * z));
-  BenchBody ground{BenchShape::kHeightField,   Vec3::Zero(), 0,    0,
-                   Vec3(-32.0f, 0.0f, -32.0f), false,        0.6f, 0.0f};
+  BodyDescription ground{SceneShape::kHeightField,   Vec3::Zero(), 0,    0,
+                         Vec3(-32.0f, 0.0f, -32.0f), false,        0.6f, 0.0f};
   scene.bodies.push_back(ground);
   // Five heaps of twenty, each ragdoll lying at its own turn, 0.9 m above the one below.
   for (int heap = 0; heap < 5; ++heap) {
@@ -153,7 +152,7 @@ BenchScene MakeRagdolls() {
 BenchScene MakeChains() {
   BenchScene scene;
   scene.name = "chains";
-  scene.bodies.push_back({BenchShape::kBox, Vec3(30, 1, 30), 0, 0, Vec3(0, -1, 0), false, 0.5f, 0.0f});
+  scene.bodies.push_back({SceneShape::kBox, Vec3(30, 1, 30), 0, 0, Vec3(0, -1, 0), false, 0.5f, 0.0f});
   constexpr int kChains = 20, kLinks = 40;
   constexpr float kHalf = 0.1f, kRadius = 0.03f, kBall = 0.25f;
   const float angle = 60.0f * kPi / 180.0f;
@@ -167,19 +166,19 @@ BenchScene MakeChains() {
     for (int i = 0; i <= kLinks; ++i) {
       const bool ball = i == kLinks;
       const float reach = ball ? 2 * kLinks * kHalf + kBall : (2 * i + 1) * kHalf;
-      BenchBody body{ball ? BenchShape::kSphere : BenchShape::kCapsule,
-                     Vec3::Zero(),
-                     ball ? kBall : kRadius,
-                     ball ? 0.0f : kHalf,
-                     top + reach * along,
-                     true,
-                     0.5f,
-                     0.0f};
+      BodyDescription body{ball ? SceneShape::kSphere : SceneShape::kCapsule,
+                           Vec3::Zero(),
+                           ball ? kBall : kRadius,
+                           ball ? 0.0f : kHalf,
+                           top + reach * along,
+                           true,
+                           0.5f,
+                           0.0f};
       body.rotation = laid;
       if (ball) body.mass = 10.0f;
       scene.bodies.push_back(body);
-      BenchJoint joint;
-      joint.kind = BenchJointKind::kPoint;
+      JointDescription joint;
+      joint.kind = JointKind::kPoint;
       joint.body_a = previous;
       joint.body_b = static_cast<int>(scene.bodies.size()) - 1;
       joint.anchor = top + (2 * i * kHalf) * along;

@@ -31,8 +31,8 @@ class BulletScene {
         scene.substeps * (scene.velocity_iterations + scene.relax_iterations);
     for (const auto& triangle : scene.mesh_triangles)
       for (std::uint32_t index : triangle) indices_.push_back(static_cast<int>(index));
-    for (const BenchBody& body : scene.bodies) AddBody(body);
-    for (const BenchJoint& joint : scene.joints) AddJoint(joint);
+    for (const BodyDescription& body : scene.bodies) AddBody(body);
+    for (const JointDescription& joint : scene.joints) AddJoint(joint);
   }
   ~BulletScene() {
     for (auto& joint : joints_) world_.removeConstraint(joint.get());
@@ -66,24 +66,24 @@ class BulletScene {
   }
 
  private:
-  btCollisionShape* ShapeFor(const BenchBody& body) {
+  btCollisionShape* ShapeFor(const BodyDescription& body) {
     switch (body.shape) {
-      case BenchShape::kBox:
+      case SceneShape::kBox:
         return Keep(std::make_unique<btBoxShape>(ToBullet(body.half_extents)));
-      case BenchShape::kSphere:
+      case SceneShape::kSphere:
         return Keep(std::make_unique<btSphereShape>(body.radius));
-      case BenchShape::kCapsule:
+      case SceneShape::kCapsule:
         return Keep(std::make_unique<btCapsuleShape>(body.radius, 2.0f * body.half_height));
-      case BenchShape::kHull:
+      case SceneShape::kHull:
         if (!hull_) {
           auto convex = std::make_unique<btConvexHullShape>();
           for (const Vec3& p : scene_.hull_points) convex->addPoint(ToBullet(p));
           hull_ = Keep(std::move(convex));
         }
         return hull_;
-      case BenchShape::kHeightField:
+      case SceneShape::kHeightField:
         return HeightField();
-      case BenchShape::kMesh:
+      case SceneShape::kMesh:
         mesh_data_ = std::make_unique<btTriangleIndexVertexArray>(
             static_cast<int>(scene_.mesh_triangles.size()), indices_.data(),
             3 * static_cast<int>(sizeof(int)), static_cast<int>(scene_.mesh_vertices.size()),
@@ -111,11 +111,11 @@ class BulletScene {
     return shapes_.back().get();
   }
 
-  void AddBody(const BenchBody& body) {
+  void AddBody(const BodyDescription& body) {
     btCollisionShape* shape = ShapeFor(body);
     btTransform transform;
     transform.setIdentity();
-    transform.setOrigin(ToBullet(body.shape == BenchShape::kHeightField ? Vec3(body.position + field_offset_)
+    transform.setOrigin(ToBullet(body.shape == SceneShape::kHeightField ? Vec3(body.position + field_offset_)
                                                                         : body.position));
     transform.setRotation(
         btQuaternion(body.rotation.x(), body.rotation.y(), body.rotation.z(), body.rotation.w()));
@@ -136,7 +136,7 @@ class BulletScene {
   }
 
   // A joint as Bullet's matching constraint; joined bodies do not collide, as in Strata.
-  void AddJoint(const BenchJoint& joint) {
+  void AddJoint(const JointDescription& joint) {
     btRigidBody& b = *bodies_[joint.body_b];
     btRigidBody& a = joint.body_a >= 0 ? *bodies_[joint.body_a] : btTypedConstraint::getFixedBody();
     // The joint's frame (x = its axis) in each body's frame.
@@ -152,13 +152,13 @@ class BulletScene {
       return btTransform(inverse.getBasis() * basis, inverse * ToBullet(joint.anchor));
     };
     switch (joint.kind) {
-      case BenchJointKind::kPoint: {
+      case JointKind::kPoint: {
         const btTransform in_a = frame_in(a, axes), in_b = frame_in(b, axes);
         joints_.push_back(
             std::make_unique<btPoint2PointConstraint>(a, b, in_a.getOrigin(), in_b.getOrigin()));
         break;
       }
-      case BenchJointKind::kHinge: {
+      case JointKind::kHinge: {
         // Bullet's hinge turns about its frame's z.
         Mat3 hinge_axes;
         hinge_axes.col(0) = axes.col(1);
@@ -170,7 +170,7 @@ class BulletScene {
         joints_.push_back(std::move(hinge));
         break;
       }
-      case BenchJointKind::kSwingTwist: {
+      case JointKind::kSwingTwist: {
         // Bullet's cone twists about its frame's x; both swing spans are the cone's half angle.
         auto cone = std::make_unique<btConeTwistConstraint>(a, b, frame_in(a, axes), frame_in(b, axes));
         cone->setLimit(joint.cone, joint.cone, 0.5f * (joint.max_angle - joint.min_angle));
