@@ -474,7 +474,7 @@ bench::BenchScene RagdollHeap(int count) {
     for (std::uint32_t x = 0; x < scene.field_columns; ++x)
       scene.field_heights.push_back(0.4f * std::sin(0.5f * x) * std::cos(0.4f * z));
   scene.bodies.push_back(
-      {bench::SceneShape::kHeightField, Vec3::Zero(), 0, 0, Vec3(-8.0f, 0.0f, -8.0f), false, 0.6f, 0.0f});
+      {SceneShape::kHeightField, Vec3::Zero(), 0, 0, Vec3(-8.0f, 0.0f, -8.0f), false, 0.6f, 0.0f});
   for (int k = 0; k < count; ++k)
     bench::AddRagdoll(scene, Vec3(0.1f * (k % 3), 1.5f + 0.9f * k, 0.0f),
                       Quat(Eigen::AngleAxisf(0.7f * k, Vec3::UnitY())) *

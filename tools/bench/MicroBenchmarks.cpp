@@ -204,7 +204,7 @@ const ContactGraph& PyramidContactGraph() {
   static const ContactGraph graph = [] {
     ContactGraph g;
     std::vector<Vec3> centres;
-    for (const bench::BodyDescription& body : bench::MakePyramid().bodies)
+    for (const BodyDescription& body : bench::MakePyramid().bodies)
       if (body.dynamic) centres.push_back(body.position);
     g.bodies = static_cast<std::uint32_t>(centres.size());
     for (std::uint32_t a = 0; a < g.bodies; ++a)
@@ -295,7 +295,7 @@ BENCHMARK(BM_ConvexHullBuild)->Arg(32)->Arg(256);
 // sliding box (`energy_drift`, 60 s) and 100 kg box on a 1 kg one (`mass_ratio_100`, 5 s), run whole from
 // the start at dt 1/30 with one step, one velocity and one relax pass (Bullet's cheapest setting in the
 // suite). Argument 1 runs Bullet. One iteration is the whole run; building the world is not timed.
-void StepWholeRun(benchmark::State& state, const accuracy::SceneDescription& scene, double seconds) {
+void StepWholeRun(benchmark::State& state, const SceneDescription& scene, double seconds) {
   const bool bullet = state.range(0) == 1;
   const accuracy::AccuracySetting setting{"dt1/30 sub1", 1.0f / 30.0f, 1, 1, 1, true, true};
   const int steps = static_cast<int>(std::ceil(seconds / setting.dt - 1e-6));
@@ -326,7 +326,7 @@ BENCHMARK(BM_StepSlidingBox)->ArgName("bullet")->Arg(0)->Arg(1)->Unit(benchmark:
 // keep the box on the floor, so this is what one sliding contact costs each, like for like. In
 // BM_StepSlidingBox Bullet's box, set tumbling by the wall hits, is off the floor for most of its steps.
 void BM_StepSlidingOnFloor(benchmark::State& state) {
-  accuracy::SceneDescription scene = accuracy::SlidingBoxScene();
+  SceneDescription scene = accuracy::SlidingBoxScene();
   scene.bodies.erase(scene.bodies.begin() + 1, scene.bodies.begin() + 3);  // the walls
   scene.bodies.front().half_extents = Vec3(200.0f, 1.0f, 200.0f);
   StepWholeRun(state, scene, 60.0);
@@ -336,9 +336,9 @@ BENCHMARK(BM_StepSlidingOnFloor)->ArgName("bullet")->Arg(0)->Arg(1)->Unit(benchm
 // One sphere drifting through empty space for a minute (no gravity, 1 m/s): no pair, no contact, no cast, so
 // all of its time is what every step costs whatever the world holds.
 void BM_StepOneBody(benchmark::State& state) {
-  accuracy::SceneDescription scene;
-  accuracy::BodyDescription sphere;
-  sphere.shape = accuracy::SceneShape::kSphere;
+  SceneDescription scene;
+  BodyDescription sphere;
+  sphere.shape = SceneShape::kSphere;
   sphere.radius = 0.5f;
   sphere.linear_velocity = Vec3(1, 0, 0);
   scene.gravity = Vec3::Zero();
