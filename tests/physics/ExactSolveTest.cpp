@@ -235,8 +235,7 @@ TEST(ExactSolve, PatchWarmStartMovesTheBodiesAsThePointsOwnFrictionRowsWould) {
     WarmStartContact(*full[k], per_point);
     patched[k] = SetupSolverContact(arena, *constraints[k], bodies, context, false);
   }
-  ExactContactSolver* solver =
-      ExactContactSolver::Create(arena, patched, bodies, context.weight_per_impulse);
+  ExactContactSolver* solver = ExactContactSolver::Create(arena, patched, bodies, context.weight_per_impulse);
   ASSERT_NE(solver, nullptr);
   solver->WarmStart(bodies);
   for (int body = 1; body <= 2; ++body) {
