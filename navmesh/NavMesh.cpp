@@ -404,6 +404,38 @@ Status NavMesh::Save(const std::filesystem::path& path, std::optional<SetCoverag
   return WriteOutputFile(path, bytes);
 }
 
+namespace {
+
+// What is wrong with a set header, or nothing: counts Detour can hold (with room for the salt in a polygon
+// reference) and an origin on a tile corner, whose tile (x, z) goes to `origin_tile`.
+std::string SetHeaderProblem(const SetHeader& header, double (&origin_tile)[2]) {
+  const dtNavMeshParams& params = header.params;
+  if (header.tile_count < 0 || header.tile_count > params.maxTiles || params.maxTiles < 1 ||
+      params.maxTiles > (1 << 16) || params.maxPolys < 1 || !std::isfinite(params.tileWidth) ||
+      params.tileWidth <= 0.0f || params.tileWidth != params.tileHeight || !Finite3(params.orig))
+    return std::string("corrupt navmesh set header");
+  // A 32-bit polygon reference holds the tile, the polygon and at least 10 bits of salt. Detour computes
+  // the salt's bits unsigned, so tables too large for that wrap instead of failing, and every reference
+  // then decodes wrong (fuzz_navmesh: maxTiles 22,532 with 2^18 polygons read through a bad pointer).
+  if (std::bit_width(std::bit_ceil(static_cast<unsigned>(params.maxTiles))) - 1 +
+          std::bit_width(std::bit_ceil(static_cast<unsigned>(params.maxPolys))) - 1 >
+      22)
+    return std::string(
+        "corrupt navmesh set header (its tile and polygon counts leave no room for the salt "
+        "in a polygon reference)");
+  // The origin is the lower corner of a tile (y = 0); Detour gets the rest relative to it.
+  origin_tile[0] = std::round(params.orig[0] / static_cast<double>(params.tileWidth));
+  origin_tile[1] = std::round(params.orig[2] / static_cast<double>(params.tileWidth));
+  if (params.orig[1] != 0.0f || std::abs(origin_tile[0]) > (1 << 26) ||
+      std::abs(origin_tile[1]) > (1 << 26) ||
+      std::abs(origin_tile[0] * params.tileWidth - params.orig[0]) > 1e-3 * std::abs(params.orig[0]) + 1e-3 ||
+      std::abs(origin_tile[1] * params.tileWidth - params.orig[2]) > 1e-3 * std::abs(params.orig[2]) + 1e-3)
+    return std::string("corrupt navmesh set header (origin not on a tile corner)");
+  return {};
+}
+
+}  // namespace
+
 Result<std::unique_ptr<NavMesh>> NavMesh::Load(const std::filesystem::path& path) {
   Result<std::string> read = ReadInputFile(path, kMaxFileBytes);
   if (!read) return read.error();
@@ -415,28 +447,10 @@ Result<std::unique_ptr<NavMesh>> NavMesh::Load(const std::filesystem::path& path
   if (header.magic != kSetMagic) return FileError(path, "not a navmesh set (bad magic)");
   if (header.version != kSetVersion)
     return FileError(path, "unsupported navmesh set version " + std::to_string(header.version));
+  double origin_tile[2] = {0.0, 0.0};
+  if (const std::string problem = SetHeaderProblem(header, origin_tile); !problem.empty())
+    return FileError(path, problem);
   const dtNavMeshParams& params = header.params;
-  if (header.tile_count < 0 || header.tile_count > params.maxTiles || params.maxTiles < 1 ||
-      params.maxTiles > (1 << 16) || params.maxPolys < 1 || !std::isfinite(params.tileWidth) ||
-      params.tileWidth <= 0.0f || params.tileWidth != params.tileHeight || !Finite3(params.orig))
-    return FileError(path, "corrupt navmesh set header");
-  // A 32-bit polygon reference holds the tile, the polygon and at least 10 bits of salt. Detour computes
-  // the salt's bits unsigned, so tables too large for that wrap instead of failing, and every reference
-  // then decodes wrong (fuzz_navmesh: maxTiles 22,532 with 2^18 polygons read through a bad pointer).
-  if (std::bit_width(std::bit_ceil(static_cast<unsigned>(params.maxTiles))) - 1 +
-          std::bit_width(std::bit_ceil(static_cast<unsigned>(params.maxPolys))) - 1 >
-      22)
-    return FileError(path,
-                     "corrupt navmesh set header (its tile and polygon counts leave no room for the salt "
-                     "in a polygon reference)");
-  // The origin is the lower corner of a tile (y = 0); Detour gets the rest relative to it.
-  const double origin_tile[2] = {std::round(params.orig[0] / static_cast<double>(params.tileWidth)),
-                                 std::round(params.orig[2] / static_cast<double>(params.tileWidth))};
-  if (params.orig[1] != 0.0f || std::abs(origin_tile[0]) > (1 << 26) ||
-      std::abs(origin_tile[1]) > (1 << 26) ||
-      std::abs(origin_tile[0] * params.tileWidth - params.orig[0]) > 1e-3 * std::abs(params.orig[0]) + 1e-3 ||
-      std::abs(origin_tile[1] * params.tileWidth - params.orig[2]) > 1e-3 * std::abs(params.orig[2]) + 1e-3)
-    return FileError(path, "corrupt navmesh set header (origin not on a tile corner)");
   dtNavMeshParams local_params = params;
   std::fill(std::begin(local_params.orig), std::end(local_params.orig), 0.0f);
   dtNavMesh* mesh = dtAllocNavMesh();
