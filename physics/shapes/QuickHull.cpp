@@ -104,6 +104,70 @@ std::vector<HullFace> MergeCoplanar(const std::vector<Vec3>& p, const std::vecto
   return faces;
 }
 
+// Gives `point` to the first live face of `candidates` it lies outside of (by more than `epsilon`).
+void AssignOutside(std::vector<WorkFace>& faces, const std::vector<Vec3>& p, int point,
+                   const std::vector<int>& candidates, float epsilon) {
+  for (int f : candidates)
+    if (faces[f].alive && Distance(faces[f], p[point]) > epsilon) {
+      faces[f].outside.push_back(point);
+      return;
+    }
+}
+
+// One step of QuickHull: the farthest outside point of the first face that has one becomes a vertex, the
+// faces it sees are replaced by a cone from it to their horizon. False when no point is outside.
+bool AddFarthestPoint(const std::vector<Vec3>& p, float epsilon, std::vector<WorkFace>& faces) {
+  int face_index = -1;
+  for (int f = 0; f < static_cast<int>(faces.size()); ++f)
+    if (faces[f].alive && !faces[f].outside.empty()) {
+      face_index = f;
+      break;
+    }
+  if (face_index < 0) return false;
+  int eye = faces[face_index].outside.front();
+  for (int candidate : faces[face_index].outside)
+    if (Distance(faces[face_index], p[candidate]) > Distance(faces[face_index], p[eye])) eye = candidate;
+
+  std::vector<int> visible;
+  for (int f = 0; f < static_cast<int>(faces.size()); ++f)
+    if (faces[f].alive && Distance(faces[f], p[eye]) > epsilon) visible.push_back(f);
+  std::map<std::pair<int, int>, bool> visible_edges;
+  for (int f : visible) {
+    const int v[3] = {faces[f].a, faces[f].b, faces[f].c};
+    for (int k = 0; k < 3; ++k) visible_edges[{v[k], v[(k + 1) % 3]}] = true;
+  }
+  std::vector<int> orphans;
+  for (int f : visible) {
+    faces[f].alive = false;
+    for (int point : faces[f].outside)
+      if (point != eye) orphans.push_back(point);
+    faces[f].outside.clear();
+  }
+  std::vector<int> created;
+  for (const auto& [edge, unused] : visible_edges) {
+    if (visible_edges.count({edge.second, edge.first})) continue;  // interior of the visible region
+    faces.push_back(MakeFace(p, edge.first, edge.second, eye));
+    created.push_back(static_cast<int>(faces.size()) - 1);
+  }
+  for (int point : orphans) AssignOutside(faces, p, point, created, epsilon);
+  return true;
+}
+
+// Keeps only the points that ended up as hull vertices, renumbered.
+HullData Renumbered(const std::vector<Vec3>& p, std::vector<HullFace> merged) {
+  HullData hull;
+  std::map<int, int> remap;
+  for (HullFace& face : merged) {
+    for (int& v : face.vertices) {
+      auto [it, inserted] = remap.emplace(v, static_cast<int>(hull.vertices.size()));
+      if (inserted) hull.vertices.push_back(p[v]);
+      v = it->second;
+    }
+  }
+  hull.faces = std::move(merged);
+  return hull;
+}
+
 }  // namespace
 
 Result<HullData> BuildConvexHull(std::span<const Vec3> input) {
@@ -126,71 +190,19 @@ Result<HullData> BuildConvexHull(std::span<const Vec3> input) {
   if ((p[i1] - p[i0]).cross(p[i2] - p[i0]).dot(p[i3] - p[i0]) > 0) std::swap(i1, i2);
   std::vector<WorkFace> faces = {MakeFace(p, i0, i1, i2), MakeFace(p, i0, i3, i1), MakeFace(p, i1, i3, i2),
                                  MakeFace(p, i2, i3, i0)};
-  auto assign = [&](int point, const std::vector<int>& candidates) {
-    for (int f : candidates)
-      if (faces[f].alive && Distance(faces[f], p[point]) > epsilon) {
-        faces[f].outside.push_back(point);
-        return;
-      }
-  };
   std::vector<int> all_faces = {0, 1, 2, 3};
   for (int i = 0; i < static_cast<int>(p.size()); ++i)
-    if (i != i0 && i != i1 && i != i2 && i != i3) assign(i, all_faces);
+    if (i != i0 && i != i1 && i != i2 && i != i3) AssignOutside(faces, p, i, all_faces, epsilon);
 
-  for (std::size_t iteration = 0; iteration < 4 * p.size() + 16; ++iteration) {
-    // Farthest outside point of the first face that still has one.
-    int face_index = -1;
-    for (int f = 0; f < static_cast<int>(faces.size()); ++f)
-      if (faces[f].alive && !faces[f].outside.empty()) {
-        face_index = f;
-        break;
-      }
-    if (face_index < 0) break;
-    int eye = faces[face_index].outside.front();
-    for (int candidate : faces[face_index].outside)
-      if (Distance(faces[face_index], p[candidate]) > Distance(faces[face_index], p[eye])) eye = candidate;
-
-    std::vector<int> visible;
-    for (int f = 0; f < static_cast<int>(faces.size()); ++f)
-      if (faces[f].alive && Distance(faces[f], p[eye]) > epsilon) visible.push_back(f);
-    std::map<std::pair<int, int>, bool> visible_edges;
-    for (int f : visible) {
-      const int v[3] = {faces[f].a, faces[f].b, faces[f].c};
-      for (int k = 0; k < 3; ++k) visible_edges[{v[k], v[(k + 1) % 3]}] = true;
-    }
-    std::vector<int> orphans;
-    for (int f : visible) {
-      faces[f].alive = false;
-      for (int point : faces[f].outside)
-        if (point != eye) orphans.push_back(point);
-      faces[f].outside.clear();
-    }
-    std::vector<int> created;
-    for (const auto& [edge, unused] : visible_edges) {
-      if (visible_edges.count({edge.second, edge.first})) continue;  // interior of the visible region
-      faces.push_back(MakeFace(p, edge.first, edge.second, eye));
-      created.push_back(static_cast<int>(faces.size()) - 1);
-    }
-    for (int point : orphans) assign(point, created);
-  }
+  for (std::size_t iteration = 0; iteration < 4 * p.size() + 16; ++iteration)
+    if (!AddFarthestPoint(p, epsilon, faces)) break;
 
   std::vector<WorkFace> alive;
   for (const WorkFace& f : faces)
     if (f.alive) alive.push_back(f);
   std::vector<HullFace> merged = MergeCoplanar(p, alive);
 
-  // Keep only the points that ended up as hull vertices, renumbered.
-  HullData hull;
-  std::map<int, int> remap;
-  for (HullFace& face : merged) {
-    for (int& v : face.vertices) {
-      auto [it, inserted] = remap.emplace(v, static_cast<int>(hull.vertices.size()));
-      if (inserted) hull.vertices.push_back(p[v]);
-      v = it->second;
-    }
-  }
-  hull.faces = std::move(merged);
-  return hull;
+  return Renumbered(p, std::move(merged));
 }
 
 }  // namespace strata
