@@ -47,6 +47,26 @@ bool CompleteTetrahedron(const ConvexSupport& a, const ConvexSupport& b,
   return vertices.size() == 4;
 }
 
+// The normal, depth and witness points of `closest`, the polytope's face nearest the origin: the
+// barycentric coordinates of the origin's projection on it weigh the support points of each shape.
+void WitnessPoints(const Face& closest, const std::vector<SimplexVertex>& vertices, PenetrationResult& out) {
+  const Vec3 projection = closest.normal * closest.distance;
+  const Vec3& p0 = vertices[closest.a].w;
+  const Vec3 v0 = vertices[closest.b].w - p0, v1 = vertices[closest.c].w - p0, v2 = projection - p0;
+  const float d00 = v0.dot(v0), d01 = v0.dot(v1), d11 = v1.dot(v1), d20 = v2.dot(v0), d21 = v2.dot(v1);
+  const float denominator = d00 * d11 - d01 * d01;
+  float u = 1.0f / 3.0f, v = 1.0f / 3.0f;
+  if (std::abs(denominator) > 1e-20f) {
+    u = (d11 * d20 - d01 * d21) / denominator;
+    v = (d00 * d21 - d01 * d20) / denominator;
+  }
+  const float w = 1.0f - u - v;
+  out.normal = closest.normal;
+  out.depth = std::max(0.0f, closest.distance);
+  out.point_a = w * vertices[closest.a].a + u * vertices[closest.b].a + v * vertices[closest.c].a;
+  out.point_b = w * vertices[closest.a].b + u * vertices[closest.b].b + v * vertices[closest.c].b;
+}
+
 }  // namespace
 
 bool EpaPenetration(const ConvexSupport& a, const ConvexSupport& b, const GjkResult& gjk,
@@ -121,22 +141,7 @@ bool EpaPenetration(const ConvexSupport& a, const ConvexSupport& b, const GjkRes
     if (!closest) return false;
   }
 
-  // Barycentric coordinates of the origin's projection on the closest face give the witness points.
-  const Vec3 projection = closest->normal * closest->distance;
-  const Vec3& p0 = vertices[closest->a].w;
-  const Vec3 v0 = vertices[closest->b].w - p0, v1 = vertices[closest->c].w - p0, v2 = projection - p0;
-  const float d00 = v0.dot(v0), d01 = v0.dot(v1), d11 = v1.dot(v1), d20 = v2.dot(v0), d21 = v2.dot(v1);
-  const float denominator = d00 * d11 - d01 * d01;
-  float u = 1.0f / 3.0f, v = 1.0f / 3.0f;
-  if (std::abs(denominator) > 1e-20f) {
-    u = (d11 * d20 - d01 * d21) / denominator;
-    v = (d00 * d21 - d01 * d20) / denominator;
-  }
-  const float w = 1.0f - u - v;
-  out.normal = closest->normal;
-  out.depth = std::max(0.0f, closest->distance);
-  out.point_a = w * vertices[closest->a].a + u * vertices[closest->b].a + v * vertices[closest->c].a;
-  out.point_b = w * vertices[closest->a].b + u * vertices[closest->b].b + v * vertices[closest->c].b;
+  WitnessPoints(*closest, vertices, out);
   return true;
 }
 
