@@ -1,6 +1,9 @@
 #include "assets/scene/JointParser.h"
 
 #include <algorithm>
+#include <array>
+
+#include "assets/scene/SceneBuilder.h"
 
 namespace strata {
 
@@ -35,24 +38,17 @@ Status ParseAngleLimits(const Reader& reader, const Json& json, const std::strin
   return Status::Ok();
 }
 
-Status ParseMotor(const Reader& reader, const Json& json, JointMotor& motor) {
+Status ParseMotor(const Reader& reader, const Json& json, JointDescription& joint) {
   if (!json.contains("motor")) return Status::Ok();
   const Json& value = json["motor"];
   const Reader at = reader.At("motor");
   if (!value.is_object()) return reader.Fail("motor", "must be an object {speed, max_torque or max_force}");
   if (Status keys = at.OnlyKeys(value, {"speed", "max_torque", "max_force"}); !keys) return keys;
-  motor.enabled = true;
-  if (Status s = at.Number(value, "speed", motor.target_speed); !s) return s;
-  if (Status s = at.Number(value, "max_torque", motor.max_torque); !s) return s;
-  return at.Number(value, "max_force", motor.max_torque);
+  joint.motor = true;
+  if (Status s = at.Number(value, "speed", joint.motor_speed); !s) return s;
+  if (Status s = at.Number(value, "max_torque", joint.motor_max); !s) return s;
+  return at.Number(value, "max_force", joint.motor_max);
 }
-
-// What every joint entry has: its type, name, bodies and breaking limits.
-struct JointEntry {
-  std::string type;
-  JointSettingsBase base;
-  std::string failing_key;  // where a settings error points
-};
 
 // The keys a joint of the entry's type may have: the common ones and its own.
 Status OnlyJointKeys(const Reader& reader, const Json& json, const std::string& type,
@@ -70,7 +66,7 @@ Status OnlyJointKeys(const Reader& reader, const Json& json, const std::string& 
 }
 
 Status ParseBodies(const Reader& reader, const Json& json, const std::map<std::string, int>& body_index,
-                   const std::vector<SceneBody>& bodies, SceneConstraint& out) {
+                   const std::vector<BodyDescription>& bodies, JointDescription& out) {
   auto body = [&](const char* key, int& index) -> Status {
     if (!json.contains(key)) return Status::Ok();
     std::string name;
@@ -85,93 +81,77 @@ Status ParseBodies(const Reader& reader, const Json& json, const std::map<std::s
   if (Status s = body("body_b", out.body_b); !s) return s;
   if (out.body_b < 0) return reader.Fail("body_b", "is required (body_a may be left out: the world)");
   if (out.body_a == out.body_b) return reader.Fail("body_b", "is the same body as body_a");
-  auto moves = [&](int index) {
-    return index >= 0 && bodies[index].settings.motion_type == MotionType::kDynamic;
-  };
+  auto moves = [&](int index) { return index >= 0 && bodies[index].IsDynamic(); };
   if (!moves(out.body_a) && !moves(out.body_b))
     return reader.Fail("body_b", "a joint needs at least one dynamic body");
   return Status::Ok();
 }
 
-template <class Settings>
-Settings WithBase(const JointEntry& entry) {
-  Settings joint;
-  static_cast<JointSettingsBase&>(joint) = entry.base;
+// A joint of `kind` as the file format leaves it when no key says otherwise (Strata's defaults).
+JointDescription FileDefaults(JointKind kind) {
+  JointDescription joint;
+  joint.kind = kind;
+  joint.normal = Vec3::Zero();  // any
+  if (kind == JointKind::kSlider || kind == JointKind::kSwingTwist) joint.axis = Vec3::UnitX();
+  if (kind == JointKind::kSlider) joint.min_limit = joint.max_limit = 0.0f;
   return joint;
 }
 
-Result<JointSettings> ParseAnchored(const Reader& reader, const Json& json, const JointEntry& entry) {
-  STRATA_TRY(OnlyJointKeys(reader, json, entry.type, {"anchor"}));
-  Vec3 anchor = Vec3::Zero();
-  STRATA_TRY(reader.Vector(json, "anchor", anchor));
-  if (entry.type == "fixed") {
-    auto joint = WithBase<FixedJointSettings>(entry);
-    joint.anchor = anchor;
-    return JointSettings(joint);
-  }
-  auto joint = WithBase<PointJointSettings>(entry);
-  joint.anchor = anchor;
-  return JointSettings(joint);
+Status ParseAnchored(const Reader& reader, const Json& json, const std::string& type,
+                     JointDescription& joint) {
+  STRATA_TRY(OnlyJointKeys(reader, json, type, {"anchor"}));
+  return reader.Vector(json, "anchor", joint.anchor);
 }
 
-Result<JointSettings> ParseDistance(const Reader& reader, const Json& json, const JointEntry& entry) {
-  STRATA_TRY(OnlyJointKeys(reader, json, entry.type,
+Status ParseDistance(const Reader& reader, const Json& json, JointDescription& joint) {
+  STRATA_TRY(OnlyJointKeys(reader, json, "distance",
                            {"anchor_a", "anchor_b", "rest_length", "min_distance", "max_distance",
                             "spring_hertz", "spring_damping_ratio"}));
-  auto joint = WithBase<DistanceJointSettings>(entry);
-  STRATA_TRY(reader.Vector(json, "anchor_a", joint.anchor_a));
+  STRATA_TRY(reader.Vector(json, "anchor_a", joint.anchor));
   STRATA_TRY(reader.Vector(json, "anchor_b", joint.anchor_b));
   STRATA_TRY(reader.Number(json, "rest_length", joint.rest_length));
   STRATA_TRY(reader.Number(json, "min_distance", joint.min_distance));
   STRATA_TRY(reader.Number(json, "max_distance", joint.max_distance));
   STRATA_TRY(reader.Number(json, "spring_hertz", joint.spring_hertz));
-  STRATA_TRY(reader.Number(json, "spring_damping_ratio", joint.spring_damping_ratio));
-  return JointSettings(joint);
+  return reader.Number(json, "spring_damping_ratio", joint.spring_damping_ratio);
 }
 
-Result<JointSettings> ParseHinge(const Reader& reader, const Json& json, JointEntry& entry) {
-  STRATA_TRY(OnlyJointKeys(reader, json, entry.type,
+Status ParseHinge(const Reader& reader, const Json& json, JointDescription& joint) {
+  STRATA_TRY(OnlyJointKeys(reader, json, "hinge",
                            {"anchor", "axis", "normal", "limits", "max_friction_torque", "motor"}));
-  auto joint = WithBase<HingeJointSettings>(entry);
   STRATA_TRY(reader.Vector(json, "anchor", joint.anchor));
   STRATA_TRY(reader.Vector(json, "axis", joint.axis));
   STRATA_TRY(reader.Vector(json, "normal", joint.normal));
   if (json.contains("limits")) {
     joint.limits = true;
-    STRATA_TRY(ParseAngleLimits(reader, json, "limits", joint.min_angle, joint.max_angle));
-    entry.failing_key = "limits";
+    STRATA_TRY(ParseAngleLimits(reader, json, "limits", joint.min_limit, joint.max_limit));
   }
-  STRATA_TRY(reader.Number(json, "max_friction_torque", joint.max_friction_torque));
-  STRATA_TRY(ParseMotor(reader, json, joint.motor));
-  return JointSettings(joint);
+  STRATA_TRY(reader.Number(json, "max_friction_torque", joint.max_friction));
+  return ParseMotor(reader, json, joint);
 }
 
-Result<JointSettings> ParseSlider(const Reader& reader, const Json& json, JointEntry& entry) {
+Status ParseSlider(const Reader& reader, const Json& json, JointDescription& joint) {
   STRATA_TRY(
-      OnlyJointKeys(reader, json, entry.type, {"anchor", "axis", "limits", "max_friction_force", "motor"}));
-  auto joint = WithBase<SliderJointSettings>(entry);
+      OnlyJointKeys(reader, json, "slider", {"anchor", "axis", "limits", "max_friction_force", "motor"}));
   STRATA_TRY(reader.Vector(json, "anchor", joint.anchor));
   STRATA_TRY(reader.Vector(json, "axis", joint.axis));
   if (json.contains("limits")) {
     joint.limits = true;
-    STRATA_TRY(ParseRange(reader, json, "limits", joint.min_position, joint.max_position));
-    entry.failing_key = "limits";
+    STRATA_TRY(ParseRange(reader, json, "limits", joint.min_limit, joint.max_limit));
   }
-  STRATA_TRY(reader.Number(json, "max_friction_force", joint.max_friction_force));
-  STRATA_TRY(ParseMotor(reader, json, joint.motor));
-  return JointSettings(joint);
+  STRATA_TRY(reader.Number(json, "max_friction_force", joint.max_friction));
+  return ParseMotor(reader, json, joint);
 }
 
-Result<JointSettings> ParseSwingTwist(const Reader& reader, const Json& json, const JointEntry& entry) {
-  STRATA_TRY(OnlyJointKeys(reader, json, entry.type,
+Status ParseSwingTwist(const Reader& reader, const Json& json, JointDescription& joint) {
+  STRATA_TRY(OnlyJointKeys(reader, json, "swing_twist",
                            {"anchor", "twist_axis", "normal", "cone", "twist", "max_friction_torque"}));
-  auto joint = WithBase<SwingTwistJointSettings>(entry);
   STRATA_TRY(reader.Vector(json, "anchor", joint.anchor));
-  STRATA_TRY(reader.Vector(json, "twist_axis", joint.twist_axis));
+  STRATA_TRY(reader.Vector(json, "twist_axis", joint.axis));
   STRATA_TRY(reader.Vector(json, "normal", joint.normal));
-  float cone = joint.cone_half_angle / kRadiansPerDegree;
+  float cone = joint.cone / kRadiansPerDegree;
   STRATA_TRY(reader.Number(json, "cone", cone));
-  joint.cone_half_angle = cone * kRadiansPerDegree;
+  joint.cone = cone * kRadiansPerDegree;
   float low = -180.0f, high = 180.0f;
   if (json.contains("twist")) {
     STRATA_TRY(ParseAngleLimits(reader, json, "twist", low, high));
@@ -179,48 +159,75 @@ Result<JointSettings> ParseSwingTwist(const Reader& reader, const Json& json, co
     low *= kRadiansPerDegree;
     high *= kRadiansPerDegree;
   }
-  joint.min_twist = low;
-  joint.max_twist = high;
-  STRATA_TRY(reader.Number(json, "max_friction_torque", joint.max_friction_torque));
-  return JointSettings(joint);
+  joint.min_limit = low;
+  joint.max_limit = high;
+  return reader.Number(json, "max_friction_torque", joint.max_friction);
 }
 
-Result<JointSettings> ParseTyped(const Reader& reader, const Json& json, JointEntry& entry) {
-  const std::string& type = entry.type;
-  if (type == "fixed" || type == "point") return ParseAnchored(reader, json, entry);
-  if (type == "distance") return ParseDistance(reader, json, entry);
-  if (type == "hinge") return ParseHinge(reader, json, entry);
-  if (type == "slider") return ParseSlider(reader, json, entry);
-  if (type == "swing_twist") return ParseSwingTwist(reader, json, entry);
-  return reader.Fail("type",
-                     "must be fixed, point, distance, hinge, slider or swing_twist (got '" + type + "')");
+Status ParseKind(const Reader& reader, const std::string& type, JointKind& kind) {
+  static const std::map<std::string, JointKind> kKinds = {
+      {"fixed", JointKind::kFixed}, {"point", JointKind::kPoint},   {"distance", JointKind::kDistance},
+      {"hinge", JointKind::kHinge}, {"slider", JointKind::kSlider}, {"swing_twist", JointKind::kSwingTwist}};
+  if (type.empty())
+    return reader.Fail("type", "is required: fixed, point, distance, hinge, slider or swing_twist");
+  const auto found = kKinds.find(type);
+  if (found == kKinds.end())
+    return reader.Fail("type",
+                       "must be fixed, point, distance, hinge, slider or swing_twist (got '" + type + "')");
+  kind = found->second;
+  return Status::Ok();
+}
+
+Status ParseTyped(const Reader& reader, const Json& json, const std::string& type, JointDescription& joint) {
+  switch (joint.kind) {
+    case JointKind::kFixed:
+    case JointKind::kPoint:
+      return ParseAnchored(reader, json, type, joint);
+    case JointKind::kDistance:
+      return ParseDistance(reader, json, joint);
+    case JointKind::kHinge:
+      return ParseHinge(reader, json, joint);
+    case JointKind::kSlider:
+      return ParseSlider(reader, json, joint);
+    case JointKind::kSwingTwist:
+      return ParseSwingTwist(reader, json, joint);
+  }
+  return Status::Ok();
+}
+
+// Checks the joint Strata would make from `joint`, pointing a bad value's error at its key.
+Status CheckJoint(const Reader& reader, const Json& json, const JointDescription& joint) {
+  // Placeholder ids in place of the world's: the check needs two distinct bodies, not which.
+  const std::array<BodyID, 2> ids = {BodyID{0, 0}, BodyID{1, 0}};
+  JointDescription local = joint;
+  local.body_a = joint.body_a >= 0 ? 0 : -1;
+  local.body_b = 1;
+  Status valid = ValidateJointSettings(ToJointSettings(local, ids));
+  if (valid) return valid;
+  const bool limited =
+      (joint.kind == JointKind::kHinge || joint.kind == JointKind::kSlider) && json.contains("limits");
+  return reader.Fail(limited ? "limits" : "", valid.message());
 }
 
 }  // namespace
 
-Result<SceneConstraint> ParseConstraint(const Reader& reader, const Json& json,
-                                        const std::map<std::string, int>& body_index,
-                                        const std::vector<SceneBody>& bodies) {
+Result<JointDescription> ParseConstraint(const Reader& reader, const Json& json,
+                                         const std::map<std::string, int>& body_index,
+                                         const std::vector<BodyDescription>& bodies) {
   if (!json.is_object()) return reader.Fail("", "must be an object");
-  SceneConstraint out;
-  JointEntry entry;
-  STRATA_TRY(reader.String(json, "type", entry.type));
-  if (entry.type.empty())
-    return reader.Fail("type", "is required: fixed, point, distance, hinge, slider or swing_twist");
-  STRATA_TRY(reader.String(json, "name", out.name));
-  STRATA_TRY(ParseBodies(reader, json, body_index, bodies, out));
-  // Placeholder ids for validation; BuildSceneWorld puts the real ones in.
-  entry.base.body_a = out.body_a >= 0 ? BodyID{static_cast<std::uint32_t>(out.body_a), 0} : BodyID{};
-  entry.base.body_b = BodyID{static_cast<std::uint32_t>(out.body_b), 0};
-  STRATA_TRY(reader.Number(json, "max_force", entry.base.max_force));
-  STRATA_TRY(reader.Number(json, "max_torque", entry.base.max_torque));
-  STRATA_TRY(reader.Boolean(json, "collide_connected", entry.base.collide_connected));
-  Result<JointSettings> settings = ParseTyped(reader, json, entry);
-  if (!settings) return settings.error();
-  out.settings = std::move(*settings);
-  if (Status valid = ValidateJointSettings(out.settings); !valid)
-    return reader.Fail(entry.failing_key, valid.message());
-  return out;
+  std::string type;
+  STRATA_TRY(reader.String(json, "type", type));
+  JointKind kind = JointKind::kPoint;
+  STRATA_TRY(ParseKind(reader, type, kind));
+  JointDescription joint = FileDefaults(kind);
+  STRATA_TRY(reader.String(json, "name", joint.name));
+  STRATA_TRY(ParseBodies(reader, json, body_index, bodies, joint));
+  STRATA_TRY(reader.Number(json, "max_force", joint.break_force));
+  STRATA_TRY(reader.Number(json, "max_torque", joint.break_torque));
+  STRATA_TRY(reader.Boolean(json, "collide_connected", joint.collide_connected));
+  STRATA_TRY(ParseTyped(reader, json, type, joint));
+  STRATA_TRY(CheckJoint(reader, json, joint));
+  return joint;
 }
 
 }  // namespace strata

@@ -1,5 +1,5 @@
-// SceneLoader: reads the JSON scene format (assets/scenes/README.md) into validated body settings and
-// builds a world from them. A bad file yields one error naming the file, the JSON path of the bad value
+// SceneLoader: reads the JSON scene format (assets/scenes/README.md) into a validated SceneDescription and
+// builds a world from it. A bad file yields one error naming the file, the JSON path of the bad value
 // and why; nothing is created. Stateless; safe from any thread.
 #pragma once
 
@@ -9,33 +9,18 @@
 #include <string>
 #include <vector>
 
-#include "physics/body/BodyCreationSettings.h"
+#include "assets/scene/SceneDescription.h"
 #include "physics/constraints/ConstraintManager.h"
+#include "physics/shapes/Shape.h"
 #include "physics/world/PhysicsSystem.h"
 
 namespace strata {
 
-/// One named body of a scene.
-struct SceneBody {
-  std::string name;
-  BodyCreationSettings settings;
-};
-
-/// One joint of a scene.
-struct SceneConstraint {
-  std::string name;
-  std::string path;  ///< its JSON path, for errors found when the world is built
-  int body_a = -1;   ///< index into Scene::bodies; -1: the world
-  int body_b = 0;
-  JointSettings settings;  ///< body ids are filled in by BuildSceneWorld
-};
-
-/// A parsed, validated scene.
+/// A parsed, validated scene: what the file describes, engine-neutral, and each body's shape, made (and
+/// checked) as the file was read. BuildSceneWorld turns it into a world through SceneBuilder.
 struct Scene {
-  PhysicsSettings physics;
-  float dt = 1.0f / 60.0f;  ///< seconds per step
-  std::vector<SceneBody> bodies;
-  std::vector<SceneConstraint> constraints;
+  SceneDescription description;
+  std::vector<ShapeRef> shapes;  ///< one per description body, in order
 };
 
 /// Body positions in a scene lie within this of the origin on every axis (m).

@@ -4,6 +4,7 @@
 #include <fstream>
 
 #include <stb/stb_image_write.h>
+#include "assets/scene/SceneBuilder.h"
 #include "assets/scene/SceneLoader.h"
 #include "physics/body/BodyInterface.h"
 #include "physics/constraints/ConstraintManager.h"
@@ -14,6 +15,11 @@ namespace strata::test {
 namespace {
 
 const std::filesystem::path kScenes = STRATA_SCENES_DIR;
+
+// The settings Strata makes for body `index` of a loaded scene.
+BodyCreationSettings Built(const Scene& scene, std::size_t index) {
+  return ToBodySettings(scene.description.bodies[index], scene.shapes[index]);
+}
 
 std::string ParseError(const std::string& text) {
   Result<Scene> scene = ParseScene(text, "test.json", kScenes);
@@ -27,30 +33,30 @@ TEST(SceneLoader, BundledScenesLoadAndRun) {
     ASSERT_TRUE(scene.ok()) << scene.error().message;
     Result<SceneWorld> world = BuildSceneWorld(*scene);
     ASSERT_TRUE(world.ok()) << world.error().message;
-    EXPECT_EQ(world->ids.size(), scene->bodies.size());
-    for (int step = 0; step < 120; ++step) ASSERT_TRUE(world->system->Step(scene->dt).ok());
+    EXPECT_EQ(world->ids.size(), scene->description.bodies.size());
+    for (int step = 0; step < 120; ++step) ASSERT_TRUE(world->system->Step(scene->description.dt).ok());
   }
 }
 
 TEST(SceneLoader, JointsHoldTheirBodiesAndTheLampCordBreaks) {
   Result<Scene> scene = LoadScene(kScenes / "joints.json");
   ASSERT_TRUE(scene.ok()) << scene.error().message;
-  ASSERT_EQ(scene->constraints.size(), 9u);
+  ASSERT_EQ(scene->description.joints.size(), 9u);
   Result<SceneWorld> world = BuildSceneWorld(*scene);
   ASSERT_TRUE(world.ok()) << world.error().message;
   ASSERT_EQ(world->constraint_ids.size(), 9u);
-  for (int step = 0; step < 180; ++step) ASSERT_TRUE(world->system->Step(scene->dt).ok());
+  for (int step = 0; step < 180; ++step) ASSERT_TRUE(world->system->Step(scene->description.dt).ok());
   auto index_of = [&](const std::string& name) {
-    for (std::size_t i = 0; i < scene->constraints.size(); ++i)
-      if (scene->constraints[i].name == name) return i;
+    for (std::size_t i = 0; i < scene->description.joints.size(); ++i)
+      if (scene->description.joints[i].name == name) return i;
     ADD_FAILURE() << name;
     return std::size_t{0};
   };
   ConstraintManager& joints = world->system->constraints();
   // The 10 kg lamp weighs 98 N, its cord gives at 80 N; everything else holds.
-  for (std::size_t i = 0; i < scene->constraints.size(); ++i)
-    EXPECT_EQ(*joints.IsBroken(world->constraint_ids[i]), scene->constraints[i].name == "lamp_cord")
-        << scene->constraints[i].name;
+  for (std::size_t i = 0; i < scene->description.joints.size(); ++i)
+    EXPECT_EQ(*joints.IsBroken(world->constraint_ids[i]), scene->description.joints[i].name == "lamp_cord")
+        << scene->description.joints[i].name;
   // The chain's top joint carries three links and the 30 kg weight as they swing: about their 33 g.
   const float top = joints.GetForces(world->constraint_ids[index_of("chain_top")])->force.norm();
   EXPECT_GT(top, 0.5f * 33.0f * 9.81f);
@@ -112,17 +118,19 @@ TEST(SceneLoader, FieldsAreRead) {
                   "sensor": true, "sensor_detects_static": true}]})",
                  "inline", kScenes);
   ASSERT_TRUE(scene.ok()) << scene.error().message;
-  EXPECT_FLOAT_EQ(scene->physics.gravity.y(), -5.0f);
-  EXPECT_FLOAT_EQ(scene->dt, 0.01f);
-  EXPECT_EQ(scene->physics.velocity_iterations, 7);
-  EXPECT_EQ(scene->physics.substeps, 6);
-  EXPECT_EQ(scene->physics.relax_iterations, 3);
-  EXPECT_EQ(scene->physics.restitution_iterations, 2);
-  EXPECT_FALSE(scene->physics.gyroscopic_torque);
-  EXPECT_FALSE(scene->physics.allow_sleeping);
-  EXPECT_FALSE(scene->physics.exact_small_islands);
-  ASSERT_EQ(scene->bodies.size(), 4u);
-  const BodyCreationSettings& a = scene->bodies[0].settings;
+  const PhysicsSettings physics = ToPhysicsSettings(scene->description);
+  EXPECT_FLOAT_EQ(physics.gravity.y(), -5.0f);
+  EXPECT_FLOAT_EQ(scene->description.dt, 0.01f);
+  EXPECT_EQ(physics.velocity_iterations, 7);
+  EXPECT_EQ(physics.substeps, 6);
+  EXPECT_EQ(physics.relax_iterations, 3);
+  EXPECT_EQ(physics.restitution_iterations, 2);
+  EXPECT_FALSE(physics.gyroscopic_torque);
+  EXPECT_FALSE(physics.allow_sleeping);
+  EXPECT_FALSE(physics.exact_small_islands);
+  ASSERT_EQ(scene->description.bodies.size(), 4u);
+  ASSERT_EQ(scene->shapes.size(), 4u);
+  const BodyCreationSettings a = Built(*scene, 0);
   EXPECT_EQ(a.motion_type, MotionType::kKinematic);
   EXPECT_EQ(a.shape->type(), ShapeType::kCapsule);
   EXPECT_TRUE(a.position.isApprox(Vec3(1, 2, 3)));
@@ -130,12 +138,13 @@ TEST(SceneLoader, FieldsAreRead) {
   EXPECT_FLOAT_EQ(a.restitution, 0.3f);
   EXPECT_FLOAT_EQ(a.max_linear_velocity, 40.0f);
   EXPECT_FLOAT_EQ(a.max_angular_velocity, 9.0f);
-  EXPECT_EQ(scene->bodies[1].settings.shape->type(), ShapeType::kTriangleMesh);
-  EXPECT_EQ(scene->bodies[2].name, "body2");
-  EXPECT_FLOAT_EQ(*scene->bodies[2].settings.mass, 3.0f);
-  EXPECT_TRUE(scene->bodies[2].settings.report_contacts);
+  EXPECT_EQ(Built(*scene, 1).shape->type(), ShapeType::kTriangleMesh);
+  EXPECT_EQ(Built(*scene, 1).object_layer, layers::kNonMoving);
+  EXPECT_EQ(scene->description.bodies[2].name, "body2");
+  EXPECT_FLOAT_EQ(*Built(*scene, 2).mass, 3.0f);
+  EXPECT_TRUE(Built(*scene, 2).report_contacts);
   EXPECT_FALSE(a.report_contacts);
-  const BodyCreationSettings& trigger = scene->bodies[3].settings;
+  const BodyCreationSettings trigger = Built(*scene, 3);
   EXPECT_TRUE(trigger.is_sensor);
   EXPECT_TRUE(trigger.sensor_detects_static);
   EXPECT_EQ(trigger.object_layer, layers::kMoving);  // so that it can pair with the static level
@@ -260,7 +269,7 @@ TEST(SceneLoader, NumbersOutsideTheirTypesAreErrorsNotAborts) {
       R"({"bodies": [{"shape": {"type": "sphere", "radius": 1}, "motion_quality": "linear_cast"}]})",
       "inline", kScenes);
   ASSERT_TRUE(cast.ok()) << cast.error().message;
-  EXPECT_EQ(cast->bodies[0].settings.motion_quality, MotionQuality::kLinearCast);
+  EXPECT_EQ(Built(*cast, 0).motion_quality, MotionQuality::kLinearCast);
 }
 
 TEST(SceneLoader, MeshFilesImportThroughAssimp) {
@@ -272,7 +281,7 @@ TEST(SceneLoader, MeshFilesImportThroughAssimp) {
       ParseScene(R"({"bodies": [{"shape": {"type": "mesh", "file": "quad.obj"}, "motion": "static"}]})",
                  "inline", directory);
   ASSERT_TRUE(scene.ok()) << scene.error().message;
-  const auto& mesh = static_cast<const TriangleMeshShape&>(*scene->bodies[0].settings.shape);
+  const auto& mesh = static_cast<const TriangleMeshShape&>(*scene->shapes[0]);
   EXPECT_EQ(mesh.triangle_count(), 2u);
   Result<Scene> broken =
       ParseScene(R"({"bodies": [{"shape": {"type": "mesh", "file": "broken.obj"}, "motion": "static"}]})",
@@ -283,7 +292,7 @@ TEST(SceneLoader, MeshFilesImportThroughAssimp) {
 }
 
 const HeightFieldShape& FieldOf(const Scene& scene) {
-  return static_cast<const HeightFieldShape&>(*scene.bodies.front().settings.shape);
+  return static_cast<const HeightFieldShape&>(*scene.shapes.front());
 }
 
 TEST(SceneLoader, HeightFieldsComeFromArraysPicturesAndRawFiles) {

@@ -468,13 +468,15 @@ TEST(Constraint, AJointWaitsWhileItsBodyIsOutOfTheWorld) {
 // A heap of ragdolls dropped on a height field, from the benchmark's builder.
 bench::BenchScene RagdollHeap(int count) {
   bench::BenchScene scene;
-  scene.field_columns = scene.field_rows = 17;
-  scene.field_cell = 1.0f;
-  for (std::uint32_t z = 0; z < scene.field_rows; ++z)
-    for (std::uint32_t x = 0; x < scene.field_columns; ++x)
-      scene.field_heights.push_back(0.4f * std::sin(0.5f * x) * std::cos(0.4f * z));
-  scene.bodies.push_back(
-      {SceneShape::kHeightField, Vec3::Zero(), 0, 0, Vec3(-8.0f, 0.0f, -8.0f), false, 0.6f, 0.0f});
+  HeightFieldGeometry& field = scene.height_fields.emplace_back();
+  field.columns = field.rows = 17;
+  for (std::uint32_t z = 0; z < field.rows; ++z)
+    for (std::uint32_t x = 0; x < field.columns; ++x)
+      field.heights.push_back(0.4f * std::sin(0.5f * x) * std::cos(0.4f * z));
+  BodyDescription ground;
+  ground.shape = SceneShape::kHeightField, ground.position = Vec3(-8.0f, 0.0f, -8.0f);
+  ground.motion = SceneMotion::kStatic, ground.friction = 0.6f;
+  scene.bodies.push_back(ground);
   for (int k = 0; k < count; ++k)
     bench::AddRagdoll(scene, Vec3(0.1f * (k % 3), 1.5f + 0.9f * k, 0.0f),
                       Quat(Eigen::AngleAxisf(0.7f * k, Vec3::UnitY())) *

@@ -98,7 +98,7 @@ double SlidingBouncyBoxRise(AccuracyEngine& engine, float min_velocity_for_resti
   SceneDescription scene;
   scene.min_velocity_for_restitution = min_velocity_for_restitution;
   BodyDescription floor;
-  floor.dynamic = false;
+  floor.motion = SceneMotion::kStatic;
   floor.half_extents = Vec3(20.0f, 0.5f, 5.0f);
   floor.position = Vec3(0.0f, -0.5f, 0.0f);
   floor.friction = 0.0f;

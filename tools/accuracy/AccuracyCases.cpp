@@ -27,7 +27,7 @@ Result<bool> Run(AccuracyEngine& engine, const SceneDescription& scene, const Ac
   for (int step = 1; step <= steps; ++step) {
     if (Status stepped = engine.Step(); !stepped) return stepped.error();
     for (std::size_t body = 0; body < scene.bodies.size(); ++body)
-      if (scene.bodies[body].dynamic && !IsFiniteState(engine.State(body))) return false;
+      if (scene.bodies[body].IsDynamic() && !IsFiniteState(engine.State(body))) return false;
     if (observe) observe(step * static_cast<double>(setting.dt));
   }
   return true;
@@ -46,7 +46,7 @@ BodyDescription StaticBox(const Vec3& half_extents, const Vec3& position,
   body.half_extents = half_extents;
   body.position = position;
   body.rotation = rotation;
-  body.dynamic = false;
+  body.motion = SceneMotion::kStatic;
   body.friction = friction;
   return body;
 }

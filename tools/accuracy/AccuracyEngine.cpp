@@ -16,9 +16,7 @@ class StrataEngine final : public AccuracyEngine {
   std::string name() const override { return "strata"; }
 
   Status Build(const SceneDescription& scene, const AccuracySetting& setting) override {
-    PhysicsSettings settings;
-    settings.gravity = scene.gravity;
-    settings.min_velocity_for_restitution = scene.min_velocity_for_restitution;
+    PhysicsSettings settings = ToPhysicsSettings(scene);
     settings.substeps = setting.substeps;
     settings.velocity_iterations = setting.velocity_iterations;
     settings.relax_iterations = setting.relax_iterations;
@@ -38,7 +36,7 @@ class StrataEngine final : public AccuracyEngine {
       if (!shape) return shape.error();
       BodyCreationSettings created = ToBodySettings(body, *shape);
       created.motion_quality =
-          body.dynamic && setting.linear_cast ? MotionQuality::kLinearCast : MotionQuality::kDiscrete;
+          body.IsDynamic() && setting.linear_cast ? MotionQuality::kLinearCast : MotionQuality::kDiscrete;
       created.linear_damping = 0.0f;
       created.angular_damping = 0.0f;
       created.max_angular_velocity = 1000.0f;

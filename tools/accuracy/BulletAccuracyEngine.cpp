@@ -47,7 +47,7 @@ class BulletEngine final : public AccuracyEngine {
           btQuaternion(body.rotation.x(), body.rotation.y(), body.rotation.z(), body.rotation.w()));
       btScalar mass = 0;
       btVector3 inertia(0, 0, 0);
-      if (body.dynamic) {
+      if (body.IsDynamic()) {
         const float volume = body.shape == SceneShape::kBox
                                  ? 8.0f * body.half_extents.prod()
                                  : 4.0f / 3.0f * kPi * body.radius * body.radius * body.radius;
@@ -59,12 +59,12 @@ class BulletEngine final : public AccuracyEngine {
       // Bullet multiplies the two bodies' friction and restitution: give each side the square root of the
       // pair's friction, and static bodies restitution 1 so a pair gets the moving body's.
       info.m_friction = std::sqrt(body.friction);
-      info.m_restitution = body.dynamic ? body.restitution : 1.0f;
+      info.m_restitution = body.IsDynamic() ? body.restitution : 1.0f;
       info.m_linearDamping = 0.0f;
       info.m_angularDamping = 0.0f;
       bodies_.push_back(std::make_unique<btRigidBody>(info));
       btRigidBody& created = *bodies_.back();
-      if (body.dynamic) {
+      if (body.IsDynamic()) {
         created.setActivationState(DISABLE_DEACTIVATION);
         created.setLinearVelocity(ToBullet(body.linear_velocity));
         created.setAngularVelocity(ToBullet(body.angular_velocity));

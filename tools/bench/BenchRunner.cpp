@@ -84,32 +84,24 @@ long PeakMemoryKb() {
 
 std::optional<StrataScene> BuildStrataScene(const BenchScene& scene, PhysicsSystemConfig config) {
   config.max_bodies = static_cast<std::uint32_t>(scene.bodies.size()) + 16;
-  PhysicsSettings settings;
-  settings.substeps = scene.substeps;
-  settings.velocity_iterations = scene.velocity_iterations;
-  settings.relax_iterations = scene.relax_iterations;
-  settings.allow_sleeping = scene.sleeping;
+  PhysicsSettings settings = ToPhysicsSettings(scene);
   settings.body_pair_cache_max_distance = scene.pair_cache_max_distance;
   settings.body_pair_cache_max_angle = scene.pair_cache_max_angle;
   auto system = PhysicsSystem::Create(config, settings);
   if (!system) return std::nullopt;
+  Result<std::vector<ShapeRef>> shapes = MakeShapes(scene);
+  if (!shapes) return std::nullopt;
   StrataScene built{std::move(*system), {}};
   PhysicsSystem& world = *built.world;
-  ShapeRef hull, mesh, field;  // shared by all bodies that use them, as a game would
   std::vector<BodyID> all_ids;
-  for (const BodyDescription& body : scene.bodies) {
-    ShapeRef* shared = body.shape == SceneShape::kHull          ? &hull
-                       : body.shape == SceneShape::kMesh        ? &mesh
-                       : body.shape == SceneShape::kHeightField ? &field
-                                                                : nullptr;
-    ShapeRef shape = shared && *shared ? *shared : *MakeShape(scene, body);
-    if (shared) *shared = shape;
-    BodyCreationSettings create = ToBodySettings(body, std::move(shape));
-    create.report_contacts = scene.report_contacts && body.dynamic;
+  for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
+    const BodyDescription& body = scene.bodies[i];
+    BodyCreationSettings create = ToBodySettings(body, (*shapes)[i]);
+    create.report_contacts = scene.report_contacts && body.IsDynamic();
     auto id = world.bodies().CreateBody(create);
     if (!id) return std::nullopt;
     all_ids.push_back(*id);
-    if (body.dynamic) built.dynamic_bodies.push_back(*id);
+    if (body.IsDynamic()) built.dynamic_bodies.push_back(*id);
   }
   if (!world.bodies().AddBodies(all_ids).ok()) return std::nullopt;
   for (const JointDescription& joint : scene.joints)

@@ -4,17 +4,36 @@
 
 namespace strata::bench {
 
+namespace {
+
+BodyDescription Body(SceneShape shape, const Vec3& position, SceneMotion motion, float friction,
+                     float restitution) {
+  BodyDescription body;
+  body.shape = shape, body.position = position, body.motion = motion;
+  body.friction = friction, body.restitution = restitution;
+  return body;
+}
+
+BodyDescription Box(const Vec3& half_extents, const Vec3& position, SceneMotion motion, float friction,
+                    float restitution) {
+  BodyDescription body = Body(SceneShape::kBox, position, motion, friction, restitution);
+  body.half_extents = half_extents;
+  return body;
+}
+
+}  // namespace
+
 BenchScene MakePyramid() {
   BenchScene scene;
   scene.name = "pyramid";
-  scene.bodies.push_back({SceneShape::kBox, Vec3(50, 1, 50), 0, 0, Vec3(0, -1, 0), false, 0.5f, 0.0f});
+  scene.bodies.push_back(Box(Vec3(50, 1, 50), Vec3(0, -1, 0), SceneMotion::kStatic, 0.5f, 0.0f));
   constexpr int kLevels = 15;
   for (int i = 0; i < kLevels; ++i) {
     const float offset = (i % 2 == 1) ? 1.0f : 0.0f;
     for (int j = i / 2; j < kLevels - (i + 1) / 2; ++j) {
       for (int k = i / 2; k < kLevels - (i + 1) / 2; ++k) {
         const Vec3 position(-15.0f + 2.0f * j + offset, 1.0f + 2.5f * i, -15.0f + 2.0f * k + offset);
-        scene.bodies.push_back({SceneShape::kBox, Vec3(1, 1, 1), 0, 0, position, true, 0.5f, 0.0f});
+        scene.bodies.push_back(Box(Vec3(1, 1, 1), position, SceneMotion::kDynamic, 0.5f, 0.0f));
       }
     }
   }
@@ -28,30 +47,25 @@ BenchScene MakeConvexVsMesh() {
   constexpr int kCells = 100;
   constexpr float kCellSize = 3.0f;
   const float half = 0.5f * kCells * kCellSize;
+  MeshGeometry& mesh = scene.meshes.emplace_back();
   for (int z = 0; z <= kCells; ++z)
     for (int x = 0; x <= kCells; ++x)
-      scene.mesh_vertices.emplace_back(x * kCellSize - half, 5.0f * std::sin(x * 0.5f) * std::cos(z * 0.5f),
-                                       z * kCellSize - half);
+      mesh.vertices.emplace_back(x * kCellSize - half, 5.0f * std::sin(x * 0.5f) * std::cos(z * 0.5f),
+                                 z * kCellSize - half);
   for (int z = 0; z < kCells; ++z) {
     for (int x = 0; x < kCells; ++x) {
       const std::uint32_t i0 = z * (kCells + 1) + x, i1 = i0 + 1, i2 = i0 + kCells + 1, i3 = i2 + 1;
-      scene.mesh_triangles.push_back({i0, i2, i1});  // counter-clockwise seen from above
-      scene.mesh_triangles.push_back({i1, i2, i3});
+      mesh.triangles.push_back({i0, i2, i1});  // counter-clockwise seen from above
+      mesh.triangles.push_back({i1, i2, i3});
     }
   }
-  scene.bodies.push_back({SceneShape::kMesh, Vec3::Zero(), 0, 0, Vec3(0, 5, 0), false, 0.5f, 0.6f});
-  scene.hull_points = {Vec3(0, 1, 0), Vec3(1, 0, 0), Vec3(-1, 0, 0), Vec3(0, 0, 1), Vec3(0, 0, -1)};
+  scene.bodies.push_back(Body(SceneShape::kMesh, Vec3(0, 5, 0), SceneMotion::kStatic, 0.5f, 0.6f));
+  scene.hulls.push_back({{Vec3(0, 1, 0), Vec3(1, 0, 0), Vec3(-1, 0, 0), Vec3(0, 0, 1), Vec3(0, 0, -1)}});
   for (int x = -10; x <= 10; ++x) {
     for (int y = 0; y < 4; ++y) {
       for (int z = -10; z <= 10; ++z) {
-        BodyDescription body{SceneShape::kBox,
-                             Vec3::Zero(),
-                             0,
-                             0,
-                             Vec3(7.5f * x, 15.0f + 2.0f * y, 7.5f * z),
-                             true,
-                             0.5f,
-                             0.6f};
+        BodyDescription body = Body(SceneShape::kBox, Vec3(7.5f * x, 15.0f + 2.0f * y, 7.5f * z),
+                                    SceneMotion::kDynamic, 0.5f, 0.6f);
         switch (y) {
           case 0:
             body.shape = SceneShape::kBox, body.half_extents = Vec3(0.5f, 0.75f, 1.0f);
@@ -82,7 +96,8 @@ void AddRagdoll(BenchScene& scene, const Vec3& pelvis, const Quat& rotation) {
   // Standing, facing +z, arms down, in metres from the pelvis; a part's capsule runs along y.
   auto part = [&](SceneShape shape, const Vec3& at, const Vec3& half_extents, float radius,
                   float half_height) {
-    BodyDescription body{shape, half_extents, radius, half_height, pelvis + rotation * at, true, 0.5f, 0.0f};
+    BodyDescription body = Body(shape, pelvis + rotation * at, SceneMotion::kDynamic, 0.5f, 0.0f);
+    body.half_extents = half_extents, body.radius = radius, body.half_height = half_height;
     body.rotation = rotation;
     scene.bodies.push_back(body);
     return static_cast<int>(scene.bodies.size()) - 1;
@@ -103,8 +118,9 @@ void AddRagdoll(BenchScene& scene, const Vec3& pelvis, const Quat& rotation) {
     j.anchor = pelvis + rotation * at;
     j.axis = rotation * axis;
     j.normal = rotation * (std::abs(axis.z()) < 0.9f ? Vec3::UnitZ() : Vec3::UnitX());
-    j.min_angle = low;
-    j.max_angle = high;
+    j.limits = true;
+    j.min_limit = low;
+    j.max_limit = high;
     j.cone = cone;
     scene.joints.push_back(j);
   };
@@ -128,13 +144,14 @@ BenchScene MakeRagdolls() {
   BenchScene scene;
   scene.name = "ragdolls";
   // A 64 m x 64 m field of gentle hills, 1 m cells.
-  scene.field_columns = scene.field_rows = 65;
-  scene.field_cell = 1.0f;
-  for (std::uint32_t z = 0; z < scene.field_rows; ++z)
-    for (std::uint32_t x = 0; x < scene.field_columns; ++x)
-      scene.field_heights.push_back(0.6f * std::sin(0.3f * x) * std::cos(0.25f * z));
-  BodyDescription ground{SceneShape::kHeightField,   Vec3::Zero(), 0,    0,
-                         Vec3(-32.0f, 0.0f, -32.0f), false,        0.6f, 0.0f};
+  HeightFieldGeometry& field = scene.height_fields.emplace_back();
+  field.columns = field.rows = 65;
+  field.cell = 1.0f;
+  for (std::uint32_t z = 0; z < field.rows; ++z)
+    for (std::uint32_t x = 0; x < field.columns; ++x)
+      field.heights.push_back(0.6f * std::sin(0.3f * x) * std::cos(0.25f * z));
+  const BodyDescription ground =
+      Body(SceneShape::kHeightField, Vec3(-32.0f, 0.0f, -32.0f), SceneMotion::kStatic, 0.6f, 0.0f);
   scene.bodies.push_back(ground);
   // Five heaps of twenty, each ragdoll lying at its own turn, 0.9 m above the one below.
   for (int heap = 0; heap < 5; ++heap) {
@@ -152,7 +169,7 @@ BenchScene MakeRagdolls() {
 BenchScene MakeChains() {
   BenchScene scene;
   scene.name = "chains";
-  scene.bodies.push_back({SceneShape::kBox, Vec3(30, 1, 30), 0, 0, Vec3(0, -1, 0), false, 0.5f, 0.0f});
+  scene.bodies.push_back(Box(Vec3(30, 1, 30), Vec3(0, -1, 0), SceneMotion::kStatic, 0.5f, 0.0f));
   constexpr int kChains = 20, kLinks = 40;
   constexpr float kHalf = 0.1f, kRadius = 0.03f, kBall = 0.25f;
   const float angle = 60.0f * kPi / 180.0f;
@@ -166,14 +183,9 @@ BenchScene MakeChains() {
     for (int i = 0; i <= kLinks; ++i) {
       const bool ball = i == kLinks;
       const float reach = ball ? 2 * kLinks * kHalf + kBall : (2 * i + 1) * kHalf;
-      BodyDescription body{ball ? SceneShape::kSphere : SceneShape::kCapsule,
-                           Vec3::Zero(),
-                           ball ? kBall : kRadius,
-                           ball ? 0.0f : kHalf,
-                           top + reach * along,
-                           true,
-                           0.5f,
-                           0.0f};
+      BodyDescription body = Body(ball ? SceneShape::kSphere : SceneShape::kCapsule, top + reach * along,
+                                  SceneMotion::kDynamic, 0.5f, 0.0f);
+      body.radius = ball ? kBall : kRadius, body.half_height = ball ? 0.0f : kHalf;
       body.rotation = laid;
       if (ball) body.mass = 10.0f;
       scene.bodies.push_back(body);

@@ -5,7 +5,11 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
+#include <deque>
+#include <map>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "tools/bench/BenchRunner.h"
@@ -29,8 +33,6 @@ class BulletScene {
     // As many passes over the contacts as Strata makes in a step.
     world_.getSolverInfo().m_numIterations =
         scene.substeps * (scene.velocity_iterations + scene.relax_iterations);
-    for (const auto& triangle : scene.mesh_triangles)
-      for (std::uint32_t index : triangle) indices_.push_back(static_cast<int>(index));
     for (const BodyDescription& body : scene.bodies) AddBody(body);
     for (const JointDescription& joint : scene.joints) AddJoint(joint);
   }
@@ -43,6 +45,11 @@ class BulletScene {
 
   EngineResult Run() {
     EngineResult result;
+    if (!unsupported_.empty()) {
+      std::fprintf(stderr, "bullet peer: scene %s has %s, which the peer does not build\n",
+                   scene_.name.c_str(), unsupported_.c_str());
+      return result;
+    }
     std::vector<double> times;
     times.reserve(scene_.steps);
     for (int step = 0; step < scene_.steps; ++step) {
@@ -75,35 +82,51 @@ class BulletScene {
       case SceneShape::kCapsule:
         return Keep(std::make_unique<btCapsuleShape>(body.radius, 2.0f * body.half_height));
       case SceneShape::kHull:
-        if (!hull_) {
+        return Shared(body, [&] {
           auto convex = std::make_unique<btConvexHullShape>();
-          for (const Vec3& p : scene_.hull_points) convex->addPoint(ToBullet(p));
-          hull_ = Keep(std::move(convex));
-        }
-        return hull_;
+          for (const Vec3& p : scene_.hulls.at(body.geometry).points) convex->addPoint(ToBullet(p));
+          return convex;
+        });
       case SceneShape::kHeightField:
-        return HeightField();
+        return Shared(body, [&] { return HeightField(body.geometry); });
       case SceneShape::kMesh:
-        mesh_data_ = std::make_unique<btTriangleIndexVertexArray>(
-            static_cast<int>(scene_.mesh_triangles.size()), indices_.data(),
-            3 * static_cast<int>(sizeof(int)), static_cast<int>(scene_.mesh_vertices.size()),
-            const_cast<btScalar*>(scene_.mesh_vertices.front().data()), static_cast<int>(sizeof(Vec3)));
-        return Keep(std::make_unique<btBvhTriangleMeshShape>(mesh_data_.get(), true));
+        return Shared(body, [&] { return Mesh(body.geometry); });
     }
     return nullptr;
   }
 
-  btCollisionShape* HeightField() {
+  // One Bullet shape per hull, mesh or height field of the scene, shared by the bodies that use it.
+  template <class Make>
+  btCollisionShape* Shared(const BodyDescription& body, Make make) {
+    btCollisionShape*& shape = shared_[{body.shape, body.geometry}];
+    if (!shape) shape = Keep(make());
+    return shape;
+  }
+
+  std::unique_ptr<btCollisionShape> Mesh(std::uint32_t geometry) {
+    const MeshGeometry& mesh = scene_.meshes.at(geometry);
+    std::vector<int>& indices = mesh_indices_.emplace_back();
+    for (const auto& triangle : mesh.triangles)
+      for (std::uint32_t index : triangle) indices.push_back(static_cast<int>(index));
+    mesh_data_.push_back(std::make_unique<btTriangleIndexVertexArray>(
+        static_cast<int>(mesh.triangles.size()), indices.data(), 3 * static_cast<int>(sizeof(int)),
+        static_cast<int>(mesh.vertices.size()), const_cast<btScalar*>(mesh.vertices.front().data()),
+        static_cast<int>(sizeof(Vec3))));
+    return std::make_unique<btBvhTriangleMeshShape>(mesh_data_.back().get(), true);
+  }
+
+  std::unique_ptr<btCollisionShape> HeightField(std::uint32_t geometry) {
     // Bullet centres a height field on its bounds; its flipped quad edges are Strata's diagonals.
-    const auto [low, high] = std::minmax_element(scene_.field_heights.begin(), scene_.field_heights.end());
-    auto field = std::make_unique<btHeightfieldTerrainShape>(
-        static_cast<int>(scene_.field_columns), static_cast<int>(scene_.field_rows),
-        scene_.field_heights.data(), *low, *high, 1, true);
-    field->setLocalScaling(btVector3(scene_.field_cell, 1.0f, scene_.field_cell));
-    field_offset_ =
-        Vec3(0.5f * scene_.field_cell * static_cast<float>(scene_.field_columns - 1), 0.5f * (*low + *high),
-             0.5f * scene_.field_cell * static_cast<float>(scene_.field_rows - 1));
-    return Keep(std::move(field));
+    const HeightFieldGeometry& grid = scene_.height_fields.at(geometry);
+    const auto [low, high] = std::minmax_element(grid.heights.begin(), grid.heights.end());
+    auto field = std::make_unique<btHeightfieldTerrainShape>(static_cast<int>(grid.columns),
+                                                             static_cast<int>(grid.rows), grid.heights.data(),
+                                                             *low, *high, 1, true);
+    field->setLocalScaling(btVector3(grid.cell, 1.0f, grid.cell));
+    field_offsets_[geometry] =
+        Vec3(0.5f * grid.cell * static_cast<float>(grid.columns - 1), 0.5f * (*low + *high),
+             0.5f * grid.cell * static_cast<float>(grid.rows - 1));
+    return field;
   }
 
   btCollisionShape* Keep(std::unique_ptr<btCollisionShape> shape) {
@@ -115,13 +138,14 @@ class BulletScene {
     btCollisionShape* shape = ShapeFor(body);
     btTransform transform;
     transform.setIdentity();
-    transform.setOrigin(ToBullet(body.shape == SceneShape::kHeightField ? Vec3(body.position + field_offset_)
-                                                                        : body.position));
+    transform.setOrigin(ToBullet(body.shape == SceneShape::kHeightField
+                                     ? Vec3(body.position + field_offsets_.at(body.geometry))
+                                     : body.position));
     transform.setRotation(
         btQuaternion(body.rotation.x(), body.rotation.y(), body.rotation.z(), body.rotation.w()));
     btScalar mass = 0;
     btVector3 inertia(0, 0, 0);
-    if (body.dynamic) {
+    if (body.IsDynamic()) {
       mass = BenchMass(scene_, body);  // the mass Strata gives the same shape at its default density
       shape->calculateLocalInertia(mass, inertia);
     }
@@ -130,9 +154,9 @@ class BulletScene {
     info.m_friction = body.friction;
     info.m_restitution = body.restitution;
     bodies_.push_back(std::make_unique<btRigidBody>(info));
-    if (body.dynamic && !scene_.sleeping) bodies_.back()->setActivationState(DISABLE_DEACTIVATION);
+    if (body.IsDynamic() && !scene_.sleeping) bodies_.back()->setActivationState(DISABLE_DEACTIVATION);
     world_.addRigidBody(bodies_.back().get());
-    if (body.dynamic) dynamic_bodies_.push_back(bodies_.back().get());
+    if (body.IsDynamic()) dynamic_bodies_.push_back(bodies_.back().get());
   }
 
   // A joint as Bullet's matching constraint; joined bodies do not collide, as in Strata.
@@ -166,17 +190,33 @@ class BulletScene {
         hinge_axes.col(2) = axes.col(0);
         auto hinge =
             std::make_unique<btHingeConstraint>(a, b, frame_in(a, hinge_axes), frame_in(b, hinge_axes));
-        hinge->setLimit(joint.min_angle, joint.max_angle);
+        if (joint.limits) hinge->setLimit(joint.min_limit, joint.max_limit);
         joints_.push_back(std::move(hinge));
         break;
       }
       case JointKind::kSwingTwist: {
         // Bullet's cone twists about its frame's x; both swing spans are the cone's half angle.
         auto cone = std::make_unique<btConeTwistConstraint>(a, b, frame_in(a, axes), frame_in(b, axes));
-        cone->setLimit(joint.cone, joint.cone, 0.5f * (joint.max_angle - joint.min_angle));
+        cone->setLimit(joint.cone, joint.cone, 0.5f * (joint.max_limit - joint.min_limit));
         joints_.push_back(std::move(cone));
         break;
       }
+      case JointKind::kFixed:
+        joints_.push_back(std::make_unique<btFixedConstraint>(a, b, frame_in(a, axes), frame_in(b, axes)));
+        break;
+      case JointKind::kSlider: {
+        // Bullet's slider moves along its frame's x, the joint's axis.
+        auto slider = std::make_unique<btSliderConstraint>(a, b, frame_in(a, axes), frame_in(b, axes), true);
+        slider->setLowerLinLimit(joint.limits ? joint.min_limit : 1.0f);  // lower above upper: free
+        slider->setUpperLinLimit(joint.limits ? joint.max_limit : -1.0f);
+        slider->setLowerAngLimit(0.0f);
+        slider->setUpperAngLimit(0.0f);
+        joints_.push_back(std::move(slider));
+        break;
+      }
+      case JointKind::kDistance:
+        unsupported_ = "distance joints";  // no Bullet constraint holds a rod's length alone
+        return;
     }
     world_.addConstraint(joints_.back().get(), true);
   }
@@ -191,11 +231,12 @@ class BulletScene {
   std::vector<std::unique_ptr<btDefaultMotionState>> motion_states_;
   std::vector<std::unique_ptr<btRigidBody>> bodies_;
   std::vector<btRigidBody*> dynamic_bodies_;
-  std::unique_ptr<btTriangleIndexVertexArray> mesh_data_;
-  btCollisionShape* hull_ = nullptr;
-  Vec3 field_offset_ = Vec3::Zero();
-  std::vector<int> indices_;
+  std::map<std::pair<SceneShape, std::uint32_t>, btCollisionShape*> shared_;
+  std::deque<std::vector<int>> mesh_indices_;  // a deque: Bullet keeps pointers into each list
+  std::vector<std::unique_ptr<btTriangleIndexVertexArray>> mesh_data_;
+  std::map<std::uint32_t, Vec3> field_offsets_;
   std::vector<std::unique_ptr<btTypedConstraint>> joints_;
+  std::string unsupported_;  // what the scene has that the peer cannot build
 };
 
 }  // namespace

@@ -148,7 +148,7 @@ BENCHMARK(BM_CollideCapsuleOnBox);
 // one a little below the surface): one CollideConvexMesh call per place, so the figure is per body per step.
 void BM_CollideConvexOnMesh(benchmark::State& state) {
   const bench::BenchScene scene = bench::MakeConvexVsMesh();
-  const ShapeRef mesh = *TriangleMeshShape::Create(scene.mesh_vertices, scene.mesh_triangles);
+  const ShapeRef mesh = *TriangleMeshShape::Create(scene.meshes[0].vertices, scene.meshes[0].triangles);
   ShapeRef convex;
   switch (state.range(0)) {
     case 0:
@@ -161,7 +161,7 @@ void BM_CollideConvexOnMesh(benchmark::State& state) {
       convex = *CapsuleShape::Create(0.75f, 0.5f), state.SetLabel("capsule");
       break;
     default:
-      convex = *ConvexHullShape::Create(scene.hull_points), state.SetLabel("hull");
+      convex = *ConvexHullShape::Create(scene.hulls[0].points), state.SetLabel("hull");
       break;
   }
   const auto& shape = static_cast<const ConvexShape&>(*convex);
@@ -205,7 +205,7 @@ const ContactGraph& PyramidContactGraph() {
     ContactGraph g;
     std::vector<Vec3> centres;
     for (const BodyDescription& body : bench::MakePyramid().bodies)
-      if (body.dynamic) centres.push_back(body.position);
+      if (body.IsDynamic()) centres.push_back(body.position);
     g.bodies = static_cast<std::uint32_t>(centres.size());
     for (std::uint32_t a = 0; a < g.bodies; ++a)
       for (std::uint32_t b = a + 1; b < g.bodies; ++b)

@@ -106,12 +106,12 @@ nlohmann::json StateLine(const Scene& scene, SceneWorld& world, int step, float 
     const Vec3 v = *interface.GetLinearVelocity(id);
     const Vec3 w = *interface.GetAngularVelocity(id);
     const bool active = *interface.IsActive(id);
-    bodies.push_back({{"name", scene.bodies[i].name},
+    bodies.push_back({{"name", scene.description.bodies[i].name},
                       {"position", {p.x(), p.y(), p.z()}},
                       {"rotation", {q.w(), q.x(), q.y(), q.z()}},
                       {"linear_velocity", {v.x(), v.y(), v.z()}},
                       {"angular_velocity", {w.x(), w.y(), w.z()}},
-                      {"sleeping", !active && scene.bodies[i].settings.motion_type != MotionType::kStatic}});
+                      {"sleeping", !active && scene.description.bodies[i].motion != SceneMotion::kStatic}});
   }
   nlohmann::json line = {{"step", step}, {"time", time}, {"bodies", bodies}};
   if (!constraint_forces) return line;
@@ -120,7 +120,7 @@ nlohmann::json StateLine(const Scene& scene, SceneWorld& world, int step, float 
   for (std::size_t i = 0; i < world.constraint_ids.size(); ++i) {
     const ConstraintID id = world.constraint_ids[i];
     const ConstraintForces forces = *world.system->constraints().GetForces(id);
-    joints.push_back({{"name", scene.constraints[i].name},
+    joints.push_back({{"name", scene.description.joints[i].name},
                       {"force", {forces.force.x(), forces.force.y(), forces.force.z()}},
                       {"torque", {forces.torque.x(), forces.torque.y(), forces.torque.z()}},
                       {"broken", *world.system->constraints().IsBroken(id)}});
@@ -134,19 +134,18 @@ void PrintSummary(const Scene& scene, SceneWorld& world, const SimulateOptions& 
                   double total_ms, double slowest_ms) {
   std::printf(
       "%s: %zu bodies, %d steps of %.4f s (%.2f s simulated) in %.1f ms (%.3f ms/step, slowest %.3f ms)\n",
-      options.scene.c_str(), scene.bodies.size(), options.steps, scene.dt, options.steps * scene.dt, total_ms,
-      total_ms / options.steps, slowest_ms);
+      options.scene.c_str(), scene.description.bodies.size(), options.steps, scene.description.dt,
+      options.steps * scene.description.dt, total_ms, total_ms / options.steps, slowest_ms);
   std::printf("wrote %d state lines to %s\n%-12s %28s %10s %s\n", lines, options.out.c_str(), "body",
               "position (m)", "speed m/s", "state");
   BodyInterface& interface = world.system->bodies();
   for (std::size_t i = 0; i < world.ids.size(); ++i) {
     const Vec3 p = *interface.GetPosition(world.ids[i]);
     const float speed = interface.GetLinearVelocity(world.ids[i])->norm();
-    const MotionType motion = scene.bodies[i].settings.motion_type;
-    const char* state =
-        motion == MotionType::kStatic ? "static" : (*interface.IsActive(world.ids[i]) ? "awake" : "asleep");
-    std::printf("%-12s (%8.3f, %8.3f, %8.3f) %10.3f %s\n", scene.bodies[i].name.c_str(), p.x(), p.y(), p.z(),
-                speed, state);
+    const bool fixed = scene.description.bodies[i].motion == SceneMotion::kStatic;
+    const char* state = fixed ? "static" : (*interface.IsActive(world.ids[i]) ? "awake" : "asleep");
+    std::printf("%-12s (%8.3f, %8.3f, %8.3f) %10.3f %s\n", scene.description.bodies[i].name.c_str(), p.x(),
+                p.y(), p.z(), speed, state);
   }
 }
 
@@ -184,11 +183,11 @@ std::optional<std::string> OpenOutputs(const SimulateOptions& options, const Sce
     if (!outputs.events_file->status()) return outputs.events_file->status().message();
     for (std::size_t i = 0; i < world.ids.size(); ++i) {
       if (outputs.names.size() <= world.ids[i].index) outputs.names.resize(world.ids[i].index + 1);
-      outputs.names[world.ids[i].index] = scene.bodies[i].name;
+      outputs.names[world.ids[i].index] = scene.description.bodies[i].name;
     }
   }
   // Frames about 30 times a simulated second, whatever the scene's dt.
-  outputs.record_every = std::max(1, static_cast<int>(std::lround(1.0f / (30.0f * scene.dt))));
+  outputs.record_every = std::max(1, static_cast<int>(std::lround(1.0f / (30.0f * scene.description.dt))));
   if (options.record.empty()) return std::nullopt;
   outputs.recorder.emplace(*world.system, "simulate",
                            "strata simulate: " + std::filesystem::path(options.scene).filename().string());
@@ -237,13 +236,13 @@ int RunSimulate(const SimulateOptions& options) {
   for (int step = 1; step <= options.steps; ++step) {
     progress.Update(static_cast<std::size_t>(step - 1), static_cast<std::size_t>(options.steps));
     const auto start = std::chrono::steady_clock::now();
-    if (Status stepped = world->system->Step(scene->dt); !stepped)
+    if (Status stepped = world->system->Step(scene->description.dt); !stepped)
       return Fail("step " + std::to_string(step) + ": " + stepped.message(), 1);
     const double ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     figures.slowest_ms = std::max(figures.slowest_ms, ms);
     figures.total_ms += ms;
-    const float time = static_cast<float>(step) * scene->dt;
+    const float time = static_cast<float>(step) * scene->description.dt;
     if (outputs.recorder && (step % outputs.record_every == 0 || step == options.steps))
       outputs.recorder->Capture(step, time);
     if (outputs.events_file)
