@@ -42,121 +42,167 @@ struct Owned {
   AABB bounds;
 };
 
+constexpr std::uint32_t kPerWorker = 300;
+
+// One worker's bodies, ids [first, first + kPerWorker), and the checks it makes after each of its own calls.
+class BroadPhaseWorker {
+ public:
+  BroadPhaseWorker(QuadTreeBroadPhase& broad_phase, Violations& violations, int worker)
+      : broad_phase_(broad_phase),
+        violations_(violations),
+        random_(static_cast<unsigned>(100 + worker)),
+        first_(static_cast<std::uint32_t>(worker) * kPerWorker),
+        generation_(kPerWorker, 0) {
+    for (std::uint32_t i = 0; i < kPerWorker; ++i) absent_.push_back(first_ + i);
+  }
+
+  // Runs `iterations` random calls; false when an add failed and the worker stopped.
+  bool Run(int iterations) {
+    for (int iteration = 0; iteration < iterations; ++iteration) {
+      const int kind = static_cast<int>(random_() % 8);
+      if (kind <= 1 && !absent_.empty()) {
+        if (!AddStreamedBatch()) return false;
+      } else if (kind == 2 && !present_.empty()) {
+        RemoveSome();
+      } else if (kind <= 5 && !present_.empty()) {
+        MoveOne();
+      } else {
+        QueryOthers();
+      }
+    }
+    return true;
+  }
+
+  const std::vector<Owned>& present() const { return present_; }
+
+ private:
+  AABB RandomBox() {
+    const Vec3 center(coordinate_(random_), coordinate_(random_) * 0.1f, coordinate_(random_));
+    return AABB::FromCenterHalfExtents(center, Vec3(extent_(random_), extent_(random_), extent_(random_)));
+  }
+
+  // A streamed batch, then the first of it found where it was put.
+  bool AddStreamedBatch() {
+    std::vector<BodyID> ids;
+    std::vector<AABB> bounds;
+    std::vector<ObjectLayer> layers;
+    for (std::size_t n = 1 + random_() % 25; n > 0 && !absent_.empty(); --n) {
+      const std::uint32_t index = absent_.back();
+      absent_.pop_back();
+      ids.push_back({index, ++generation_[index - first_]});
+      bounds.push_back(RandomBox());
+      layers.push_back(random_() % 4 ? layers::kMoving : layers::kNonMoving);
+    }
+    Result<AddBatch> batch = broad_phase_.AddBodiesPrepare(ids, bounds, layers);
+    const Status added = batch.ok() ? broad_phase_.AddBodiesFinalize(*batch) : batch.status();
+    if (!added.ok()) {
+      violations_.Report("batch add failed: " + added.message());
+      return false;
+    }
+    for (std::size_t i = 0; i < ids.size(); ++i) present_.push_back({ids[i], bounds[i]});
+    std::vector<BodyID> found;
+    broad_phase_.CollideAABB(bounds.front(), {}, found);
+    if (!Contains(found, ids.front())) violations_.Report("a just-added body was not found");
+    return true;
+  }
+
+  // One or two removed, then not found where they were.
+  void RemoveSome() {
+    std::vector<BodyID> ids;
+    std::vector<AABB> boxes;
+    for (std::size_t n = 1 + random_() % 2; n > 0 && !present_.empty(); --n) {
+      const std::size_t pick = random_() % present_.size();
+      ids.push_back(present_[pick].id);
+      boxes.push_back(present_[pick].bounds);
+      absent_.push_back(present_[pick].id.index);
+      present_.erase(present_.begin() + static_cast<std::ptrdiff_t>(pick));
+    }
+    if (!broad_phase_.RemoveBodies(ids).ok()) violations_.Report("remove failed");
+    for (std::size_t i = 0; i < ids.size(); ++i) {
+      std::vector<BodyID> found;
+      broad_phase_.CollideAABB(boxes[i], {}, found);
+      if (Contains(found, ids[i])) violations_.Report("a removed body was returned after its removal");
+    }
+  }
+
+  // One moved, then found where it is now by a box, a ray and a sphere.
+  void MoveOne() {
+    Owned& body = present_[random_() % present_.size()];
+    body.bounds = random_() % 2 ? RandomBox() : body.bounds.Expanded(0.5f);
+    if (!broad_phase_.UpdateBody(body.id, body.bounds).ok()) violations_.Report("move failed");
+    std::vector<BodyID> found;
+    broad_phase_.CollideAABB(body.bounds, {}, found);
+    if (!Contains(found, body.id)) violations_.Report("a moved body was missed by a box query of its bounds");
+    const Vec3 center = body.bounds.Center();
+    std::vector<BroadPhaseRayHit> hits;
+    broad_phase_.CastRay(center + Vec3(0, 50, 0), Vec3(0, -100, 0), {}, hits);
+    if (std::none_of(hits.begin(), hits.end(), [&](const BroadPhaseRayHit& h) { return h.id == body.id; }))
+      violations_.Report("a moved body was missed by a ray through it");
+    found.clear();
+    broad_phase_.CollideSphere(center, 0.1f, {}, found);
+    if (!Contains(found, body.id)) violations_.Report("a moved body was missed by a sphere at its centre");
+  }
+
+  // Queries over other workers' bodies, only for the races.
+  void QueryOthers() {
+    std::vector<BodyID> found;
+    const AABB block = AABB::FromCenterHalfExtents(RandomBox().Center(), Vec3(6.4f, 10.0f, 6.4f));
+    broad_phase_.CollideAABB(block, {}, found);
+    std::vector<BroadPhaseRayHit> hits;
+    broad_phase_.CastRay(block.Center(), Vec3(coordinate_(random_), 0, coordinate_(random_)), {}, hits);
+  }
+
+  QuadTreeBroadPhase& broad_phase_;
+  Violations& violations_;
+  std::mt19937 random_;
+  std::uniform_real_distribution<float> coordinate_{-200.0f, 200.0f};
+  std::uniform_real_distribution<float> extent_{0.2f, 3.0f};
+  const std::uint32_t first_;
+  std::vector<std::uint32_t> generation_;
+  std::vector<Owned> present_;
+  std::vector<std::uint32_t> absent_;
+};
+
+// Rebuilds, optimizes, finds pairs and reads through a held pin until every worker is done.
+void RebuildWhileWorkersRun(QuadTreeBroadPhase& broad_phase, const LayerSetup& layer_setup, int workers,
+                            const std::atomic<int>& workers_left) {
+  std::vector<BodyPair> pairs;
+  std::vector<std::uint8_t> flags(kPerWorker * static_cast<std::size_t>(workers), 0);
+  std::vector<BodyID> active;
+  int round = 0;
+  BroadPhasePin held;
+  while (workers_left.load() > 0) {
+    // Hold a pin over a few rebuilds now and then, reading through it.
+    if (round % 7 == 0) held = broad_phase.Pin();
+    round % 10 == 9 ? broad_phase.Optimize() : broad_phase.Update();
+    class Collect final : public BroadPhaseCollector {
+     public:
+      void AddHit(BodyID, float) override { ++count; }
+      int count = 0;
+    } collector;
+    broad_phase.CollideAABB(held, AABB(Vec3::Constant(-300), Vec3::Constant(300)), {}, collector);
+    pairs.clear();
+    broad_phase.FindPairs(active, flags, layer_setup, pairs);
+    if (round % 7 == 3) held.Release();
+    ++round;
+  }
+}
+
 void BroadPhaseUnderConcurrentChange(int workers, int iterations) {
-  constexpr std::uint32_t kPerWorker = 300;
   auto layer_setup = std::make_shared<DefaultLayerSetup>();
   QuadTreeBroadPhase broad_phase(kPerWorker * static_cast<std::uint32_t>(workers), layer_setup);
   Violations violations;
   std::atomic<int> workers_left{workers};
   std::vector<std::vector<Owned>> final_sets(static_cast<std::size_t>(workers));
-
   auto worker = [&](int w) {
-    std::mt19937 random(static_cast<unsigned>(100 + w));
-    std::uniform_real_distribution<float> coordinate(-200.0f, 200.0f), extent(0.2f, 3.0f);
-    auto random_box = [&] {
-      const Vec3 center(coordinate(random), coordinate(random) * 0.1f, coordinate(random));
-      return AABB::FromCenterHalfExtents(center, Vec3(extent(random), extent(random), extent(random)));
-    };
-    const std::uint32_t first = static_cast<std::uint32_t>(w) * kPerWorker;
-    std::vector<std::uint32_t> generation(kPerWorker, 0);
-    std::vector<Owned> present;
-    std::vector<std::uint32_t> absent;
-    for (std::uint32_t i = 0; i < kPerWorker; ++i) absent.push_back(first + i);
-    for (int iteration = 0; iteration < iterations; ++iteration) {
-      const int kind = static_cast<int>(random() % 8);
-      if (kind <= 1 && !absent.empty()) {  // a streamed batch
-        std::vector<BodyID> ids;
-        std::vector<AABB> bounds;
-        std::vector<ObjectLayer> layers;
-        for (std::size_t n = 1 + random() % 25; n > 0 && !absent.empty(); --n) {
-          const std::uint32_t index = absent.back();
-          absent.pop_back();
-          ids.push_back({index, ++generation[index - first]});
-          bounds.push_back(random_box());
-          layers.push_back(random() % 4 ? layers::kMoving : layers::kNonMoving);
-        }
-        Result<AddBatch> batch = broad_phase.AddBodiesPrepare(ids, bounds, layers);
-        const Status added = batch.ok() ? broad_phase.AddBodiesFinalize(*batch) : batch.status();
-        if (!added.ok()) {
-          // Report and stop this worker, but record what it holds (the final check is per body) and count it
-          // out, or the rebuilder would spin forever.
-          violations.Report("batch add failed: " + added.message());
-          final_sets[static_cast<std::size_t>(w)] = present;
-          workers_left.fetch_sub(1);
-          return;
-        }
-        for (std::size_t i = 0; i < ids.size(); ++i) present.push_back({ids[i], bounds[i]});
-        std::vector<BodyID> found;
-        broad_phase.CollideAABB(bounds.front(), {}, found);
-        if (!Contains(found, ids.front())) violations.Report("a just-added body was not found");
-      } else if (kind == 2 && !present.empty()) {  // remove one or two
-        std::vector<BodyID> ids;
-        std::vector<AABB> boxes;
-        for (std::size_t n = 1 + random() % 2; n > 0 && !present.empty(); --n) {
-          const std::size_t pick = random() % present.size();
-          ids.push_back(present[pick].id);
-          boxes.push_back(present[pick].bounds);
-          absent.push_back(present[pick].id.index);
-          present.erase(present.begin() + static_cast<std::ptrdiff_t>(pick));
-        }
-        if (!broad_phase.RemoveBodies(ids).ok()) violations.Report("remove failed");
-        for (std::size_t i = 0; i < ids.size(); ++i) {
-          std::vector<BodyID> found;
-          broad_phase.CollideAABB(boxes[i], {}, found);
-          if (Contains(found, ids[i])) violations.Report("a removed body was returned after its removal");
-        }
-      } else if (kind <= 5 && !present.empty()) {  // move, then find it where it is now
-        Owned& body = present[random() % present.size()];
-        body.bounds = random() % 2 ? random_box() : body.bounds.Expanded(0.5f);
-        if (!broad_phase.UpdateBody(body.id, body.bounds).ok()) violations.Report("move failed");
-        std::vector<BodyID> found;
-        broad_phase.CollideAABB(body.bounds, {}, found);
-        if (!Contains(found, body.id))
-          violations.Report("a moved body was missed by a box query of its bounds");
-        const Vec3 center = body.bounds.Center();
-        std::vector<BroadPhaseRayHit> hits;
-        broad_phase.CastRay(center + Vec3(0, 50, 0), Vec3(0, -100, 0), {}, hits);
-        if (std::none_of(hits.begin(), hits.end(),
-                         [&](const BroadPhaseRayHit& h) { return h.id == body.id; }))
-          violations.Report("a moved body was missed by a ray through it");
-        found.clear();
-        broad_phase.CollideSphere(center, 0.1f, {}, found);
-        if (!Contains(found, body.id)) violations.Report("a moved body was missed by a sphere at its centre");
-      } else {  // queries over other workers' bodies, only for the races
-        std::vector<BodyID> found;
-        const AABB block = AABB::FromCenterHalfExtents(random_box().Center(), Vec3(6.4f, 10.0f, 6.4f));
-        broad_phase.CollideAABB(block, {}, found);
-        std::vector<BroadPhaseRayHit> hits;
-        broad_phase.CastRay(block.Center(), Vec3(coordinate(random), 0, coordinate(random)), {}, hits);
-      }
-    }
-    final_sets[static_cast<std::size_t>(w)] = present;
+    BroadPhaseWorker bodies(broad_phase, violations, w);
+    // A worker whose add failed stops, but what it holds is still checked, and it is counted out either way,
+    // or the rebuilder would spin forever.
+    bodies.Run(iterations);
+    final_sets[static_cast<std::size_t>(w)] = bodies.present();
     workers_left.fetch_sub(1);
   };
-
-  std::thread rebuilder([&] {
-    std::vector<BodyPair> pairs;
-    std::vector<std::uint8_t> flags(kPerWorker * static_cast<std::size_t>(workers), 0);
-    std::vector<BodyID> active;
-    int round = 0;
-    BroadPhasePin held;
-    while (workers_left.load() > 0) {
-      // Hold a pin over a few rebuilds now and then, reading through it.
-      if (round % 7 == 0) held = broad_phase.Pin();
-      round % 10 == 9 ? broad_phase.Optimize() : broad_phase.Update();
-      std::vector<BodyID> all;
-      class Collect final : public BroadPhaseCollector {
-       public:
-        void AddHit(BodyID, float) override { ++count; }
-        int count = 0;
-      } collector;
-      broad_phase.CollideAABB(held, AABB(Vec3::Constant(-300), Vec3::Constant(300)), {}, collector);
-      pairs.clear();
-      broad_phase.FindPairs(active, flags, *layer_setup, pairs);
-      if (round % 7 == 3) held.Release();
-      ++round;
-    }
-  });
+  std::thread rebuilder([&] { RebuildWhileWorkersRun(broad_phase, *layer_setup, workers, workers_left); });
   std::vector<std::thread> threads;
   for (int w = 0; w < workers; ++w) threads.emplace_back(worker, w);
   for (std::thread& thread : threads) thread.join();
@@ -231,6 +277,94 @@ TEST(QuadTreeBroadPhaseThreadsStress, BatchesRemovesMovesAndQueriesWhileRebuildi
 // The same at world level: streamed batches (prepare on the worker, finalize), teleports, removals and
 // queries while another thread steps. Workers' bodies are static or kinematic at rest, so they stay where
 // the worker put them and the worker knows what its queries must see.
+// One worker's static and kinematic bodies in a stepping world, and the checks it makes after its own calls.
+class WorldWorker {
+ public:
+  WorldWorker(PhysicsSystem& world, Violations& violations, std::atomic<int>& in_world, int worker)
+      : world_(world),
+        violations_(violations),
+        in_world_(in_world),
+        random_(static_cast<unsigned>(7 + worker)) {}
+
+  // Runs `iterations` random calls; stops early when a create or add fails.
+  void Run(int iterations) {
+    for (int iteration = 0; iteration < iterations; ++iteration) {
+      const int kind = static_cast<int>(random_() % 6);
+      if (kind == 0 && present_.size() < 150) {
+        if (!AddBatch()) return;
+      } else if (kind == 1 && !present_.empty()) {
+        RemoveOne();
+      } else if (kind <= 3 && !present_.empty()) {
+        TeleportOne();
+      } else {
+        const auto hits =
+            world_.query().CastRayAll(Vec3(coordinate_(random_), 30, coordinate_(random_)), Vec3(0, -60, 0));
+        if (!hits.ok() || hits->empty()) violations_.Report("a ray down onto the floor hit nothing");
+      }
+    }
+  }
+
+  const std::vector<BodyID>& present() const { return present_; }
+
+ private:
+  // Eight bodies, half static and half kinematic, prepared here and finalized in one go.
+  bool AddBatch() {
+    BodyInterface& bodies = world_.bodies();
+    std::vector<BodyID> batch_ids;
+    for (int n = 0; n < 8; ++n) {
+      BodyCreationSettings settings =
+          n % 2 ? Static(Box(0.5f, 0.5f, 0.5f), Vec3::Zero()) : Dynamic(Box(0.5f, 0.5f, 0.5f), Vec3::Zero());
+      if (n % 2 == 0) settings.motion_type = MotionType::kKinematic;
+      settings.position = Vec3(coordinate_(random_), 5.0f + float(n), coordinate_(random_));
+      auto id = bodies.CreateBody(settings);
+      if (!id.ok()) {
+        violations_.Report("create failed: " + id.error().message);
+        return false;
+      }
+      batch_ids.push_back(*id);
+    }
+    Result<BodyAddBatch> batch = bodies.AddBodiesPrepare(batch_ids);
+    if (!batch.ok() || !bodies.AddBodiesFinalize(*batch).ok()) {
+      violations_.Report("batch add failed");
+      return false;
+    }
+    present_.insert(present_.end(), batch_ids.begin(), batch_ids.end());
+    in_world_.fetch_add(static_cast<int>(batch_ids.size()));
+    return true;
+  }
+
+  void RemoveOne() {
+    const std::size_t pick = random_() % present_.size();
+    const BodyID id = present_[pick];
+    const AABB bounds = *world_.bodies().GetWorldBounds(id);
+    if (!world_.bodies().RemoveAndDestroyBody(id).ok()) violations_.Report("remove failed");
+    present_.erase(present_.begin() + static_cast<std::ptrdiff_t>(pick));
+    in_world_.fetch_sub(1);
+    const auto found = world_.query().CollideAABB(bounds);
+    if (!found.ok() || Contains(*found, id)) violations_.Report("a removed body was returned after removal");
+  }
+
+  void TeleportOne() {
+    const BodyID id = present_[random_() % present_.size()];
+    const Vec3 target(coordinate_(random_), 4.0f, coordinate_(random_));
+    if (!world_.bodies().SetPosition(id, target).ok()) violations_.Report("teleport failed");
+    const auto found = world_.query().CollideAABB(*world_.bodies().GetWorldBounds(id));
+    if (!found.ok() || !Contains(*found, id))
+      violations_.Report("a teleported body was missed at its new bounds");
+    const auto hits = world_.query().CastRayAll(target + Vec3(0, 20, 0), Vec3(0, -40, 0));
+    if (!hits.ok() ||
+        std::none_of(hits->begin(), hits->end(), [&](const RayCastHit& h) { return h.body == id; }))
+      violations_.Report("a ray through a teleported body missed it");
+  }
+
+  PhysicsSystem& world_;
+  Violations& violations_;
+  std::atomic<int>& in_world_;
+  std::mt19937 random_;
+  std::uniform_real_distribution<float> coordinate_{-100.0f, 100.0f};
+  std::vector<BodyID> present_;
+};
+
 void WorldUnderConcurrentChange(int workers, int iterations) {
   PhysicsSystemConfig config;
   config.max_bodies = static_cast<std::uint32_t>(workers * 200 + 16);
@@ -243,64 +377,11 @@ void WorldUnderConcurrentChange(int workers, int iterations) {
   Violations violations;
   std::atomic<bool> stop{false};
   std::atomic<int> in_world{21};
-  BodyInterface& bodies = world->bodies();
-
   std::vector<std::vector<BodyID>> final_sets(static_cast<std::size_t>(workers));
   auto worker = [&](int w) {
-    std::mt19937 random(static_cast<unsigned>(7 + w));
-    std::uniform_real_distribution<float> coordinate(-100.0f, 100.0f);
-    std::vector<BodyID> present;
-    for (int iteration = 0; iteration < iterations; ++iteration) {
-      const int kind = static_cast<int>(random() % 6);
-      if (kind == 0 && present.size() < 150) {
-        std::vector<BodyID> batch_ids;
-        for (int n = 0; n < 8; ++n) {
-          BodyCreationSettings settings = n % 2 ? Static(Box(0.5f, 0.5f, 0.5f), Vec3::Zero())
-                                                : Dynamic(Box(0.5f, 0.5f, 0.5f), Vec3::Zero());
-          if (n % 2 == 0) settings.motion_type = MotionType::kKinematic;
-          settings.position = Vec3(coordinate(random), 5.0f + float(n), coordinate(random));
-          auto id = bodies.CreateBody(settings);
-          if (!id.ok()) {
-            final_sets[static_cast<std::size_t>(w)] = present;
-            return violations.Report("create failed: " + id.error().message);
-          }
-          batch_ids.push_back(*id);
-        }
-        Result<BodyAddBatch> batch = bodies.AddBodiesPrepare(batch_ids);
-        if (!batch.ok() || !bodies.AddBodiesFinalize(*batch).ok()) {
-          final_sets[static_cast<std::size_t>(w)] = present;
-          return violations.Report("batch add failed");
-        }
-        present.insert(present.end(), batch_ids.begin(), batch_ids.end());
-        in_world.fetch_add(static_cast<int>(batch_ids.size()));
-      } else if (kind == 1 && !present.empty()) {
-        const std::size_t pick = random() % present.size();
-        const BodyID id = present[pick];
-        const AABB bounds = *bodies.GetWorldBounds(id);
-        if (!bodies.RemoveAndDestroyBody(id).ok()) violations.Report("remove failed");
-        present.erase(present.begin() + static_cast<std::ptrdiff_t>(pick));
-        in_world.fetch_sub(1);
-        const auto found = world->query().CollideAABB(bounds);
-        if (!found.ok() || Contains(*found, id))
-          violations.Report("a removed body was returned after removal");
-      } else if (kind <= 3 && !present.empty()) {
-        const BodyID id = present[random() % present.size()];
-        const Vec3 target(coordinate(random), 4.0f, coordinate(random));
-        if (!bodies.SetPosition(id, target).ok()) violations.Report("teleport failed");
-        const auto found = world->query().CollideAABB(*bodies.GetWorldBounds(id));
-        if (!found.ok() || !Contains(*found, id))
-          violations.Report("a teleported body was missed at its new bounds");
-        const auto hits = world->query().CastRayAll(target + Vec3(0, 20, 0), Vec3(0, -40, 0));
-        if (!hits.ok() ||
-            std::none_of(hits->begin(), hits->end(), [&](const RayCastHit& h) { return h.body == id; }))
-          violations.Report("a ray through a teleported body missed it");
-      } else {
-        const auto hits =
-            world->query().CastRayAll(Vec3(coordinate(random), 30, coordinate(random)), Vec3(0, -60, 0));
-        if (!hits.ok() || hits->empty()) violations.Report("a ray down onto the floor hit nothing");
-      }
-    }
-    final_sets[static_cast<std::size_t>(w)] = present;
+    WorldWorker bodies(*world, violations, in_world, w);
+    bodies.Run(iterations);
+    final_sets[static_cast<std::size_t>(w)] = bodies.present();
   };
   std::thread stepper([&] {
     while (!stop.load()) (void)world->Step(1.0f / 60.0f);
@@ -319,7 +400,6 @@ void WorldUnderConcurrentChange(int workers, int iterations) {
   std::vector<BodyID> in_world_now = world->BodiesInWorld();
   ASSERT_EQ(in_world_now.size(), expected.size() + 1);
   for (const BodyID id : expected) EXPECT_TRUE(Contains(in_world_now, id));
-  EXPECT_EQ(world->broad_phase().body_count(), static_cast<std::size_t>(in_world.load()));
 }
 
 TEST(PhysicsSystemThreads, StreamedBatchesTeleportsRemovalsAndQueriesWhileStepping) {

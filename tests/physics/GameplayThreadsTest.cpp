@@ -33,6 +33,83 @@ bool EventsAreWhole(const StepEvents& events, BodyID sensor) {
   return true;
 }
 
+// What the threads count, checked at the end.
+struct Tally {
+  std::atomic<int> failures{0}, casts{0}, copies{0}, moves{0};
+};
+
+// Adds reporting bodies, teleports them and takes them out again, checking each against a cast.
+void AddMoveAndRemove(PhysicsSystem& world, int bodies, Tally& tally) {
+  std::mt19937 random(3);
+  std::uniform_real_distribution<float> spread(-40.0f, 40.0f);
+  const ShapeRef ball = Sphere(0.4f);
+  std::vector<BodyID> mine;
+  for (int i = 0; i < bodies; ++i) {
+    BodyCreationSettings settings = Dynamic(ball, Vec3(spread(random), 2.0f + i % 5, spread(random)));
+    settings.report_contacts = true;
+    const Result<BodyID> id = world.bodies().CreateAndAddBody(settings);
+    if (!id) {
+      ++tally.failures;
+      continue;
+    }
+    mine.push_back(*id);
+    // Teleported well above everything, to a column of its own: however far it has fallen since (the step
+    // runs meanwhile), a cast down that column meets it before anything else.
+    const Vec3 high(-38.0f + 4.0f * static_cast<float>(i % 20), 40.0f,
+                    -38.0f + 4.0f * static_cast<float>(i / 20 % 20));
+    if (!world.bodies().SetPosition(*id, high)) ++tally.failures;
+    const auto hit = world.query().CastShape(*Sphere(0.2f), Pose{high + Vec3(0, 20, 0), Quat::Identity()},
+                                             Vec3(0, -70, 0));
+    if (!hit || !hit->has_value() || (*hit)->body != *id) ++tally.failures;
+    ++tally.moves;
+    if (i % 3 != 2) continue;
+    const BodyID gone = mine.front();
+    mine.erase(mine.begin());
+    const Vec3 last = *world.bodies().GetPosition(gone);
+    if (!world.bodies().RemoveAndDestroyBody(gone)) ++tally.failures;
+    const auto after = world.query().CastShapeAll(*Sphere(0.5f), Pose{last + Vec3(0, 3, 0), Quat::Identity()},
+                                                  Vec3(0, -6, 0));
+    for (const ShapeCastResult& result : *after)
+      if (result.body == gone) ++tally.failures;
+  }
+}
+
+// Casts down onto the floor and copies the events, over and over.
+void CastAndReadEvents(PhysicsSystem& world, int caster, int casts, BodyID floor, BodyID sensor,
+                       Tally& tally) {
+  std::mt19937 random(100 + caster);
+  std::uniform_real_distribution<float> spread(-50.0f, 50.0f);
+  const ShapeRef probe = caster % 2 == 0 ? Sphere(0.3f) : Capsule(0.4f, 0.25f);
+  StepEvents events;
+  for (int k = 0; k < casts; ++k) {
+    const Vec3 from(spread(random), 30.0f, spread(random));
+    const auto hit = world.query().CastShape(*probe, Pose{from, Quat::Identity()}, Vec3(0, -40, 0));
+    // The floor is always there; whatever is hit lies on the way to it.
+    const float bottom = from.y() - probe->LocalBounds().HalfExtents().y();
+    const float floor_fraction = (bottom - kFloorTop) / 40.0f;
+    if (!hit || !hit->has_value() || (*hit)->fraction > floor_fraction + 1e-3f) ++tally.failures;
+    if (hit && hit->has_value() && (*hit)->body == floor &&
+        std::abs((*hit)->fraction - floor_fraction) > 1e-3f)
+      ++tally.failures;
+    ++tally.casts;
+    world.CopyEvents(events);
+    if (!EventsAreWhole(events, sensor)) ++tally.failures;
+    ++tally.copies;
+  }
+}
+
+// A character walking in circles on the same floor.
+void WalkInCircles(PhysicsSystem& world, int frames, Tally& tally) {
+  auto character = std::move(*Character::Create(world, {}, Vec3(20, 0.05f, 20)));
+  for (int frame = 0; frame < frames; ++frame) {
+    const float angle = 0.02f * static_cast<float>(frame);
+    if (!character->Update(1.0f / 60.0f, Vec3(3 * std::cos(angle), 0, 3 * std::sin(angle)),
+                           Vec3(0, -9.81f, 0)))
+      ++tally.failures;
+    if (character->feet().y() < kFloorTop - 0.01f) ++tally.failures;
+  }
+}
+
 void CastReadMoveAndStep(int casters, int casts_each, int steps, int bodies) {
   PhysicsSystemConfig config;
   config.max_bodies = static_cast<std::uint32_t>(bodies + 64);
@@ -43,89 +120,21 @@ void CastReadMoveAndStep(int casters, int casts_each, int steps, int bodies) {
   trigger.is_sensor = true;
   trigger.object_layer = layers::kMoving;
   const BodyID sensor = Add(*world, trigger);
-  std::atomic<int> failures{0}, casts{0}, copies{0}, moves{0};
-
-  // Adds reporting bodies, teleports them and takes them out again, checking each against a cast.
-  std::thread mover([&] {
-    std::mt19937 random(3);
-    std::uniform_real_distribution<float> spread(-40.0f, 40.0f);
-    const ShapeRef ball = Sphere(0.4f);
-    std::vector<BodyID> mine;
-    for (int i = 0; i < bodies; ++i) {
-      BodyCreationSettings settings = Dynamic(ball, Vec3(spread(random), 2.0f + i % 5, spread(random)));
-      settings.report_contacts = true;
-      const Result<BodyID> id = world->bodies().CreateAndAddBody(settings);
-      if (!id) {
-        ++failures;
-        continue;
-      }
-      mine.push_back(*id);
-      // Teleported well above everything, to a column of its own: however far it has fallen since (the step
-      // runs meanwhile), a cast down that column meets it before anything else.
-      const Vec3 high(-38.0f + 4.0f * static_cast<float>(i % 20), 40.0f,
-                      -38.0f + 4.0f * static_cast<float>(i / 20 % 20));
-      if (!world->bodies().SetPosition(*id, high)) ++failures;
-      const auto hit = world->query().CastShape(*Sphere(0.2f), Pose{high + Vec3(0, 20, 0), Quat::Identity()},
-                                                Vec3(0, -70, 0));
-      if (!hit || !hit->has_value() || (*hit)->body != *id) ++failures;
-      ++moves;
-      if (i % 3 == 2) {
-        const BodyID gone = mine.front();
-        mine.erase(mine.begin());
-        const Vec3 last = *world->bodies().GetPosition(gone);
-        if (!world->bodies().RemoveAndDestroyBody(gone)) ++failures;
-        const auto after = world->query().CastShapeAll(
-            *Sphere(0.5f), Pose{last + Vec3(0, 3, 0), Quat::Identity()}, Vec3(0, -6, 0));
-        for (const ShapeCastResult& result : *after)
-          if (result.body == gone) ++failures;
-      }
-    }
-  });
-  // Cast down onto the floor and copy the events, over and over.
+  Tally tally;
+  std::thread mover([&] { AddMoveAndRemove(*world, bodies, tally); });
   std::vector<std::thread> readers;
-  for (int c = 0; c < casters; ++c) {
-    readers.emplace_back([&, c] {
-      std::mt19937 random(100 + c);
-      std::uniform_real_distribution<float> spread(-50.0f, 50.0f);
-      const ShapeRef probe = c % 2 == 0 ? Sphere(0.3f) : Capsule(0.4f, 0.25f);
-      StepEvents events;
-      for (int k = 0; k < casts_each; ++k) {
-        const Vec3 from(spread(random), 30.0f, spread(random));
-        const auto hit = world->query().CastShape(*probe, Pose{from, Quat::Identity()}, Vec3(0, -40, 0));
-        // The floor is always there; whatever is hit lies on the way to it.
-        const float bottom = from.y() - probe->LocalBounds().HalfExtents().y();
-        const float floor_fraction = (bottom - kFloorTop) / 40.0f;
-        if (!hit || !hit->has_value() || (*hit)->fraction > floor_fraction + 1e-3f) ++failures;
-        if (hit && hit->has_value() && (*hit)->body == floor &&
-            std::abs((*hit)->fraction - floor_fraction) > 1e-3f)
-          ++failures;
-        ++casts;
-        world->CopyEvents(events);
-        if (!EventsAreWhole(events, sensor)) ++failures;
-        ++copies;
-      }
-    });
-  }
-  // A character walking in circles on the same floor, on a thread of its own.
-  std::thread walker([&] {
-    auto character = std::move(*Character::Create(*world, {}, Vec3(20, 0.05f, 20)));
-    for (int frame = 0; frame < casts_each; ++frame) {
-      const float angle = 0.02f * static_cast<float>(frame);
-      if (!character->Update(1.0f / 60.0f, Vec3(3 * std::cos(angle), 0, 3 * std::sin(angle)),
-                             Vec3(0, -9.81f, 0)))
-        ++failures;
-      if (character->feet().y() < kFloorTop - 0.01f) ++failures;
-    }
-  });
+  for (int c = 0; c < casters; ++c)
+    readers.emplace_back([&, c] { CastAndReadEvents(*world, c, casts_each, floor, sensor, tally); });
+  std::thread walker([&] { WalkInCircles(*world, casts_each, tally); });
   for (int step = 0; step < steps; ++step)
-    if (!world->Step(1.0f / 60.0f)) ++failures;
+    if (!world->Step(1.0f / 60.0f)) ++tally.failures;
   mover.join();
   for (std::thread& reader : readers) reader.join();
   walker.join();
-  EXPECT_EQ(failures.load(), 0);
-  EXPECT_EQ(casts.load(), casters * casts_each);
-  EXPECT_EQ(copies.load(), casters * casts_each);
-  EXPECT_EQ(moves.load(), bodies);
+  EXPECT_EQ(tally.failures.load(), 0);
+  EXPECT_EQ(tally.casts.load(), casters * casts_each);
+  EXPECT_EQ(tally.copies.load(), casters * casts_each);
+  EXPECT_EQ(tally.moves.load(), bodies);
 }
 
 TEST(GameplayThreads, CastsEventReadsAndACharacterWhileBodiesChangeAndTheWorldSteps) {

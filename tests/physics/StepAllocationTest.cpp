@@ -87,17 +87,10 @@ BodyID Add(PhysicsSystem& world, ShapeRef shape, const Vec3& position, MotionTyp
   return *world.bodies().CreateAndAddBody(settings);
 }
 
-std::unique_ptr<PhysicsSystem> MakeScene(std::shared_ptr<JobSystem> jobs) {
-  PhysicsSystemConfig config;
-  config.max_bodies = 512;
-  config.job_system = std::move(jobs);
-  PhysicsSettings settings;
-  settings.allow_sleeping = false;  // keep every body in the step
-  auto world = std::move(*PhysicsSystem::Create(config, settings));
-  // A pyramid of boxes on a floor: one large island, split and solved in bundles; its boxes report contact
-  // events, and a sensor holds its lower levels.
+// A pyramid of boxes on a floor: one large island, split and solved in bundles; its boxes report contact
+// events, and a sensor holds its lower levels.
+void AddPyramidInASensor(PhysicsSystem* world, const ShapeRef& box) {
   Add(*world, *BoxShape::Create(Vec3(30, 1, 30)), Vec3(0, -1, 0), MotionType::kStatic);
-  const ShapeRef box = *BoxShape::Create(Vec3(0.5f, 0.5f, 0.5f));
   for (int level = 0; level < 6; ++level)
     for (int x = 0; x < 6 - level; ++x)
       for (int z = 0; z < 6 - level; ++z)
@@ -109,7 +102,10 @@ std::unique_ptr<PhysicsSystem> MakeScene(std::shared_ptr<JobSystem> jobs) {
   sensor.motion_type = MotionType::kStatic;
   sensor.is_sensor = true;
   (void)world->bodies().CreateAndAddBody(sensor);
-  // A wavy mesh with each convex kind resting on it: small islands, convex vs triangles.
+}
+
+// A wavy mesh with each convex kind resting on it: small islands, convex vs triangles.
+void AddConvexesOnAMesh(PhysicsSystem* world) {
   std::vector<Vec3> vertices;
   std::vector<TriangleMeshShape::Indices> triangles;
   for (int z = 0; z <= 10; ++z)
@@ -128,21 +124,27 @@ std::unique_ptr<PhysicsSystem> MakeScene(std::shared_ptr<JobSystem> jobs) {
   for (int i = 0; i < 9; ++i)
     Add(*world, shapes[i % 3], Vec3(43.0f + 2.0f * (i % 3), 1.0f, 3.0f + 5.0f * (i / 3)),
         MotionType::kDynamic);
-  // A ball and a capsule rolling down a long ramp: pairs that never replay.
+}
+
+// A ball and a capsule rolling down a long ramp (pairs that never replay), and a kinematic body gliding past,
+// touching nothing.
+void AddRollersAndAGlider(PhysicsSystem* world, const ShapeRef& box) {
   const Quat tilt(Eigen::AngleAxisf(0.15f, Vec3::UnitZ()));
   Add(*world, *BoxShape::Create(Vec3(150, 0.5f, 3)), Vec3(0, -30, 60), MotionType::kStatic, tilt);
   Add(*world, *SphereShape::Create(0.5f), tilt * Vec3(120, 1.0f, 0) + Vec3(0, -30, 59), MotionType::kDynamic);
   Add(*world, *CapsuleShape::Create(0.5f, 0.3f), tilt * Vec3(120, 0.8f, 0) + Vec3(0, -30, 61),
       MotionType::kDynamic, Quat(Eigen::AngleAxisf(1.5708f, Vec3::UnitX())));
-  // A kinematic body gliding past, touching nothing.
   BodyCreationSettings glider;
   glider.shape = box;
   glider.position = Vec3(-40, 5, -40);
   glider.motion_type = MotionType::kKinematic;
   glider.linear_velocity = Vec3(0.5f, 0, 0);
   (void)world->bodies().CreateAndAddBody(glider);
-  // Joints: a swinging chain of ten links with a 20 kg end (solved exactly: ExactJointSolver) and a wheel
-  // its motor keeps turning (solved by passes).
+}
+
+// Joints: a swinging chain of ten links with a 20 kg end (solved exactly: ExactJointSolver) and a wheel its
+// motor keeps turning (solved by passes).
+void AddChainAndWheel(PhysicsSystem* world, const ShapeRef& box) {
   const ShapeRef link = *CapsuleShape::Create(0.1f, 0.03f);
   BodyID previous;
   for (int i = 0; i <= 10; ++i) {
@@ -170,6 +172,20 @@ std::unique_ptr<PhysicsSystem> MakeScene(std::shared_ptr<JobSystem> jobs) {
   axle.axis = Vec3::UnitY();
   axle.motor = {true, 2.0f, 100.0f};
   (void)world->constraints().Add(axle);
+}
+
+std::unique_ptr<PhysicsSystem> MakeScene(std::shared_ptr<JobSystem> jobs) {
+  PhysicsSystemConfig config;
+  config.max_bodies = 512;
+  config.job_system = std::move(jobs);
+  PhysicsSettings settings;
+  settings.allow_sleeping = false;  // keep every body in the step
+  auto world = std::move(*PhysicsSystem::Create(config, settings));
+  const ShapeRef box = *BoxShape::Create(Vec3(0.5f, 0.5f, 0.5f));
+  AddPyramidInASensor(world.get(), box);
+  AddConvexesOnAMesh(world.get());
+  AddRollersAndAGlider(world.get(), box);
+  AddChainAndWheel(world.get(), box);
   return world;
 }
 
