@@ -196,6 +196,9 @@ Result<MergedShards> MergeShards(const std::vector<std::filesystem::path>& shard
     if (!SameParameters(into, **shard))
       return MergeError(name + " is not a shard of the same level as " + shard_files.front().string() +
                         " (tile size, origin or tile table differ)");
+    if ((*shard)->profile() != into.profile())
+      return MergeError(name + " was built for agent profile '" + (*shard)->profile() + "', " +
+                        shard_files.front().string() + " for '" + into.profile() + "'");
     const std::vector<TileCoord> present = into.Tiles();
     for (const TileCoord tile : (*shard)->Tiles()) {
       if (std::find(present.begin(), present.end(), tile) != present.end())

@@ -266,7 +266,10 @@ NavMesh::NavMesh(dtNavMesh* mesh, float tile_size, TileCoord origin_tile)
       origin_(static_cast<double>(origin_tile.x) * tile_size, 0.0,
               static_cast<double>(origin_tile.z) * tile_size) {}
 
-Result<std::unique_ptr<NavMesh>> NavMesh::Create(float tile_size, int max_tiles, TileCoord origin_tile) {
+Result<std::unique_ptr<NavMesh>> NavMesh::Create(float tile_size, int max_tiles, TileCoord origin_tile,
+                                                 std::string profile) {
+  if (profile.size() > kMaxProfileNameBytes)
+    return MakeError(ErrorCode::kInvalidArgument, "navmesh: a profile name is at most 64 bytes");
   if (!std::isfinite(tile_size) || tile_size <= 0.0f)
     return MakeError(ErrorCode::kInvalidArgument, "navmesh: tile size must be a positive number");
   if (max_tiles < 1 || max_tiles > (1 << 16))
@@ -282,7 +285,9 @@ Result<std::unique_ptr<NavMesh>> NavMesh::Create(float tile_size, int max_tiles,
     dtFreeNavMesh(mesh);
     return MakeError(ErrorCode::kCapacityExceeded, "navmesh: Detour could not allocate the tile table");
   }
-  return std::unique_ptr<NavMesh>(new NavMesh(mesh, tile_size, origin_tile));
+  std::unique_ptr<NavMesh> navmesh(new NavMesh(mesh, tile_size, origin_tile));
+  navmesh->profile_ = std::move(profile);
+  return navmesh;
 }
 
 NavMesh::~NavMesh() {
@@ -398,8 +403,8 @@ Status NavMesh::Save(const std::filesystem::path& path, std::optional<SetCoverag
     }
   });
   const SetCoverage saved_coverage = coverage.value_or(coverage_);
-  bytes += EncodeSetChecksums({HeaderCrc(AsBytes(bytes).first(sizeof(SetHeader)), saved_coverage),
-                               saved_coverage, std::move(tile_crcs)});
+  bytes += EncodeSetChecksums({HeaderCrc(AsBytes(bytes).first(sizeof(SetHeader)), saved_coverage, profile_),
+                               saved_coverage, profile_, std::move(tile_crcs)});
   // Beside the target and renamed over it: a kill or a full disk never leaves half a navmesh there.
   return WriteOutputFile(path, bytes);
 }
@@ -478,7 +483,8 @@ Result<std::unique_ptr<NavMesh>> NavMesh::Load(const std::filesystem::path& path
     const std::optional<SetChecksums> checksums =
         DecodeSetChecksums(bytes.subspan(offset), tile_starts.size() - 1, problem);
     if (!checksums) return FileError(path, problem);
-    if (HeaderCrc(bytes.first(sizeof(SetHeader)), checksums->coverage) != checksums->header_crc)
+    if (HeaderCrc(bytes.first(sizeof(SetHeader)), checksums->coverage, checksums->profile) !=
+        checksums->header_crc)
       return FileError(path, "the set header does not match its checksum (the file is damaged)");
     for (std::size_t i = 0; i + 1 < tile_starts.size(); ++i)
       if (Crc32(bytes.subspan(tile_starts[i], tile_starts[i + 1] - tile_starts[i])) !=
@@ -486,6 +492,7 @@ Result<std::unique_ptr<NavMesh>> NavMesh::Load(const std::filesystem::path& path
         return FileError(path,
                          "tile " + std::to_string(i) + " does not match its checksum (the file is damaged)");
     navmesh->coverage_ = checksums->coverage;
+    navmesh->profile_ = checksums->profile;
   }
   for (int i = 0; i < header.tile_count; ++i) {
     SetTileHeader tile_header;

@@ -9,6 +9,7 @@
 #include <memory>
 #include <optional>
 #include <shared_mutex>
+#include <string>
 #include <vector>
 
 #include "navmesh/SetChecksums.h"
@@ -25,8 +26,9 @@ class NavMesh {
   /// A navmesh of square tiles `tile_size` metres wide, at most `max_tiles` of them (rounded up to a power of
   /// two; the rest of Detour's 22 reference bits go to polygons per tile).
   /// Detour works relative to the lower corner of `origin_tile` (see NavMeshSettings::origin_tile).
+  /// `profile` names the agent profile it is built for (saved with it; empty: not named).
   static Result<std::unique_ptr<NavMesh>> Create(float tile_size, int max_tiles = 1024,
-                                                 TileCoord origin_tile = {});
+                                                 TileCoord origin_tile = {}, std::string profile = {});
   /// Reads a file in RecastDemo's tiled navmesh set format ("MSET", version 1). Fails, naming the file and
   /// the reason, for a missing, truncated or corrupt file, or one whose checksums (SetChecksums, which Save
   /// appends) do not match; a file without checksums (RecastDemo's own) loads unchecked.
@@ -70,6 +72,9 @@ class NavMesh {
   Status Save(const std::filesystem::path& path, std::optional<SetCoverage> coverage = std::nullopt) const;
   /// The share of a level this navmesh was loaded with (not known for one built here or a RecastDemo file).
   const SetCoverage& coverage() const { return coverage_; }
+  /// The agent profile it was built for (AgentProfile::name), given at Create or read by Load; empty when
+  /// not named (a RecastDemo file, an older Strata file).
+  const std::string& profile() const { return profile_; }
   /// Writes the polygons as a Wavefront OBJ (one face per polygon).
   Status WriteObj(const std::filesystem::path& path) const;
 
@@ -83,6 +88,7 @@ class NavMesh {
   float tile_size_;
   TileCoord origin_tile_;
   SetCoverage coverage_;  // set by Load; written only there, before the navmesh is shared
+  std::string profile_;   // set by Create or Load, before the navmesh is shared
   Vec3d origin_;
 };
 

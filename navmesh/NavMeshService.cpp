@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #if defined(__linux__)
@@ -67,8 +68,28 @@ const char* ToString(TileState state) {
   return "?";
 }
 
+NavMeshServiceStats& NavMeshServiceStats::operator+=(const NavMeshServiceStats& other) {
+  builds += other.builds, rebuilds += other.rebuilds, failures += other.failures;
+  queued += other.queued, building += other.building, ready += other.ready, stale += other.stale;
+  evictions += other.evictions, tiles_holding_data += other.tiles_holding_data;
+  // Scans and gathers are the service's, not a profile's: every profile's copy holds the same count.
+  scans = other.scans, gathers = other.gathers;
+  return *this;
+}
+
 Status NavMeshServiceConfig::Validate() const {
   if (Status status = settings.Validate(); !status.ok()) return status;
+  if (profiles.size() > static_cast<std::size_t>(kMaxProfiles))
+    return MakeError(ErrorCode::kInvalidArgument, "navmesh service: at most " + std::to_string(kMaxProfiles) +
+                                                      " agent profiles (got " +
+                                                      std::to_string(profiles.size()) + ")");
+  std::set<std::string> names;
+  for (const AgentProfile& profile : profiles) {
+    if (Status valid = profile.Validate(settings); !valid) return valid;
+    if (!names.insert(profile.name).second)
+      return MakeError(ErrorCode::kInvalidArgument,
+                       "navmesh service: two agent profiles are named '" + profile.name + "'");
+  }
   if (worker_threads < 1 || worker_threads > kMaxWorkerThreads)
     return MakeError(ErrorCode::kInvalidArgument, "navmesh service: worker_threads must be in [1, " +
                                                       std::to_string(kMaxWorkerThreads) + "]");
@@ -101,15 +122,44 @@ Result<int> NavMeshService::MaxTilesToCover(const AABB& box, float tile_size) {
 Result<std::unique_ptr<NavMeshService>> NavMeshService::Create(const PhysicsSystem& world,
                                                                const NavMeshServiceConfig& config) {
   if (Status status = config.Validate(); !status.ok()) return status.error();
-  Result<std::unique_ptr<NavMesh>> navmesh =
-      NavMesh::Create(config.settings.tile_size(), config.max_tiles, config.settings.origin_tile);
-  if (!navmesh) return navmesh.error();
-  return std::unique_ptr<NavMeshService>(new NavMeshService(world, config, std::move(*navmesh)));
+  std::vector<AgentProfile> agents = config.profiles;
+  if (agents.empty()) agents.push_back(AgentProfile::FromSettings(config.settings));
+  // One rasterization serves them all: the border of the widest, walkable flags merged within the lowest
+  // climb (each profile's own climb still decides its ledges and steps).
+  float widest = 0.0f, lowest_climb = agents.front().max_climb;
+  for (const AgentProfile& agent : agents)
+    widest = std::max(widest, agent.radius), lowest_climb = std::min(lowest_climb, agent.max_climb);
+  std::vector<Profile> profiles;
+  for (const AgentProfile& agent : agents) {
+    Profile profile{agent,
+                    agent.Apply(config.settings),
+                    agent.max_tiles > 0 ? agent.max_tiles : config.max_tiles,
+                    nullptr,
+                    0,
+                    {}};
+    if (agents.size() > 1) {
+      profile.settings.raster_border_radius = widest;
+      profile.settings.raster_merge_climb = lowest_climb;
+    }
+    if (Status valid = profile.settings.Validate(); !valid)
+      return MakeError(valid.error().code, "profile '" + agent.name + "': " + valid.message());
+    Result<std::unique_ptr<NavMesh>> navmesh =
+        NavMesh::Create(profile.settings.tile_size(), profile.max_tiles, profile.settings.origin_tile,
+                        config.profiles.empty() ? std::string() : agent.name);
+    if (!navmesh) return navmesh.error();
+    profile.navmesh = std::move(*navmesh);
+    profiles.push_back(std::move(profile));
+  }
+  return std::unique_ptr<NavMeshService>(new NavMeshService(world, config, std::move(profiles)));
 }
 
 NavMeshService::NavMeshService(const PhysicsSystem& world, const NavMeshServiceConfig& config,
-                               std::unique_ptr<NavMesh> navmesh)
-    : world_(world), config_(config), grid_(config.settings.tile_size()), navmesh_(std::move(navmesh)) {
+                               std::vector<Profile> profiles)
+    : world_(world),
+      config_(config),
+      grid_(config.settings.tile_size()),
+      profiles_(std::move(profiles)),
+      front_stats_(profiles_.size()) {
   // Here, on the creator's thread: enabling copies the bodies already in the world under their locks, the
   // only body locks the service ever takes.
   world_.body_snapshots().Enable(world_.body_manager());
@@ -135,12 +185,31 @@ NavMeshService::~NavMeshService() {
   scanner_.join();
 }
 
-Status NavMeshService::RequestAround(const Vec3& position, float radius) {
+Result<int> NavMeshService::FindProfile(const std::string& name) const {
+  std::string names;
+  for (std::size_t i = 0; i < profiles_.size(); ++i) {
+    if (profiles_[i].profile.name == name) return static_cast<int>(i);
+    names += (i ? ", " : "") + profiles_[i].profile.name;
+  }
+  return MakeError(ErrorCode::kInvalidArgument,
+                   "navmesh: no agent profile is named '" + name + "' (this service has " + names + ")");
+}
+
+Status NavMeshService::CheckMask(ProfileMask profiles) const {
+  const ProfileMask all = profiles_.size() >= 32 ? kAllProfiles : (ProfileMask{1} << profiles_.size()) - 1;
+  if ((profiles & all) != 0) return Status::Ok();
+  return MakeError(ErrorCode::kInvalidArgument,
+                   "navmesh request: the profile mask names none of the service's " +
+                       std::to_string(profiles_.size()) + " profiles");
+}
+
+Status NavMeshService::RequestAround(const Vec3& position, float radius, ProfileMask profiles) {
   if (!IsFinite(position))
     return MakeError(ErrorCode::kInvalidArgument, "navmesh request: position is not finite");
   if (!std::isfinite(radius) || radius < 0.0f)
     return MakeError(ErrorCode::kInvalidArgument, "navmesh request: radius must be a finite number >= 0");
-  if (Status reach = CheckReach(AABB(position, position).Expanded(radius), config_.settings, "the request");
+  if (Status mask = CheckMask(profiles); !mask) return mask;
+  if (Status reach = CheckReach(AABB(position, position).Expanded(radius), gather_settings(), "the request");
       !reach)
     return reach;
   // Only an absurd radius is refused. Tiles with nothing walkable (off the level) take no slot in the tile
@@ -155,24 +224,28 @@ Status NavMeshService::RequestAround(const Vec3& position, float radius) {
   const Clock::time_point now = Clock::now();
   std::vector<PendingRequest> requests;
   for (const TileCoord tile : grid_.TilesInCircle(position, radius))
-    requests.push_back({tile, SquaredPlanarDistance(grid_.Center(tile), position), now});
+    requests.push_back({tile, SquaredPlanarDistance(grid_.Center(tile), position), now, profiles});
   Submit(std::move(requests));
   return Status::Ok();
 }
 
-Status NavMeshService::RequestBox(const AABB& box) {
+Status NavMeshService::RequestBox(const AABB& box, ProfileMask profiles) {
   if (!box.IsValid()) return MakeError(ErrorCode::kInvalidArgument, "navmesh request: box is not valid");
-  if (Status reach = CheckReach(box, config_.settings, "the requested box"); !reach) return reach;
+  if (Status mask = CheckMask(profiles); !mask) return mask;
+  if (Status reach = CheckReach(box, gather_settings(), "the requested box"); !reach) return reach;
   // The same count as the listing below (an estimate here once refused boxes the listing fits).
   const std::uint64_t tiles = grid_.TileCount(box);
-  if (tiles > static_cast<std::uint64_t>(config_.max_tiles))
+  for (std::size_t p = 0; p < profiles_.size(); ++p) {
+    if (!(profiles & (ProfileMask{1} << p)) || tiles <= static_cast<std::uint64_t>(profiles_[p].max_tiles))
+      continue;
     return MakeError(ErrorCode::kInvalidArgument, "navmesh request: box covers " + std::to_string(tiles) +
                                                       " tiles, more than max_tiles (" +
-                                                      std::to_string(config_.max_tiles) + ")");
+                                                      std::to_string(profiles_[p].max_tiles) + ")");
+  }
   const Clock::time_point now = Clock::now();
   std::vector<PendingRequest> requests;
   for (const TileCoord tile : grid_.TilesInBox(box))
-    requests.push_back({tile, SquaredPlanarDistance(grid_.Center(tile), box.Center()), now});
+    requests.push_back({tile, SquaredPlanarDistance(grid_.Center(tile), box.Center()), now, profiles});
   Submit(std::move(requests));
   return Status::Ok();
 }
@@ -181,9 +254,13 @@ void NavMeshService::Submit(std::vector<PendingRequest> requests) {
   {
     const std::lock_guard lock(front_mutex_);
     for (const PendingRequest& request : requests) {
-      const auto found = front_states_.find(request.tile);
-      if (found == front_states_.end() || found->second == TileState::kMissing)
-        SetFrontState(request.tile, TileState::kQueued);
+      for (std::size_t p = 0; p < profiles_.size(); ++p) {
+        if (!(request.profiles & (ProfileMask{1} << p))) continue;
+        const ProfileTile tile{static_cast<int>(p), request.tile};
+        const auto found = front_states_.find(tile);
+        if (found == front_states_.end() || found->second == TileState::kMissing)
+          SetFrontState(tile, TileState::kQueued);
+      }
     }
     inbox_.insert(inbox_.end(), requests.begin(), requests.end());
   }
@@ -201,10 +278,13 @@ void NavMeshService::DrainInbox() {
     const std::lock_guard lock(front_mutex_);
     requests.swap(inbox_);
   }
-  for (const PendingRequest& request : requests) Enqueue(request.tile, request.priority, request.when);
+  for (const PendingRequest& request : requests)
+    for (std::size_t p = 0; p < profiles_.size(); ++p)
+      if (request.profiles & (ProfileMask{1} << p))
+        Enqueue({static_cast<int>(p), request.tile}, request.priority, request.when);
 }
 
-void NavMeshService::SetState(TileCoord tile, TileRecord& record, TileState state) {
+void NavMeshService::SetState(ProfileTile tile, TileRecord& record, TileState state) {
   record.state = state;
   const std::lock_guard lock(front_mutex_);
   SetFrontState(tile, state);
@@ -228,44 +308,63 @@ std::size_t* CountOf(NavMeshServiceStats& stats, TileState state) {
 }
 }  // namespace
 
-void NavMeshService::SetFrontState(TileCoord tile, TileState state) {
+void NavMeshService::SetFrontState(ProfileTile tile, TileState state) {
   TileState& front = front_states_[tile];
-  if (std::size_t* count = CountOf(front_stats_, front)) --*count;
-  if (std::size_t* count = CountOf(front_stats_, state)) ++*count;
+  NavMeshServiceStats& stats = front_stats_[static_cast<std::size_t>(tile.profile)];
+  if (std::size_t* count = CountOf(stats, front)) --*count;
+  if (std::size_t* count = CountOf(stats, state)) ++*count;
   front = state;
 }
 
-void NavMeshService::ForgetFrontState(TileCoord tile) {
+void NavMeshService::ForgetFrontState(ProfileTile tile) {
   const std::lock_guard lock(front_mutex_);
   const auto found = front_states_.find(tile);
   if (found == front_states_.end()) return;
-  if (std::size_t* count = CountOf(front_stats_, found->second)) --*count;
+  if (std::size_t* count = CountOf(front_stats_[static_cast<std::size_t>(tile.profile)], found->second))
+    --*count;
   front_states_.erase(found);
 }
 
 void NavMeshService::MirrorCounters() {
   const std::lock_guard lock(front_mutex_);
-  front_stats_.builds = counters_.builds;
-  front_stats_.rebuilds = counters_.rebuilds;
-  front_stats_.failures = counters_.failures;
-  front_stats_.scans = counters_.scans;
-  front_stats_.evictions = counters_.evictions;
-  front_stats_.tiles_holding_data = static_cast<std::size_t>(tiles_holding_data_);
+  for (std::size_t p = 0; p < profiles_.size(); ++p) {
+    const Profile& profile = profiles_[p];
+    NavMeshServiceStats& front = front_stats_[p];
+    front.builds = profile.counters.builds;
+    front.rebuilds = profile.counters.rebuilds;
+    front.failures = profile.counters.failures;
+    front.evictions = profile.counters.evictions;
+    front.tiles_holding_data = static_cast<std::size_t>(profile.tiles_holding_data);
+    front.scans = scans_;
+    front.gathers = gathers_;
+  }
 }
 
-Status NavMeshService::Invalidate(const AABB& box) {
+Status NavMeshService::Invalidate(const AABB& box, ProfileMask profiles) {
   if (!box.IsValid()) return MakeError(ErrorCode::kInvalidArgument, "navmesh invalidate: box is not valid");
+  if (Status mask = CheckMask(profiles); !mask) return mask;
   const Clock::time_point now = Clock::now();
   const std::lock_guard lock(mutex_);
-  for (auto& [coord, record] : tiles_) {
-    if (record.state != TileState::kReady || !grid_.Bounds(coord).Overlaps(box)) continue;
-    SetState(coord, record, TileState::kStale);
+  for (auto& [tile, record] : tiles_) {
+    if (!(profiles & (ProfileMask{1} << tile.profile))) continue;
+    if (record.state != TileState::kReady || !grid_.Bounds(tile.coord).Overlaps(box)) continue;
+    SetState(tile, record, TileState::kStale);
     record.stale_since = now;
   }
   return Status::Ok();
 }
 
-void NavMeshService::Enqueue(TileCoord tile, float priority, Clock::time_point now) {
+void NavMeshService::QueueCoord(TileCoord coord, float priority) {
+  const auto [found, inserted] = queued_.try_emplace(coord, priority);
+  if (!inserted) {
+    if (priority >= found->second) return;
+    queue_.erase({found->second, coord});
+    found->second = priority;
+  }
+  queue_.insert({priority, coord});
+}
+
+void NavMeshService::Enqueue(ProfileTile tile, float priority, Clock::time_point now) {
   TileRecord& record = tiles_[tile];
   record.last_requested = now;
   record.last_priority = priority;
@@ -274,13 +373,11 @@ void NavMeshService::Enqueue(TileCoord tile, float priority, Clock::time_point n
       SetState(tile, record, TileState::kQueued);
       record.priority = priority;
       record.requested = now;
-      queue_.insert({priority, tile});
+      QueueCoord(tile.coord, priority);
       return;
     case TileState::kQueued:
-      if (priority >= record.priority) return;
-      queue_.erase({record.priority, tile});
-      record.priority = priority;
-      queue_.insert({priority, tile});
+      record.priority = std::min(record.priority, priority);
+      QueueCoord(tile.coord, priority);
       return;
     case TileState::kStale:  // waits out its debounce in the scanner
     case TileState::kBuilding:
@@ -290,9 +387,9 @@ void NavMeshService::Enqueue(TileCoord tile, float priority, Clock::time_point n
   }
 }
 
-TileState NavMeshService::GetTileState(TileCoord tile) const {
+TileState NavMeshService::GetTileState(TileCoord tile, int profile) const {
   const std::lock_guard lock(front_mutex_);
-  const auto found = front_states_.find(tile);
+  const auto found = front_states_.find({profile, tile});
   return found == front_states_.end() ? TileState::kMissing : found->second;
 }
 
@@ -303,7 +400,7 @@ bool NavMeshService::Idle() const {
     if (!inbox_.empty()) return false;
   }
   // A stale tile whose rebuild failed waits for its retry with its old data published: nothing is pending.
-  for (const auto& [coord, record] : tiles_)
+  for (const auto& [tile, record] : tiles_)
     if (record.state == TileState::kBuilding ||
         (record.state == TileState::kStale && record.failed_in_a_row == 0))
       return false;
@@ -325,7 +422,14 @@ bool NavMeshService::WaitUntilIdle(std::chrono::milliseconds timeout) const {
 
 NavMeshServiceStats NavMeshService::stats() const {
   const std::lock_guard lock(front_mutex_);
-  return front_stats_;
+  NavMeshServiceStats total;
+  for (const NavMeshServiceStats& profile : front_stats_) total += profile;
+  return total;
+}
+
+NavMeshServiceStats NavMeshService::profile_stats(int profile) const {
+  const std::lock_guard lock(front_mutex_);
+  return front_stats_.at(static_cast<std::size_t>(profile));
 }
 
 std::vector<TileBuildRecord> NavMeshService::build_log() const {
@@ -352,69 +456,88 @@ void NavMeshService::WorkerLoop() {
       work_epoch_.wait(epoch, std::memory_order_acquire);
       continue;
     }
-    const TileCoord tile = queue_.begin()->second;
+    const TileCoord coord = queue_.begin()->second;
     queue_.erase(queue_.begin());
-    SetState(tile, tiles_[tile], TileState::kBuilding);
+    queued_.erase(coord);
+    // Every profile queued at this tile is built from the one gather.
+    std::vector<int> profiles;
+    for (int p = 0; p < profile_count(); ++p) {
+      const auto found = tiles_.find({p, coord});
+      if (found == tiles_.end() || found->second.state != TileState::kQueued) continue;
+      SetState({p, coord}, found->second, TileState::kBuilding);
+      profiles.push_back(p);
+    }
+    ++gathers_;
     lock.unlock();
-    BuildOne(tile);
+    BuildOne(coord, profiles);
   }
 }
 
-void NavMeshService::BuildOne(TileCoord tile) {
+void NavMeshService::BuildOne(TileCoord coord, const std::vector<int>& profiles) {
   const Clock::time_point gather_start = Clock::now();
-  TileGeometry geometry = GatherTileGeometry(world_, TileGatherBox(config_.settings, tile), config_.filter);
+  TileGeometry geometry = GatherTileGeometry(world_, TileGatherBox(gather_settings(), coord), config_.filter);
   const double gather_ms = MillisecondsSince(gather_start);
-  Result<BuiltTile> built = BuildTile(config_.settings, tile, geometry);
-
-  TileBuildRecord record{tile, 0,  geometry.bodies.size(), geometry.triangle_count(), 0, gather_ms, 0.0,
-                         0.0,  0.0};
-  Status published = built.status();
+  std::vector<NavMeshSettings> settings;
+  for (const int p : profiles) settings.push_back(profiles_[static_cast<std::size_t>(p)].settings);
+  std::vector<Result<BuiltTile>> built = BuildTileForProfiles(settings, coord, geometry);
   {
     // Publishing happens under the back-end lock, so making room (evicting) and taking the slot is one
     // decision however many workers finish at once. Game threads never take this lock.
     const std::lock_guard lock(mutex_);
-    TileRecord& state = tiles_[tile];
-    if (built) {
-      record.polygons = built->polygons;
-      record.recast_ms = built->recast_ms;
-      const bool takes_slot = !built->data.empty() && !state.holds_data;
-      if (takes_slot) published = MakeRoom(tile);
-      if (published.ok()) {
-        const bool holds_data = !built->data.empty();
-        const Clock::time_point publish_start = Clock::now();
-        published = navmesh_->ReplaceTile(tile, std::move(built->data));
-        record.publish_ms = MillisecondsSince(publish_start);
-        if (published.ok()) {
-          tiles_holding_data_ += static_cast<int>(holds_data) - static_cast<int>(state.holds_data);
-          state.holds_data = holds_data;
-        }
-      }
+    for (std::size_t i = 0; i < profiles.size(); ++i) {
+      const TileBuildRecord record{
+          coord, profiles[i], 0,  geometry.bodies.size(), geometry.triangle_count(), 0, gather_ms,
+          0.0,   0.0,         0.0};
+      Publish({profiles[i], coord}, built[i], record, geometry.bodies);
+      ForgetOldRecords(profiles[i]);
     }
-    if (!published.ok()) {
-      ++counters_.failures;
-      last_error_ = published.message();
-      ++state.failed_in_a_row;
-      if (state.builds > 0) {
-        // A rebuild failed: the last good tile is still published, so agents keep it while it is retried.
-        SetState(tile, state, TileState::kStale);
-        state.stale_since = Clock::now();
-      } else {
-        SetState(tile, state, TileState::kMissing);  // the next request tries again
-      }
-    } else {
-      state.failed_in_a_row = 0;
-      SetState(tile, state, TileState::kReady);
-      state.bodies = std::make_shared<const std::vector<GatheredBody>>(std::move(geometry.bodies));
-      record.build = ++state.builds;
-      record.request_to_ready_ms = MillisecondsSince(state.requested);
-      ++counters_.builds;
-      counters_.rebuilds += record.build > 1;
-      log_.push_back(record);
-    }
-    ForgetOldRecords();
     MirrorCounters();
   }
   state_changed_.notify_all();
+}
+
+void NavMeshService::Publish(ProfileTile tile, Result<BuiltTile>& built, TileBuildRecord record,
+                             const std::vector<GatheredBody>& bodies) {
+  Profile& profile = profiles_[static_cast<std::size_t>(tile.profile)];
+  TileRecord& state = tiles_[tile];
+  Status published = built.status();
+  if (built) {
+    record.polygons = built->polygons;
+    record.recast_ms = built->recast_ms;
+    const bool takes_slot = !built->data.empty() && !state.holds_data;
+    if (takes_slot) published = MakeRoom(tile);
+    if (published.ok()) {
+      const bool holds_data = !built->data.empty();
+      const Clock::time_point publish_start = Clock::now();
+      published = profile.navmesh->ReplaceTile(tile.coord, std::move(built->data));
+      record.publish_ms = MillisecondsSince(publish_start);
+      if (published.ok()) {
+        profile.tiles_holding_data += static_cast<int>(holds_data) - static_cast<int>(state.holds_data);
+        state.holds_data = holds_data;
+      }
+    }
+  }
+  if (!published.ok()) {
+    ++profile.counters.failures;
+    last_error_ = published.message();
+    ++state.failed_in_a_row;
+    if (state.builds > 0) {
+      // A rebuild failed: the last good tile is still published, so agents keep it while it is retried.
+      SetState(tile, state, TileState::kStale);
+      state.stale_since = Clock::now();
+    } else {
+      SetState(tile, state, TileState::kMissing);  // the next request tries again
+    }
+    return;
+  }
+  state.failed_in_a_row = 0;
+  SetState(tile, state, TileState::kReady);
+  state.bodies = std::make_shared<const std::vector<GatheredBody>>(bodies);
+  record.build = ++state.builds;
+  record.request_to_ready_ms = MillisecondsSince(state.requested);
+  ++profile.counters.builds;
+  profile.counters.rebuilds += record.build > 1;
+  log_.push_back(record);
 }
 
 namespace {
@@ -427,36 +550,50 @@ bool EvictsBefore(const Record& a, const Record& b) {
 }
 }  // namespace
 
-Status NavMeshService::MakeRoom(TileCoord tile) {
-  if (tiles_holding_data_ < config_.max_tiles) return Status::Ok();
+Status NavMeshService::MakeRoom(ProfileTile tile) {
+  Profile& profile = profiles_[static_cast<std::size_t>(tile.profile)];
+  if (profile.tiles_holding_data < profile.max_tiles) return Status::Ok();
   // Only a published tile can go: one that is building comes back to publish, and one that is queued holds
   // nothing yet.
   auto victim = tiles_.end();
-  for (auto it = tiles_.begin(); it != tiles_.end(); ++it) {
+  const auto first = tiles_.lower_bound(
+      {tile.profile, TileCoord{std::numeric_limits<int>::min(), std::numeric_limits<int>::min()}});
+  for (auto it = first; it != tiles_.end() && it->first.profile == tile.profile; ++it) {
     const TileRecord& record = it->second;
-    if (it->first == tile || !record.holds_data) continue;
+    if (it->first.coord == tile.coord || !record.holds_data) continue;
     if (record.state != TileState::kReady && record.state != TileState::kStale) continue;
     if (victim == tiles_.end() || EvictsBefore(record, victim->second)) victim = it;
   }
   if (victim == tiles_.end())
-    return MakeError(ErrorCode::kCapacityExceeded,
-                     "navmesh: every one of the " + std::to_string(config_.max_tiles) +
-                         " tiles of the budget is being built; raise max_tiles");
-  navmesh_->RemoveTile(victim->first);
-  --tiles_holding_data_;
-  ++counters_.evictions;
+    return MakeError(ErrorCode::kCapacityExceeded, "navmesh: every one of the " +
+                                                       std::to_string(profile.max_tiles) +
+                                                       " tiles of profile '" + profile.profile.name +
+                                                       "''s budget is being built; raise max_tiles");
+  profile.navmesh->RemoveTile(victim->first.coord);
+  --profile.tiles_holding_data;
+  ++profile.counters.evictions;
   ForgetFrontState(victim->first);
   tiles_.erase(victim);
   return Status::Ok();
 }
 
-void NavMeshService::ForgetOldRecords() {
+void NavMeshService::ForgetOldRecords(int profile_index) {
   // Tiles that hold nothing (off the level, nothing walkable) take no slot, but their records would pile up
   // as agents walk across a large world: keep as many as a few budgets' worth, dropping the oldest.
-  const std::size_t limit = 4 * static_cast<std::size_t>(config_.max_tiles) + 64;
-  while (tiles_.size() > limit) {
+  const Profile& profile = profiles_[static_cast<std::size_t>(profile_index)];
+  const std::size_t limit = 4 * static_cast<std::size_t>(profile.max_tiles) + 64;
+  const auto first = [&] {
+    return tiles_.lower_bound(
+        {profile_index, TileCoord{std::numeric_limits<int>::min(), std::numeric_limits<int>::min()}});
+  };
+  const auto count = [&] {
+    std::size_t n = 0;
+    for (auto it = first(); it != tiles_.end() && it->first.profile == profile_index; ++it) ++n;
+    return n;
+  };
+  for (std::size_t records = count(); records > limit; --records) {
     auto oldest = tiles_.end();
-    for (auto it = tiles_.begin(); it != tiles_.end(); ++it) {
+    for (auto it = first(); it != tiles_.end() && it->first.profile == profile_index; ++it) {
       const TileRecord& record = it->second;
       if (record.holds_data || (record.state != TileState::kReady && record.state != TileState::kMissing))
         continue;
@@ -468,9 +605,8 @@ void NavMeshService::ForgetOldRecords() {
   }
 }
 
-bool NavMeshService::TileChanged(TileCoord tile, const std::vector<GatheredBody>& bodies) const {
-  const std::vector<GatheredBody> now =
-      FindCountedBodies(world_, TileGatherBox(config_.settings, tile), config_.filter);
+bool NavMeshService::TileChanged(const std::vector<GatheredBody>& now,
+                                 const std::vector<GatheredBody>& bodies) const {
   if (now.size() != bodies.size()) return true;
   for (std::size_t i = 0; i < now.size(); ++i) {
     if (now[i].id != bodies[i].id) return true;
@@ -479,28 +615,41 @@ bool NavMeshService::TileChanged(TileCoord tile, const std::vector<GatheredBody>
   return false;
 }
 
+void NavMeshService::QueueDueRetries(Clock::time_point now) {
+  bool queued = false;
+  for (auto& [tile, record] : tiles_) {
+    if (record.state != TileState::kStale || now - record.stale_since < RetryDelay(record)) continue;
+    SetState(tile, record, TileState::kQueued);
+    record.requested = record.stale_since;
+    QueueCoord(tile.coord, record.priority);
+    queued = true;
+  }
+  if (queued) WakeWorkers();
+}
+
 void NavMeshService::ScannerLoop() {
   std::unique_lock lock(mutex_);
   while (!stopping_) {
     state_changed_.wait_for(lock, config_.scan_interval, [this] { return stopping_; });
     if (stopping_) return;
-    const Clock::time_point now = Clock::now();
-    std::vector<std::pair<TileCoord, std::shared_ptr<const std::vector<GatheredBody>>>> ready;
-    bool queued = false;
-    for (auto& [coord, record] : tiles_) {
-      if (record.state == TileState::kReady) ready.emplace_back(coord, record.bodies);
-      if (record.state == TileState::kStale && now - record.stale_since >= RetryDelay(record)) {
-        SetState(coord, record, TileState::kQueued);
-        record.requested = record.stale_since;
-        queue_.insert({record.priority, coord});
-        queued = true;
-      }
-    }
-    if (queued) WakeWorkers();
+    QueueDueRetries(Clock::now());
+    std::vector<std::pair<ProfileTile, std::shared_ptr<const std::vector<GatheredBody>>>> ready;
+    for (auto& [tile, record] : tiles_)
+      if (record.state == TileState::kReady) ready.emplace_back(tile, record.bodies);
     lock.unlock();
+    // Each tile's bodies are found once per scan, whichever profiles hold it.
+    std::map<TileCoord, std::vector<GatheredBody>> found_now;
     std::vector<std::size_t> changed;
-    for (std::size_t i = 0; i < ready.size(); ++i)
-      if (TileChanged(ready[i].first, *ready[i].second)) changed.push_back(i);
+    for (std::size_t i = 0; i < ready.size(); ++i) {
+      const TileCoord coord = ready[i].first.coord;
+      auto found = found_now.find(coord);
+      if (found == found_now.end())
+        found = found_now
+                    .emplace(coord, FindCountedBodies(world_, TileGatherBox(gather_settings(), coord),
+                                                      config_.filter))
+                    .first;
+      if (TileChanged(found->second, *ready[i].second)) changed.push_back(i);
+    }
     lock.lock();
     for (const std::size_t i : changed) {
       const auto found = tiles_.find(ready[i].first);  // evicted meanwhile: nothing to mark
@@ -511,7 +660,7 @@ void NavMeshService::ScannerLoop() {
       SetState(ready[i].first, record, TileState::kStale);
       record.stale_since = Clock::now();
     }
-    ++counters_.scans;
+    ++scans_;
     MirrorCounters();
   }
 }

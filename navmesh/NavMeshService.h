@@ -1,6 +1,7 @@
-// NavMeshService: builds navmesh tiles in the background from a physics world that keeps changing.
-// Agents call RequestAround; the service's own worker threads (never the physics step's) gather each tile
-// from a pinned broad-phase generation, build it with Recast and publish it into the NavMesh. A scanner
+// NavMeshService: builds navmesh tiles in the background from a physics world that keeps changing, one
+// navmesh per agent profile (kind of walker). Agents call RequestAround for their profiles; the service's own
+// worker threads (never the physics step's) gather each tile once from a pinned broad-phase generation, build
+// it with Recast for every profile that asked and publish each into its profile's NavMesh. A scanner
 // thread marks ready tiles stale when counted bodies in them are added, removed or moved, and queues
 // them again after a debounce delay. Every public method is thread-safe. RequestAround, RequestBox,
 // GetTileState and stats touch only a small front lock that the service's low-priority threads hold for a few
@@ -17,8 +18,10 @@
 #include <thread>
 #include <vector>
 
+#include "navmesh/AgentProfile.h"
 #include "navmesh/NavMesh.h"
 #include "navmesh/NavMeshSettings.h"
+#include "navmesh/TileBuilder.h"
 #include "navmesh/TileGather.h"
 #include "navmesh/TileGrid.h"
 
@@ -32,16 +35,28 @@ namespace strata::navmesh {
 enum class TileState { kMissing, kQueued, kBuilding, kReady, kStale };
 const char* ToString(TileState state);
 
+/// A set of agent profiles, one bit per index into NavMeshServiceConfig::profiles.
+using ProfileMask = std::uint32_t;
+inline constexpr ProfileMask kAllProfiles = ~ProfileMask{0};
+
 /// How the service builds and refreshes tiles.
 struct NavMeshServiceConfig {
+  /// Cells, tiles, regions and origin, shared by every profile; its agent fields make the one profile of a
+  /// service whose `profiles` is empty.
   NavMeshSettings settings;
+  /// The kinds of walker, each with its own navmesh, tile states and budget (at most kMaxProfiles). Profiles
+  /// share each tile's gather and, as their cell sizes are `settings`', its rasterization: the tile border
+  /// is sized for the widest agent, and walkable and steep surfaces meeting in a cell merge within the
+  /// lowest climb (profile_settings() gives each profile's resolved settings).
+  std::vector<AgentProfile> profiles;
+  static constexpr int kMaxProfiles = 32;
   NavMeshBodyFilter filter;
   static constexpr int kMaxWorkerThreads = 64;
   int worker_threads = 1;  ///< background build threads, at most kMaxWorkerThreads
   /// The tile budget: at most this many tiles hold navmesh data at once (Detour's tile table). When a new
   /// tile needs a slot, the published tile requested longest ago (farthest from its requester among equals)
   /// is evicted, so agents can walk across a world of any size.
-  int max_tiles = 1024;
+  int max_tiles = 1024;          ///< per profile, unless the profile sets its own
   float move_threshold = 0.25f;  ///< a counted body whose bounds move more than this (m) makes its tile stale
   std::chrono::milliseconds rebuild_delay{250};  ///< a stale tile waits this long for more changes
   std::chrono::milliseconds scan_interval{20};   ///< how often ready tiles are checked for changes
@@ -52,20 +67,21 @@ struct NavMeshServiceConfig {
   Status Validate() const;
 };
 
-/// One finished build of one tile.
+/// One finished build of one tile for one profile.
 struct TileBuildRecord {
   TileCoord coord;
+  int profile = 0;
   int build = 0;  ///< 1 for the first build of the tile, 2 for its first rebuild, ...
   std::size_t bodies = 0;
   std::size_t triangles = 0;
   int polygons = 0;
-  double gather_ms = 0.0;
-  double recast_ms = 0.0;
+  double gather_ms = 0.0;            ///< the tile's one gather, shared by the profiles built with it
+  double recast_ms = 0.0;            ///< this profile's Recast work, with its share of a shared rasterization
   double publish_ms = 0.0;           ///< time the NavMesh was held exclusively
   double request_to_ready_ms = 0.0;  ///< from the request (or going stale) to published
 };
 
-/// Counters over the service's life.
+/// Counters over the service's life (of one profile, or summed over them).
 struct NavMeshServiceStats {
   std::size_t builds = 0;
   std::size_t rebuilds = 0;  ///< builds of tiles that had gone stale
@@ -76,7 +92,10 @@ struct NavMeshServiceStats {
   std::size_t stale = 0;
   std::size_t scans = 0;      ///< finished scans, each of which compared every ready tile with the world
   std::size_t evictions = 0;  ///< published tiles dropped to make room within max_tiles
-  std::size_t tiles_holding_data = 0;  ///< published tiles with polygons (at most max_tiles)
+  std::size_t tiles_holding_data = 0;  ///< published tiles with polygons (at most max_tiles a profile)
+  std::size_t gathers = 0;             ///< tile gathers (one per job, for all the profiles it builds)
+
+  NavMeshServiceStats& operator+=(const NavMeshServiceStats& other);
 };
 
 /// The background navmesh builder for one physics world (which must outlive it).
@@ -94,27 +113,40 @@ class NavMeshService {
   NavMeshService(const NavMeshService&) = delete;
   NavMeshService& operator=(const NavMeshService&) = delete;
 
-  /// Queues the tiles the x-z circle touches that are missing or stale, nearest to a requester first.
-  /// Tiles already queued move up if this requester is nearer. Fails for a non-finite or negative input.
-  Status RequestAround(const Vec3& position, float radius);
+  /// Queues, for each profile in `profiles`, the tiles the x-z circle touches that are missing or stale,
+  /// nearest to a requester first. Tiles already queued move up if this requester is nearer. Fails for a
+  /// non-finite or negative input, or a mask naming no profile of the service.
+  Status RequestAround(const Vec3& position, float radius, ProfileMask profiles = kAllProfiles);
   /// Queues the tiles overlapping `box` (x-z), e.g. a whole level for a bake.
-  Status RequestBox(const AABB& box);
+  Status RequestBox(const AABB& box, ProfileMask profiles = kAllProfiles);
 
   /// Marks the ready tiles overlapping `box` (x-z) stale, for changes the service cannot see (geometry
   /// outside the physics world, a new filter); they rebuild after the debounce delay.
-  Status Invalidate(const AABB& box);
+  Status Invalidate(const AABB& box, ProfileMask profiles = kAllProfiles);
 
-  TileState GetTileState(TileCoord tile) const;
+  TileState GetTileState(TileCoord tile, int profile = 0) const;
   /// Blocks until no tile is queued, building or stale, or the timeout passes; true when idle. For tools
   /// and tests; a game polls GetTileState instead.
   bool WaitUntilIdle(std::chrono::milliseconds timeout) const;
 
-  const NavMesh& navmesh() const { return *navmesh_; }
-  NavMesh& navmesh() { return *navmesh_; }
+  int profile_count() const { return static_cast<int>(profiles_.size()); }
+  const AgentProfile& profile(int index) const { return profiles_[static_cast<std::size_t>(index)].profile; }
+  /// The index of the profile called `name`, or an error listing the service's profiles.
+  Result<int> FindProfile(const std::string& name) const;
+  /// What profile `index` is built with: the shared settings, its agent, the shared border and merge climb.
+  /// A single-profile service created with these builds the same tile bytes.
+  const NavMeshSettings& profile_settings(int index = 0) const {
+    return profiles_[static_cast<std::size_t>(index)].settings;
+  }
+  const NavMesh& navmesh(int profile = 0) const {
+    return *profiles_[static_cast<std::size_t>(profile)].navmesh;
+  }
+  NavMesh& navmesh(int profile = 0) { return *profiles_[static_cast<std::size_t>(profile)].navmesh; }
   const TileGrid& grid() const { return grid_; }
   const NavMeshServiceConfig& config() const { return config_; }
-  /// Touches only the front lock (counts kept as states change), so a game thread may poll it every frame.
+  /// Summed over the profiles; touches only the front lock, so a game thread may poll it every frame.
   NavMeshServiceStats stats() const;
+  NavMeshServiceStats profile_stats(int profile) const;
   /// Every finished build so far, in the order they finished.
   std::vector<TileBuildRecord> build_log() const;
   /// The most recent error from a build, empty when none failed.
@@ -122,6 +154,14 @@ class NavMeshService {
 
  private:
   using Clock = std::chrono::steady_clock;
+  /// One profile's tile.
+  struct ProfileTile {
+    int profile = 0;
+    TileCoord coord;
+    friend bool operator<(const ProfileTile& a, const ProfileTile& b) {
+      return a.profile != b.profile ? a.profile < b.profile : a.coord < b.coord;
+    }
+  };
   struct TileRecord {
     TileState state = TileState::kMissing;
     float priority = 0.0f;  ///< squared distance to the nearest requester
@@ -134,30 +174,45 @@ class NavMeshService {
     Clock::time_point stale_since;
     std::shared_ptr<const std::vector<GatheredBody>> bodies;  ///< what the published tile was built from
   };
+  /// A profile's navmesh and the back end's accounts of it.
+  struct Profile {
+    AgentProfile profile;
+    NavMeshSettings settings;  ///< resolved
+    int max_tiles = 0;
+    std::unique_ptr<NavMesh> navmesh;
+    int tiles_holding_data = 0;    // mutex_
+    NavMeshServiceStats counters;  // mutex_: builds, failures, evictions
+  };
 
   /// A request waiting in the front inbox until a worker moves it into the queue.
   struct PendingRequest {
     TileCoord tile;
     float priority;
     Clock::time_point when;
+    ProfileMask profiles;
   };
 
   NavMeshService(const PhysicsSystem& world, const NavMeshServiceConfig& config,
-                 std::unique_ptr<NavMesh> navmesh);
+                 std::vector<Profile> profiles);
+  Status CheckMask(ProfileMask profiles) const;
   void Submit(std::vector<PendingRequest> requests);
   void WakeWorkers();
-  void DrainInbox();                                                    // mutex_ held
-  void Enqueue(TileCoord tile, float priority, Clock::time_point now);  // mutex_ held
-  void SetState(TileCoord tile, TileRecord& record, TileState state);   // mutex_ held
-  void SetFrontState(TileCoord tile, TileState state);                  // front_mutex_ held
-  void ForgetFrontState(TileCoord tile);                                // takes front_mutex_
-  void MirrorCounters();                                                // mutex_ held; takes front_mutex_
-  Status MakeRoom(TileCoord tile);  // mutex_ held: evicts a published tile if the budget is full
-  void ForgetOldRecords();          // mutex_ held: bounds the records of tiles that hold nothing
+  void DrainInbox();                                                      // mutex_ held
+  void Enqueue(ProfileTile tile, float priority, Clock::time_point now);  // mutex_ held
+  void QueueCoord(TileCoord coord, float priority);                       // mutex_ held
+  void SetState(ProfileTile tile, TileRecord& record, TileState state);   // mutex_ held
+  void SetFrontState(ProfileTile tile, TileState state);                  // front_mutex_ held
+  void ForgetFrontState(ProfileTile tile);                                // takes front_mutex_
+  void MirrorCounters();                                                  // mutex_ held; takes front_mutex_
+  Status MakeRoom(ProfileTile tile);   // mutex_ held: evicts a published tile if the profile's budget is full
+  void ForgetOldRecords(int profile);  // mutex_ held: bounds the records of tiles that hold nothing
   void WorkerLoop();
-  void BuildOne(TileCoord tile);
+  void BuildOne(TileCoord coord, const std::vector<int>& profiles);
+  void Publish(ProfileTile tile, Result<BuiltTile>& built, TileBuildRecord record,
+               const std::vector<GatheredBody>& bodies);  // mutex_ held
   void ScannerLoop();
-  bool TileChanged(TileCoord tile, const std::vector<GatheredBody>& bodies) const;
+  void QueueDueRetries(Clock::time_point now);  // mutex_ held
+  bool TileChanged(const std::vector<GatheredBody>& now, const std::vector<GatheredBody>& bodies) const;
   bool Idle() const;  // mutex_ held
   /// How long a stale tile waits before it is queued: the debounce, longer after each failed rebuild.
   Clock::duration RetryDelay(const TileRecord& record) const;
@@ -165,25 +220,29 @@ class NavMeshService {
   const PhysicsSystem& world_;
   const NavMeshServiceConfig config_;
   const TileGrid grid_;
-  std::unique_ptr<NavMesh> navmesh_;
+  /// The gather box is the same for every profile: the shared settings' border is the widest agent's.
+  const NavMeshSettings& gather_settings() const { return profiles_.front().settings; }
+  std::vector<Profile> profiles_;
 
   // Back end: everything below mutex_ is the workers' and the scanner's.
   mutable std::mutex mutex_;
   mutable std::condition_variable state_changed_;
-  std::map<TileCoord, TileRecord> tiles_;
+  std::map<ProfileTile, TileRecord> tiles_;
   std::set<std::pair<float, TileCoord>> queue_;  // (priority, tile): nearest first, ties in tile order
+  std::map<TileCoord, float> queued_;            // the priority each queued tile has in queue_
   std::vector<TileBuildRecord> log_;
-  NavMeshServiceStats counters_;
+  std::size_t gathers_ = 0;
+  std::size_t scans_ = 0;
   std::string last_error_;
-  int tiles_holding_data_ = 0;
   bool stopping_ = false;
 
   // Front: what game threads touch. Requests wait here, and every state change is mirrored here, so the
   // front lock is only ever held for a vector append or a map write.
   mutable std::mutex front_mutex_;
   std::vector<PendingRequest> inbox_;
-  std::map<TileCoord, TileState> front_states_;
-  NavMeshServiceStats front_stats_;  // state counts kept with front_states_, counters mirrored from the back
+  std::map<ProfileTile, TileState> front_states_;
+  // Per profile: state counts kept with front_states_, counters mirrored from the back.
+  std::vector<NavMeshServiceStats> front_stats_;
   std::atomic<std::uint64_t> work_epoch_{0};  // bumped (and waited on) whenever workers may have work
 
   std::vector<std::thread> workers_;

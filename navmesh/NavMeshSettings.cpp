@@ -1,5 +1,6 @@
 #include "navmesh/NavMeshSettings.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <string>
@@ -20,7 +21,7 @@ bool InRange(float value, float low, float high) {
 }  // namespace
 
 int NavMeshSettings::border_cells() const {
-  return static_cast<int>(std::ceil(agent_radius / cell_size)) + 3;
+  return static_cast<int>(std::ceil(std::max(agent_radius, raster_border_radius) / cell_size)) + 3;
 }
 
 Vec3d NavMeshSettings::origin() const {
@@ -52,6 +53,10 @@ Status NavMeshSettings::Validate() const {
     return OutOfRange("detail_sample_distance", detail_sample_distance, "[0, 1000]");
   if (!InRange(detail_sample_max_error, 0.0f, 1000.0f))
     return OutOfRange("detail_sample_max_error", detail_sample_max_error, "[0, 1000]");
+  if (std::isnan(raster_border_radius) || raster_border_radius > 50.0f)
+    return OutOfRange("raster_border_radius", raster_border_radius, "[agent_radius, 50] or negative");
+  if (std::isnan(raster_merge_climb) || raster_merge_climb > agent_max_climb)
+    return OutOfRange("raster_merge_climb", raster_merge_climb, "[0, agent_max_climb] or negative");
   // Far enough out that the origin itself is past what any level could reach from the world origin.
   constexpr int kMaxOriginTile = 1 << 26;
   if (std::abs(origin_tile.x) > kMaxOriginTile || std::abs(origin_tile.z) > kMaxOriginTile)

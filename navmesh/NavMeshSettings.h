@@ -31,6 +31,13 @@ struct NavMeshSettings {
   /// precision there; tile coordinates in the API stay world tiles. BakeLevel moves it to far levels.
   TileCoord origin_tile;
 
+  /// Set by a service whose agent profiles share one rasterization of each tile (negative: this agent's
+  /// own): the agent radius the tile border is sized for (at least agent_radius), and the climb within which
+  /// the rasterizer favours a walkable surface over a steep one where they meet in a cell (at most
+  /// agent_max_climb; the ledge filters still use agent_max_climb).
+  float raster_border_radius = -1.0f;
+  float raster_merge_climb = -1.0f;
+
   float tile_size() const { return cell_size * static_cast<float>(tile_cells); }
   /// World position of origin_tile's lower corner (y = 0).
   Vec3d origin() const;
@@ -41,6 +48,8 @@ struct NavMeshSettings {
   float max_coordinate() const { return cell_size * 4194304.0f; }
   /// Cells of border around a tile so that erosion at its edge sees its neighbours' geometry.
   int border_cells() const;
+  /// The climb the rasterizer merges walkable flags within (m).
+  float merge_climb() const { return raster_merge_climb < 0.0f ? agent_max_climb : raster_merge_climb; }
   /// Every field in range; the message names the first bad one.
   Status Validate() const;
 };

@@ -30,17 +30,23 @@ struct SetCoverage {
 /// bytes).
 std::uint32_t Crc32(std::span<const unsigned char> bytes, std::uint32_t crc = 0);
 
-/// The CRC of the set header's bytes and the coverage: what SetChecksums::header_crc holds.
-std::uint32_t HeaderCrc(std::span<const unsigned char> set_header, const SetCoverage& coverage);
+/// The CRC of the set header's bytes, the coverage and the profile's name: what SetChecksums::header_crc
+/// holds.
+std::uint32_t HeaderCrc(std::span<const unsigned char> set_header, const SetCoverage& coverage,
+                        const std::string& profile = {});
+
+/// The most bytes of a profile name a trailer holds.
+inline constexpr std::size_t kMaxProfileNameBytes = 64;
 
 struct SetChecksums {
   std::uint32_t header_crc = 0;  ///< HeaderCrc
   SetCoverage coverage;
+  std::string profile;                   ///< the agent profile the set was built for (empty: not named)
   std::vector<std::uint32_t> tile_crcs;  ///< over each tile's header and data, as saved
 };
 
-/// The trailer's bytes: magic, version, the tile count, the set header's CRC, the coverage and one CRC per
-/// tile.
+/// The trailer's bytes: magic, version, the tile count, the set header's CRC, the coverage, (version 2, when
+/// the set names its profile) the profile's name, and one CRC per tile.
 std::string EncodeSetChecksums(const SetChecksums& checksums);
 
 /// Reads a trailer of exactly `bytes` for `tile_count` tiles; nullopt with `problem` set when the bytes are

@@ -7,8 +7,11 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <memory>
+#include <span>
 #include <string>
+#include <tuple>
 
 namespace strata::navmesh {
 
@@ -93,30 +96,69 @@ void RemoveSpansInsideSolids(const std::vector<SolidVolume>& solids, rcCompactHe
   }
 }
 
-Result<RecastMeshes> RunRecast(const rcConfig& config, TileCoord tile, const TileGeometry& geometry) {
+/// A tile's triangles rasterized once for every profile of a group. Each span's area is a walkability code:
+/// the number of the group's distinct slope limits its steepest-allowed triangle meets (0: none), so that
+/// Recast's merge (the larger area wins) keeps, for every limit at once, what a build for that limit alone
+/// would keep.
+struct SharedRaster {
+  Heightfield solid;
+  std::vector<float> slope_limits;   ///< the group's distinct agent_max_slope values, ascending
+  std::vector<unsigned char> codes;  ///< every span's code, column by column, bottom up
+};
+
+template <class Visit>
+void ForEachSpan(rcHeightfield& field, Visit visit) {
+  for (int i = 0; i < field.width * field.height; ++i)
+    for (rcSpan* span = field.spans[i]; span != nullptr; span = span->next) visit(*span);
+}
+
+Result<SharedRaster> Rasterize(const rcConfig& config, TileCoord tile, const TileGeometry& geometry,
+                               std::vector<float> slope_limits) {
   rcContext context(false);
   const int vertex_count = static_cast<int>(geometry.vertices.size() / 3);
   const int triangle_count = static_cast<int>(geometry.triangle_count());
-
-  Heightfield solid(rcAllocHeightfield());
-  if (!solid || !rcCreateHeightfield(&context, *solid, config.width, config.height, config.bmin, config.bmax,
-                                     config.cs, config.ch))
+  SharedRaster raster{Heightfield(rcAllocHeightfield()), std::move(slope_limits), {}};
+  if (!raster.solid || !rcCreateHeightfield(&context, *raster.solid, config.width, config.height, config.bmin,
+                                            config.bmax, config.cs, config.ch))
     return BuildError(tile, "heightfield");
-  std::vector<unsigned char> areas(static_cast<std::size_t>(triangle_count), RC_NULL_AREA);
-  rcMarkWalkableTriangles(&context, config.walkableSlopeAngle, geometry.vertices.data(), vertex_count,
-                          geometry.triangles.data(), triangle_count, areas.data());
+  std::vector<unsigned char> codes(static_cast<std::size_t>(triangle_count), 0);
+  std::vector<unsigned char> walkable(codes.size());
+  for (const float limit : raster.slope_limits) {
+    std::fill(walkable.begin(), walkable.end(), RC_NULL_AREA);
+    rcMarkWalkableTriangles(&context, limit, geometry.vertices.data(), vertex_count,
+                            geometry.triangles.data(), triangle_count, walkable.data());
+    for (std::size_t i = 0; i < codes.size(); ++i) codes[i] += walkable[i] != RC_NULL_AREA;
+  }
   if (!rcRasterizeTriangles(&context, geometry.vertices.data(), vertex_count, geometry.triangles.data(),
-                            areas.data(), triangle_count, *solid, config.walkableClimb))
+                            codes.data(), triangle_count, *raster.solid, config.walkableClimb))
     return BuildError(tile, "rasterization");
-  rcFilterLowHangingWalkableObstacles(&context, config.walkableClimb, *solid);
-  rcFilterLedgeSpans(&context, config.walkableHeight, config.walkableClimb, *solid);
-  rcFilterWalkableLowHeightSpans(&context, config.walkableHeight, *solid);
+  ForEachSpan(*raster.solid,
+              [&](const rcSpan& span) { raster.codes.push_back(static_cast<unsigned char>(span.area)); });
+  return raster;
+}
+
+/// Sets every span's area for an agent whose slope limit is `limit`: walkable where the code says a triangle
+/// that flat made the span's top.
+void SetAreasForSlope(SharedRaster& raster, float limit) {
+  const auto found = std::lower_bound(raster.slope_limits.begin(), raster.slope_limits.end(), limit);
+  const auto needed = static_cast<unsigned char>(raster.slope_limits.end() - found);
+  std::size_t next = 0;
+  ForEachSpan(*raster.solid, [&](rcSpan& span) {
+    span.area = raster.codes[next++] >= needed ? RC_WALKABLE_AREA : RC_NULL_AREA;
+  });
+}
+
+Result<RecastMeshes> FinishRecast(const rcConfig& config, TileCoord tile, const TileGeometry& geometry,
+                                  rcHeightfield& solid) {
+  rcContext context(false);
+  rcFilterLowHangingWalkableObstacles(&context, config.walkableClimb, solid);
+  rcFilterLedgeSpans(&context, config.walkableHeight, config.walkableClimb, solid);
+  rcFilterWalkableLowHeightSpans(&context, config.walkableHeight, solid);
 
   CompactHeightfield compact(rcAllocCompactHeightfield());
   if (!compact ||
-      !rcBuildCompactHeightfield(&context, config.walkableHeight, config.walkableClimb, *solid, *compact))
+      !rcBuildCompactHeightfield(&context, config.walkableHeight, config.walkableClimb, solid, *compact))
     return BuildError(tile, "compact heightfield");
-  solid.reset();
   RemoveSpansInsideSolids(geometry.solids, *compact);
   if (!rcErodeWalkableArea(&context, config.walkableRadius, *compact)) return BuildError(tile, "erosion");
   if (!rcBuildDistanceField(&context, *compact)) return BuildError(tile, "distance field");
@@ -221,41 +263,94 @@ AABB TileGatherBox(const NavMeshSettings& settings, TileCoord tile) {
   return TileGrid(settings.tile_size()).Bounds(tile, border);
 }
 
-Result<BuiltTile> BuildTile(const NavMeshSettings& settings, TileCoord tile, const TileGeometry& geometry) {
+namespace {
+
+/// What a rasterization depends on: profiles equal in all of it share one.
+auto RasterKey(const NavMeshSettings& settings) {
+  return std::make_tuple(settings.cell_size, settings.cell_height, settings.tile_cells,
+                         settings.border_cells(), settings.origin_tile.x, settings.origin_tile.z,
+                         static_cast<int>(std::floor(settings.merge_climb() / settings.cell_height)));
+}
+
+/// Builds the profiles `members` (indices into `profiles`, one raster key) from one rasterization.
+void BuildGroup(std::span<const NavMeshSettings> profiles, const std::vector<std::size_t>& members,
+                TileCoord tile, const TileGeometry& geometry, std::vector<Result<BuiltTile>>& out) {
   const auto start = std::chrono::steady_clock::now();
-  BuiltTile built;
-  built.coord = tile;
-  const auto finish = [&]() -> Result<BuiltTile> {
-    built.recast_ms =
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-    return std::move(built);
+  const NavMeshSettings& first = profiles[members.front()];
+  const auto fail_all = [&](const Error& error) {
+    for (const std::size_t member : members) out[member] = error;
   };
-  if (geometry.triangle_count() == 0) return finish();
+  const auto elapsed_ms = [&] {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  };
+  for (const std::size_t member : members) out[member] = BuiltTile{tile, {}, 0, 0.0};
+  if (geometry.triangle_count() == 0) return;
   const std::string name = "tile (" + std::to_string(tile.x) + ", " + std::to_string(tile.z) + ")";
-  if (Status reach = CheckReach(TileGatherBox(settings, tile), settings, name); !reach) return reach.error();
-  if (Status reach = CheckReach(geometry.bounds, settings, "a triangle in " + name); !reach)
-    return reach.error();
+  if (Status reach = CheckReach(TileGatherBox(first, tile), first, name); !reach)
+    return fail_all(reach.error());
+  if (Status reach = CheckReach(geometry.bounds, first, "a triangle in " + name); !reach)
+    return fail_all(reach.error());
 
   // Recast and Detour see the tile relative to the navmesh origin.
-  const TileCoord local_tile{tile.x - settings.origin_tile.x, tile.z - settings.origin_tile.z};
-  const bool at_world_origin = settings.origin_tile == TileCoord{};
-  const TileGeometry moved = at_world_origin ? TileGeometry() : MoveToNavMeshSpace(geometry, settings);
+  const TileCoord local_tile{tile.x - first.origin_tile.x, tile.z - first.origin_tile.z};
+  const bool at_world_origin = first.origin_tile == TileCoord{};
+  const TileGeometry moved = at_world_origin ? TileGeometry() : MoveToNavMeshSpace(geometry, first);
   const TileGeometry& local = at_world_origin ? geometry : moved;
-  NavMeshSettings local_settings = settings;
+  NavMeshSettings local_settings = first;
   local_settings.origin_tile = {};
   AABB box = TileGatherBox(local_settings, local_tile);
-  // Vertically the heightfield spans the geometry, plus room for an agent to stand on its top.
-  box.min.y() = local.bounds.min.y() - settings.cell_height;
-  box.max.y() = local.bounds.max.y() + settings.agent_height;
-  const rcConfig config = MakeConfig(settings, box);
-  Result<RecastMeshes> meshes = RunRecast(config, tile, local);
-  if (!meshes) return meshes.error();
-  if (meshes->poly->npolys == 0) return finish();
-  Result<TileData> data = CreateDetourData(settings, config, local_tile, *meshes);
-  if (!data) return data.error();
-  built.polygons = meshes->poly->npolys;
-  built.data = std::move(*data);
-  return finish();
+  // Vertically the heightfield spans the geometry (with a cell to spare above, whatever the agent).
+  box.min.y() = local.bounds.min.y() - first.cell_height;
+  box.max.y() = local.bounds.max.y() + first.cell_height;
+  std::vector<float> slopes;
+  for (const std::size_t member : members) slopes.push_back(profiles[member].agent_max_slope);
+  std::sort(slopes.begin(), slopes.end());
+  slopes.erase(std::unique(slopes.begin(), slopes.end()), slopes.end());
+  rcConfig raster_config = MakeConfig(first, box);
+  raster_config.walkableClimb = std::get<6>(RasterKey(first));
+  Result<SharedRaster> raster = Rasterize(raster_config, tile, local, std::move(slopes));
+  if (!raster) return fail_all(raster.error());
+  const double raster_ms = elapsed_ms() / static_cast<double>(members.size());  // shared evenly
+  for (const std::size_t member : members) {
+    const auto profile_start = std::chrono::steady_clock::now();
+    const NavMeshSettings& settings = profiles[member];
+    SetAreasForSlope(*raster, settings.agent_max_slope);
+    const rcConfig config = MakeConfig(settings, box);
+    Result<RecastMeshes> meshes = FinishRecast(config, tile, local, *raster->solid);
+    BuiltTile& built = *out[member];
+    built.recast_ms =
+        raster_ms +
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - profile_start).count();
+    if (!meshes) {
+      out[member] = meshes.error();
+      continue;
+    }
+    if (meshes->poly->npolys == 0) continue;
+    Result<TileData> data = CreateDetourData(settings, config, local_tile, *meshes);
+    if (!data) {
+      out[member] = data.error();
+      continue;
+    }
+    built.polygons = meshes->poly->npolys;
+    built.data = std::move(*data);
+  }
+}
+
+}  // namespace
+
+std::vector<Result<BuiltTile>> BuildTileForProfiles(std::span<const NavMeshSettings> profiles, TileCoord tile,
+                                                    const TileGeometry& geometry) {
+  std::vector<Result<BuiltTile>> out;
+  out.reserve(profiles.size());
+  for (std::size_t i = 0; i < profiles.size(); ++i) out.emplace_back(BuiltTile{tile, {}, 0, 0.0});
+  std::map<decltype(RasterKey(profiles[0])), std::vector<std::size_t>> groups;
+  for (std::size_t i = 0; i < profiles.size(); ++i) groups[RasterKey(profiles[i])].push_back(i);
+  for (const auto& [key, members] : groups) BuildGroup(profiles, members, tile, geometry, out);
+  return out;
+}
+
+Result<BuiltTile> BuildTile(const NavMeshSettings& settings, TileCoord tile, const TileGeometry& geometry) {
+  return std::move(BuildTileForProfiles(std::span(&settings, 1), tile, geometry).front());
 }
 
 }  // namespace strata::navmesh

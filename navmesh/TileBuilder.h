@@ -4,7 +4,9 @@
 #pragma once
 
 #include <cstddef>
+#include <span>
 #include <string>
+#include <vector>
 
 #include "navmesh/NavMeshSettings.h"
 #include "navmesh/TileData.h"
@@ -32,5 +34,11 @@ AABB TileGatherBox(const NavMeshSettings& settings, TileCoord tile);
 /// navmesh origin. Fails only when Recast or Detour
 /// cannot allocate or the tile would exceed Detour's limits; a tile with nothing walkable is not an error.
 Result<BuiltTile> BuildTile(const NavMeshSettings& settings, TileCoord tile, const TileGeometry& geometry);
+
+/// Builds tile `tile` from one gather for several agent profiles, one result each, in order. Profiles that
+/// agree on the cell sizes, tile, border, origin and merge climb share one rasterization (each then filters,
+/// erodes and builds its own polygons); every profile's tile is the bytes BuildTile gives it alone.
+std::vector<Result<BuiltTile>> BuildTileForProfiles(std::span<const NavMeshSettings> profiles, TileCoord tile,
+                                                    const TileGeometry& geometry);
 
 }  // namespace strata::navmesh

@@ -243,6 +243,40 @@ TEST(Cli, NavmeshBakeWritesSetObjAndReportThenPathQueriesIt) {
   EXPECT_EQ(std::filesystem::file_size(errors), 0u);  // no warning for a path that arrives
 }
 
+TEST(Cli, NavmeshBakeAndPathTakeAProfile) {
+  const auto person = TempFile("arena_person.bin"), machine = TempFile("arena_machine.bin");
+  const auto report = TempFile("arena_person.json"), errors = TempFile("profile_errors.txt");
+  const std::string level = (kLevels / "arena.glb").string();
+  ASSERT_EQ(RunCli("navmesh bake " + level + " --profile person --out " + person.string() + " --json " +
+                   report.string()),
+            0);
+  ASSERT_EQ(RunCli("navmesh bake " + level + " --profile machine --out " + machine.string()), 0);
+  const nlohmann::json json = ReadJson(report);
+  EXPECT_EQ(json["profile"].get<std::string>(), "person");
+  EXPECT_FLOAT_EQ(json["settings"]["agent_radius"].get<float>(), 0.4f);
+  std::string output;
+  ASSERT_EQ(
+      RunCliCapture("navmesh path " + person.string() + " --profile person --from 2,0,2 --to 23,0,23 --json",
+                    output),
+      0);
+  EXPECT_EQ(nlohmann::json::parse(output)["profile"].get<std::string>(), "person");
+  EXPECT_TRUE(nlohmann::json::parse(output)["reached_end"].get<bool>());
+  // The machine's set, read for a person, is refused by name; so is a profile given with an agent option.
+  std::string message;
+  EXPECT_EQ(RunCliErrors("navmesh path " + machine.string() + " --profile person --from 2,0,2 --to 23,0,23",
+                         message),
+            2);
+  EXPECT_NE(message.find("baked for profile 'machine', not 'person'"), std::string::npos) << message;
+  EXPECT_EQ(RunCliErrors("navmesh bake " + level + " --profile person --agent-radius 0.3 --out " +
+                             TempFile("never.bin").string(),
+                         message),
+            2);
+  EXPECT_NE(message.find("give --profile or --agent-radius, not both"), std::string::npos) << message;
+  EXPECT_EQ(RunCli("navmesh bake " + level + " --profile thunderjaw --out " + TempFile("never.bin").string()),
+            2);
+  EXPECT_FALSE(std::filesystem::exists(TempFile("never.bin")));
+}
+
 TEST(Cli, NavmeshBadInputExitsWithTwo) {
   const auto nav = TempFile("bad.bin");
   EXPECT_EQ(RunCli("navmesh bake " + TempFile("missing.obj").string() + " --out " + nav.string()), 2);

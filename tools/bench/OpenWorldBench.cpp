@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <optional>
 #include <random>
 #include <thread>
 #include <vector>
@@ -17,6 +18,7 @@
 #include "physics/shapes/BoxShape.h"
 #include "physics/world/PhysicsSystem.h"
 #include "tools/bench/JsonReport.h"
+#include "tools/bench/ProfileCostBench.h"
 #include "tools/bench/Progress.h"
 
 namespace strata::bench {
@@ -208,6 +210,24 @@ void PrintWalk(const OpenWorldOptions& options, const WalkFigures& figures,
   std::printf("\n");
 }
 
+// Person, machine and critter over a block at the centre, from one gather and from a service each.
+Result<std::optional<ProfileCostFigures>> MeasureProfiles(const OpenWorldOptions& options,
+                                                          const PhysicsSystem& world) {
+  if (options.profile_cost_tiles <= 0) return std::optional<ProfileCostFigures>();
+  const std::vector<navmesh::AgentProfile> profiles = {
+      navmesh::AgentProfile::Person(), navmesh::AgentProfile::Machine(), navmesh::AgentProfile::Critter()};
+  const Vec3 center(0.5f * options.world_size, 0.0f, 0.5f * options.world_size);
+  Result<ProfileCostFigures> figures = MeasureProfileCost(
+      world, options.settings, profiles, center, options.profile_cost_tiles, options.profile_cost_runs);
+  if (!figures) return figures.error();
+  std::printf(
+      "profiles: person, machine and critter on %d tiles: %.1f ms from one gather, %.1f ms with a service "
+      "each (%.2fx; medians of %d alternated runs, one worker thread); same tiles both ways: %s\n",
+      figures->tiles, figures->shared_ms, figures->separate_ms, figures->ratio(), options.profile_cost_runs,
+      figures->same_tiles ? "yes" : "NO");
+  return std::optional<ProfileCostFigures>(*figures);
+}
+
 nlohmann::json WalkReport(const OpenWorldOptions& options, const PhysicsSystem& world,
                           const WalkFigures& figures, const navmesh::NavMeshServiceStats& stats) {
   nlohmann::json memory = nlohmann::json::array();
@@ -260,6 +280,8 @@ int RunOpenWorldBench(const OpenWorldOptions& options) {
   const Clock::time_point populate_start = Clock::now();
   if (Status populated = Populate(world, options, random); !populated) return Fail(populated.message());
   const double populate_ms = Milliseconds(Clock::now() - populate_start);
+  Result<std::optional<ProfileCostFigures>> profile_cost = MeasureProfiles(options, world);
+  if (!profile_cost) return Fail(profile_cost.error().message);
 
   navmesh::NavMeshServiceConfig service_config;
   service_config.settings = options.settings;
@@ -284,10 +306,12 @@ int RunOpenWorldBench(const OpenWorldOptions& options) {
   const navmesh::NavMeshServiceStats stats = (*service)->stats();
   figures.most_held = std::max(figures.most_held, stats.tiles_holding_data);
   PrintWalk(options, figures, stats);
-  if (!options.json.empty())
-    if (const Status written = WriteJsonReport(options.json, WalkReport(options, world, figures, stats));
-        !written)
+  if (!options.json.empty()) {
+    nlohmann::json report = WalkReport(options, world, figures, stats);
+    if (*profile_cost) report["profile_cost"] = (*profile_cost)->ToJson();
+    if (const Status written = WriteJsonReport(options.json, report); !written)
       return Fail(written.message());
+  }
   std::fflush(stdout);
   progress.Finish(std::to_string(figures.steps) + " steps, " + std::to_string(stats.builds) +
                   " tiles built, " + std::to_string(stats.evictions) + " evicted, " +

@@ -2,7 +2,8 @@
 // Squads of agents walk (bouncing off the world's edges) and ask for the tiles around them while the world
 // steps; the service builds them in the background and evicts the ones left behind. Prints steps, builds,
 // evictions, failures, tiles held, how often an agent stood on a ready tile, and memory over the walk
-// (and, with `json`, writes them to a file).
+// and what several agent profiles built from one gather cost against one service each (and, with `json`,
+// writes them to a file).
 // Call from the main thread.
 #pragma once
 
@@ -24,6 +25,10 @@ struct OpenWorldOptions {
   int navmesh_threads = 1;
   unsigned seed = 7;
   navmesh::NavMeshSettings settings;
+  /// Before the walk: build this many tiles a side at the world's centre for person, machine and critter
+  /// from one gather and with one service each, `profile_cost_runs` times alternated (0: skip).
+  int profile_cost_tiles = 8;
+  int profile_cost_runs = 3;
   std::string json;  ///< also write the figures here (empty: don't)
 };
 

@@ -64,6 +64,17 @@ std::function<int()> AddNavMeshBenchCommand(CLI::App& app) {
   command->add_option("--tile-budget", open_world->tile_budget, "open world: the service's max_tiles")
       ->check(CLI::Range(1, navmesh::NavMeshService::kMaxTiles))
       ->capture_default_str();
+  command
+      ->add_option(
+          "--profile-cost-tiles", open_world->profile_cost_tiles,
+          "open world: tiles a side of the block built for three profiles from one gather and with a "
+          "service each (0: skip)")
+      ->check(CLI::Range(0, 64))
+      ->capture_default_str();
+  command
+      ->add_option("--profile-cost-runs", open_world->profile_cost_runs, "open world: alternated runs of it")
+      ->check(CLI::Range(1, 20))
+      ->capture_default_str();
   return [options, open_world, open_world_on] {
     if (!*open_world_on) return bench::RunNavMeshBench(*options);
     open_world->physics_threads = options->physics_threads;

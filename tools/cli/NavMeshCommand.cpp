@@ -38,6 +38,8 @@ struct BakeOptions {
   std::string report;
   int threads = 2;
   std::string shard;  // "K/N": build share K of N (a farm's job array); empty: every tile
+  std::string profile;
+  const CLI::App* command = nullptr;  // to tell which agent options were given
 };
 
 struct MergeOptions {
@@ -48,6 +50,7 @@ struct MergeOptions {
 
 struct PathOptions {
   std::string navmesh;
+  std::string profile;
   std::string from;
   std::string to;
   bool json = false;
@@ -71,7 +74,9 @@ nlohmann::json Report(const BakeOptions& options, const LoadedLevel& level,
     return nlohmann::json{{"median", median}, {"max", max}};
   };
   const navmesh::NavMesh& navmesh = service.navmesh();
+  const navmesh::NavMeshSettings& settings = service.profile_settings();
   return {{"level", options.level},
+          {"profile", navmesh.profile().empty() ? "default" : navmesh.profile()},
           {"level_triangles", level.triangles},
           {"level_chunks", level.chunks},
           {"tiles_built", service.build_log().size()},
@@ -83,12 +88,12 @@ nlohmann::json Report(const BakeOptions& options, const LoadedLevel& level,
           {"wall_ms", wall_ms},
           {"threads", options.threads},
           {"settings",
-           {{"cell_size", options.settings.cell_size},
-            {"cell_height", options.settings.cell_height},
-            {"agent_height", options.settings.agent_height},
-            {"agent_radius", options.settings.agent_radius},
-            {"agent_max_climb", options.settings.agent_max_climb},
-            {"agent_max_slope", options.settings.agent_max_slope}}}};
+           {{"cell_size", settings.cell_size},
+            {"cell_height", settings.cell_height},
+            {"agent_height", settings.agent_height},
+            {"agent_radius", settings.agent_radius},
+            {"agent_max_climb", settings.agent_max_climb},
+            {"agent_max_slope", settings.agent_max_slope}}}};
 }
 
 /// "K/N" with 0 <= K < N.
@@ -116,6 +121,9 @@ int RunBake(const BakeOptions& options) {
       !distinct)
     return Fail("bake", distinct.message());
   bake_options.service.settings = options.settings;
+  Result<std::optional<navmesh::AgentProfile>> profile = ChosenProfile(*options.command, options.profile);
+  if (!profile) return Fail("bake", profile.error().message);
+  if (*profile) bake_options.service.profiles = {**profile};
   bake_options.service.worker_threads = options.threads;
   if (Status status = bake_options.service.Validate(); !status.ok()) return Fail("bake", status.message());
   PhysicsSystemConfig world_config;
@@ -146,9 +154,10 @@ int RunBake(const BakeOptions& options) {
   if (!options.report.empty())
     if (Status written = WriteOutputFile(options.report, report.dump(2) + "\n"); !written)
       return Fail("bake", written.message());
-  std::printf("%s: %zu triangles in %zu chunks -> %d tiles, %d polygons, %.1f m^2 walkable, %d islands\n",
-              options.level.c_str(), level->triangles, level->chunks, navmesh.tile_count(),
-              navmesh.polygon_count(), navmesh.WalkableArea(), report["islands"].get<int>());
+  std::printf(
+      "%s (%s): %zu triangles in %zu chunks -> %d tiles, %d polygons, %.1f m^2 walkable, %d islands\n",
+      options.level.c_str(), report["profile"].get<std::string>().c_str(), level->triangles, level->chunks,
+      navmesh.tile_count(), navmesh.polygon_count(), navmesh.WalkableArea(), report["islands"].get<int>());
   std::printf("per tile: gather %.2f ms median (max %.2f), recast %.2f ms median (max %.2f); bake %.0f ms\n",
               report["build_ms"]["gather"]["median"].get<double>(),
               report["build_ms"]["gather"]["max"].get<double>(),
@@ -187,6 +196,12 @@ int RunPath(const PathOptions& options) {
   if (!to) return Fail("path", "--to must be x,y,z with finite numbers, got '" + options.to + "'");
   Result<std::unique_ptr<navmesh::NavMesh>> navmesh = navmesh::NavMesh::Load(options.navmesh);
   if (!navmesh) return Fail("path", navmesh.error().message);
+  const std::string& baked_for = (*navmesh)->profile();
+  if (!options.profile.empty() && baked_for != options.profile)
+    return Fail("path",
+                options.navmesh + " was baked for " +
+                    (baked_for.empty() ? std::string("no named profile") : "profile '" + baked_for + "'") +
+                    ", not '" + options.profile + "' (bake one with --profile " + options.profile + ")");
   auto query = navmesh::NavMeshQuery::Create(**navmesh);
   if (!query) return Fail("path", query.error().message);
   Result<navmesh::PathResult> path = (*query)->FindPath(*from, *to);
@@ -201,7 +216,8 @@ int RunPath(const PathOptions& options) {
   if (options.json) {
     nlohmann::json points = nlohmann::json::array();
     for (const Vec3& p : path->points) points.push_back({p.x(), p.y(), p.z()});
-    std::cout << nlohmann::json{{"found", path->found},
+    std::cout << nlohmann::json{{"profile", baked_for.empty() ? "default" : baked_for},
+                                {"found", path->found},
                                 {"reached_end", path->reached_end},
                                 {"length", path->length},
                                 {"polygons", path->polys.size()},
@@ -237,6 +253,8 @@ std::function<int()> AddNavMeshCommand(CLI::App& app) {
                            "K/N: build only share K of N of the tiles (coordinate order, every N-th); "
                            "`navmesh merge` joins the shards' files into what one bake writes");
   AddNavMeshSettingsOptions(*bake_command, bake->settings);
+  AddProfileOption(*bake_command, bake->profile, "the kind of walker to bake for");
+  bake->command = bake_command;
   AddLevelOptions(*bake_command, bake->level_options);
 
   auto merge = std::make_shared<MergeOptions>();
@@ -253,6 +271,8 @@ std::function<int()> AddNavMeshCommand(CLI::App& app) {
   path_command->add_option("--from", path->from, "start x,y,z")->required();
   path_command->add_option("--to", path->to, "target x,y,z")->required();
   path_command->add_flag("--json", path->json, "print JSON");
+  AddProfileOption(*path_command, path->profile,
+                   "the kind of walker the path is for (the file must be baked for it)");
 
   return [bake, path, merge, bake_command, path_command, merge_command] {
     if (bake_command->parsed()) return RunBake(*bake);

@@ -7,6 +7,23 @@
 
 namespace strata::cli {
 
+void AddProfileOption(CLI::App& command, std::string& profile, const std::string& what) {
+  command
+      .add_option("--profile", profile, what + ": person, machine or critter (instead of the agent options)")
+      ->check(CLI::IsMember({"person", "machine", "critter"}));
+}
+
+Result<std::optional<navmesh::AgentProfile>> ChosenProfile(const CLI::App& command, const std::string& name) {
+  if (name.empty()) return std::optional<navmesh::AgentProfile>();
+  for (const char* agent_option : {"--agent-height", "--agent-radius", "--max-climb", "--max-slope"})
+    if (command.count(agent_option) > 0)
+      return MakeError(ErrorCode::kInvalidArgument, std::string("give --profile or ") + agent_option +
+                                                        ", not both (a profile is an agent)");
+  Result<navmesh::AgentProfile> profile = navmesh::AgentProfile::Named(name);
+  if (!profile) return profile.error();
+  return std::optional<navmesh::AgentProfile>(*profile);
+}
+
 void AddNavMeshSettingsOptions(CLI::App& command, navmesh::NavMeshSettings& settings) {
   command.add_option("--cell-size", settings.cell_size, "horizontal voxel size (m)")->capture_default_str();
   command.add_option("--cell-height", settings.cell_height, "vertical voxel size (m)")->capture_default_str();

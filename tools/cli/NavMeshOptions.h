@@ -8,12 +8,19 @@
 #include <vector>
 
 #include "assets/level/LevelLoader.h"
+#include "navmesh/AgentProfile.h"
 #include "navmesh/NavMeshSettings.h"
 
 namespace strata::cli {
 
 /// Registers --cell-size, --agent-radius, ... on `command`, writing into `settings`.
 void AddNavMeshSettingsOptions(CLI::App& command, navmesh::NavMeshSettings& settings);
+/// Registers --profile on `command` (writing the name into `profile`).
+void AddProfileOption(CLI::App& command, std::string& profile, const std::string& what);
+/// The agent profile called `name` with `settings`' agent fields left out, or the agent fields of `settings`
+/// when `name` is empty. Fails for an unknown name, or a name given with --agent-height, --agent-radius,
+/// --max-climb or --max-slope on `command` (one agent, said once).
+Result<std::optional<navmesh::AgentProfile>> ChosenProfile(const CLI::App& command, const std::string& name);
 /// Registers --scale, --z-up and --world-tile on `command`.
 void AddLevelOptions(CLI::App& command, LevelLoadOptions& options);
 /// Parses "x,y,z"; nullopt for anything else.
