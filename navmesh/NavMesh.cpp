@@ -121,7 +121,12 @@ std::string HeaderProblem(const dtMeshHeader& header, std::size_t size, const dt
   for (const int count : counts)
     if (count < 0 || count > (1 << 24)) return "a count is out of range";
   if (ExpectedTileSize(header) != static_cast<long>(size)) return "its size does not match its counts";
-  if (header.detailMeshCount != header.polyCount) return "detail meshes do not match polygons";
+  // Ground polygons first, then one two-point polygon per off-mesh link, which has no detail mesh.
+  if (header.offMeshConCount > header.polyCount ||
+      header.offMeshBase != header.polyCount - header.offMeshConCount ||
+      2 * header.offMeshConCount > header.vertCount)
+    return "its off-mesh link counts do not match its polygons";
+  if (header.detailMeshCount != header.offMeshBase) return "detail meshes do not match polygons";
   if (!Finite3(header.bmin) || !Finite3(header.bmax) || !Inside(header.bmin, header.bmin, header.bmax, 0.0f))
     return "its bounds are not finite or inside out";
   // The bounds' centre in the header's grid cell (the bounds carry a border of a few cells on each side).
@@ -149,10 +154,11 @@ std::string PolygonProblem(std::size_t p, const dtPoly& poly, const dtPolyDetail
   if (poly.getType() != DT_POLYTYPE_GROUND) return which + " is not a ground polygon";
   for (int v = 0; v < poly.vertCount; ++v) {
     if (poly.verts[v] >= header.vertCount) return which + " has a vertex index out of range";
-    // 0: a border; 1..polyCount: a polygon of this tile; DT_EXT_LINK | side: a link out of the tile
-    // through side 0, 2, 4 or 6 (another side makes Detour link the tile to itself in ways it cannot read).
+    // 0: a border; 1..offMeshBase: a ground polygon of this tile; DT_EXT_LINK | side: a link out of the
+    // tile through side 0, 2, 4 or 6 (another side makes Detour link the tile to itself in ways it cannot
+    // read).
     const unsigned short neighbour = poly.neis[v];
-    const bool inner = neighbour <= header.polyCount;
+    const bool inner = neighbour <= header.offMeshBase;
     const unsigned side = neighbour & 0xffu;
     const bool outer = neighbour == (DT_EXT_LINK | side) && side <= 6 && side % 2 == 0;
     if (!inner && !outer) return which + " has a neighbour that is neither in the tile nor a side of it";
@@ -209,6 +215,30 @@ std::string NeighbourProblem(const std::vector<dtPoly>& polys) {
   return {};
 }
 
+/// What is wrong with a tile's off-mesh links (drop links), or nothing: each a two-point polygon after the
+/// ground ones, naming its polygon, with a finite radius no wider than a tile, a side Detour knows, and its
+/// start in the tile (where it links to the ground).
+std::string OffMeshLinkProblem(const std::vector<dtPoly>& polys,
+                               const std::vector<dtOffMeshConnection>& links, const dtMeshHeader& header,
+                               const dtNavMeshParams& params) {
+  const float margin = 0.01f * params.tileWidth;
+  for (std::size_t i = 0; i < links.size(); ++i) {
+    const std::string which = "off-mesh link " + std::to_string(i);
+    const dtPoly& poly = polys[static_cast<std::size_t>(header.offMeshBase) + i];
+    if (poly.getType() != DT_POLYTYPE_OFFMESH_CONNECTION || poly.vertCount != 2 ||
+        poly.verts[0] >= header.vertCount || poly.verts[1] >= header.vertCount)
+      return which + " has a bad polygon";
+    const dtOffMeshConnection& link = links[i];
+    if (link.poly != header.offMeshBase + i) return which + " names another polygon";
+    if (!std::isfinite(link.rad) || link.rad <= 0.0f || link.rad > params.tileWidth)
+      return which + " has a bad radius";
+    if (link.side != 0xff && link.side > 7) return which + " has a bad side";
+    if (!Finite3(link.pos) || !Finite3(link.pos + 3) || !Inside(link.pos, header.bmin, header.bmax, margin))
+      return which + " does not start in the tile";
+  }
+  return {};
+}
+
 /// What is wrong with a tile, or nothing: counts, indices and sizes must agree (so Detour never reads
 /// outside the tile), bounds and vertices must be finite with every vertex inside the bounds, and the bounds
 /// must lie in the grid cell the header names.
@@ -228,23 +258,29 @@ std::string TileProblem(std::span<const unsigned char> bytes, const dtNavMeshPar
   const unsigned char* detail_tris = cursor;
   cursor += Align4(4 * header.detailTriCount);
   const std::vector<dtBVNode> nodes = TakeArray<dtBVNode>(cursor, header.bvNodeCount);
+  const std::vector<dtOffMeshConnection> links =
+      TakeArray<dtOffMeshConnection>(cursor, header.offMeshConCount);
 
   // Vertices may sit a little outside the bounds (Recast rounds them to cells); a cell is far less than this.
+  // A link's far end may lie in the next tile.
   const float margin = 0.01f * params.tileWidth;
+  const std::size_t ground_verts = verts.size() / 3 - 2 * links.size();
   for (const std::vector<float>* list : {&verts, &detail_verts})
-    for (std::size_t v = 0; v < list->size(); v += 3)
-      if (!Inside(&(*list)[v], header.bmin, header.bmax, margin))
+    for (std::size_t v = 0; v < list->size(); v += 3) {
+      const bool link_end = list == &verts && v / 3 >= ground_verts;
+      if (!Inside(&(*list)[v], header.bmin, header.bmax, link_end ? params.tileWidth : margin))
         return std::string(list == &verts ? "vertex " : "detail vertex ") + std::to_string(v / 3) +
                " is not finite or lies outside the tile";
-  for (std::size_t p = 0; p < polys.size(); ++p)
-    if (std::string problem = PolygonProblem(p, polys[p], details[p], detail_tris, header); !problem.empty())
+    }
+  const std::vector<dtPoly> ground(polys.begin(), polys.begin() + header.offMeshBase);
+  for (std::size_t p = 0; p < ground.size(); ++p)
+    if (std::string problem = PolygonProblem(p, ground[p], details[p], detail_tris, header); !problem.empty())
       return problem;
-  if (std::string problem = NeighbourProblem(polys); !problem.empty()) return problem;
+  if (std::string problem = NeighbourProblem(ground); !problem.empty()) return problem;
   for (const dtBVNode& node : nodes)
-    if (node.i >= header.polyCount || node.i < -header.bvNodeCount)
+    if (node.i >= header.offMeshBase || node.i < -header.bvNodeCount)
       return "a bounding-volume node is out of range";
-  if (header.offMeshConCount != 0) return "it has off-mesh links (not a Strata navmesh)";
-  return {};
+  return OffMeshLinkProblem(polys, links, header, params);
 }
 
 double PolygonArea(const dtMeshTile& tile, const dtPoly& poly) {
@@ -352,7 +388,15 @@ std::vector<TileCoord> NavMesh::Tiles() const {
 int NavMesh::polygon_count() const {
   return Read([](const dtNavMesh& mesh) {
     int count = 0;
-    ForEachTile(mesh, [&](const dtMeshTile& tile) { count += tile.header->polyCount; });
+    ForEachTile(mesh, [&](const dtMeshTile& tile) { count += tile.header->offMeshBase; });
+    return count;
+  });
+}
+
+int NavMesh::link_count() const {
+  return Read([](const dtNavMesh& mesh) {
+    int count = 0;
+    ForEachTile(mesh, [&](const dtMeshTile& tile) { count += tile.header->offMeshConCount; });
     return count;
   });
 }

@@ -60,8 +60,10 @@ class NavMesh {
   Vec3 ToWorld(const Vec3& local) const { return (local.cast<double>() + origin_).cast<float>(); }
   int tile_count() const;
   std::vector<TileCoord> Tiles() const;
-  /// Polygons over all tiles.
+  /// Ground polygons over all tiles.
   int polygon_count() const;
+  /// Drop links (one-way off-mesh connections) over all tiles.
+  int link_count() const;
   /// Sum of the walkable polygons' areas projected on the x-z plane (m^2).
   double WalkableArea() const;
 

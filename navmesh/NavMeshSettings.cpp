@@ -40,6 +40,7 @@ Status NavMeshSettings::Validate() const {
     return OutOfRange("agent_max_climb", agent_max_climb, "[0, 100]");
   if (!InRange(agent_max_slope, 0.0f, 89.9f))
     return OutOfRange("agent_max_slope", agent_max_slope, "[0, 89.9]");
+  if (!InRange(agent_max_drop, 0.0f, 100.0f)) return OutOfRange("agent_max_drop", agent_max_drop, "[0, 100]");
   if (region_min_size < 0 || region_min_size > 1000)
     return OutOfRange("region_min_size", region_min_size, "[0, 1000]");
   if (region_merge_size < 0 || region_merge_size > 1000)

@@ -11,13 +11,16 @@ namespace strata::navmesh {
 
 /// Build parameters in metres and degrees. A tile is `tile_cells` x `tile_cells` cells of `cell_size`.
 struct NavMeshSettings {
-  float cell_size = 0.2f;                ///< horizontal voxel size (m)
-  float cell_height = 0.2f;              ///< vertical voxel size (m)
-  int tile_cells = 64;                   ///< cells along a tile side (12.8 m at the default cell size)
-  float agent_height = 2.0f;             ///< clearance an agent needs above the floor (m)
-  float agent_radius = 0.6f;             ///< walkable area keeps this far from walls (m)
-  float agent_max_climb = 0.9f;          ///< highest step an agent walks up (m)
-  float agent_max_slope = 45.0f;         ///< steepest walkable slope (degrees)
+  float cell_size = 0.2f;         ///< horizontal voxel size (m)
+  float cell_height = 0.2f;       ///< vertical voxel size (m)
+  int tile_cells = 64;            ///< cells along a tile side (12.8 m at the default cell size)
+  float agent_height = 2.0f;      ///< clearance an agent needs above the floor (m)
+  float agent_radius = 0.6f;      ///< walkable area keeps this far from walls (m)
+  float agent_max_climb = 0.9f;   ///< highest step an agent walks up (m)
+  float agent_max_slope = 45.0f;  ///< steepest walkable slope (degrees)
+  /// Deepest ledge an agent drops down (m): one-way links from walkable ledges to walkable ground up to this
+  /// far below (0: none).
+  float agent_max_drop = 0.0f;
   int region_min_size = 8;               ///< islands smaller than this many cells squared are dropped
   int region_merge_size = 20;            ///< regions smaller than this many cells squared are merged
   float edge_max_length = 12.0f;         ///< longest contour edge (m); 0 = unlimited

@@ -3,6 +3,8 @@
 #include <DetourNavMeshBuilder.h>
 #include <Recast.h>
 
+#include "navmesh/DropLinks.h"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -17,8 +19,11 @@ namespace strata::navmesh {
 
 namespace {
 
-/// Polygon flag for ground an agent walks on (the only one we set; filters may test it).
+/// Polygon flags: ground an agent walks on, and a ledge it drops down (filters may test them).
 constexpr unsigned short kWalkFlag = 1;
+constexpr unsigned short kDropFlag = 2;
+/// The area of drop links (ground is RC_WALKABLE_AREA), so a query filter may cost them apart.
+constexpr unsigned char kDropArea = 1;
 
 template <class T, void (*Free)(T*)>
 struct RecastDeleter {
@@ -63,10 +68,11 @@ rcConfig MakeConfig(const NavMeshSettings& settings, const AABB& box) {
   return config;
 }
 
-/// Recast's output for one tile.
+/// Recast's output for one tile, and the walkable cells it came from (where drop links land).
 struct RecastMeshes {
   PolyMesh poly;
   PolyMeshDetail detail;
+  CompactHeightfield compact;
 };
 
 /// Recast rasterizes surfaces, so the floor under a closed crate looks like a room with a ceiling. Spans
@@ -169,17 +175,18 @@ Result<RecastMeshes> FinishRecast(const rcConfig& config, TileCoord tile, const 
   if (!contours ||
       !rcBuildContours(&context, *compact, config.maxSimplificationError, config.maxEdgeLen, *contours))
     return BuildError(tile, "contours");
-  RecastMeshes meshes{PolyMesh(rcAllocPolyMesh()), PolyMeshDetail(rcAllocPolyMeshDetail())};
+  RecastMeshes meshes{PolyMesh(rcAllocPolyMesh()), PolyMeshDetail(rcAllocPolyMeshDetail()), nullptr};
   if (!meshes.poly || !rcBuildPolyMesh(&context, *contours, config.maxVertsPerPoly, *meshes.poly))
     return BuildError(tile, "polygon mesh");
   if (!meshes.detail || !rcBuildPolyMeshDetail(&context, *meshes.poly, *compact, config.detailSampleDist,
                                                config.detailSampleMaxError, *meshes.detail))
     return BuildError(tile, "detail mesh");
+  meshes.compact = std::move(compact);
   return meshes;
 }
 
 Result<TileData> CreateDetourData(const NavMeshSettings& settings, const rcConfig& config, TileCoord tile,
-                                  RecastMeshes& meshes) {
+                                  RecastMeshes& meshes, const std::vector<DropLink>& drops) {
   rcPolyMesh& poly = *meshes.poly;
   if (poly.nverts >= 0xffff) return BuildError(tile, "Detour data (too many vertices)");
   for (int i = 0; i < poly.npolys; ++i) poly.flags[i] = poly.areas[i] == RC_WALKABLE_AREA ? kWalkFlag : 0;
@@ -208,6 +215,27 @@ Result<TileData> CreateDetourData(const NavMeshSettings& settings, const rcConfi
   params.cs = config.cs;
   params.ch = config.ch;
   params.buildBvTree = true;
+  // Drop links: one-way off-mesh connections, each snapping to the polygons within its radius at both ends.
+  std::vector<float> link_points, link_radii;
+  std::vector<unsigned short> link_flags;
+  std::vector<unsigned char> link_areas, link_directions;
+  std::vector<unsigned int> link_ids;
+  for (std::size_t i = 0; i < drops.size(); ++i) {
+    for (const Vec3* point : {&drops[i].top, &drops[i].bottom})
+      link_points.insert(link_points.end(), point->data(), point->data() + 3);
+    link_radii.push_back(std::max(settings.agent_radius, 3.0f * settings.cell_size));
+    link_flags.push_back(kDropFlag);
+    link_areas.push_back(kDropArea);
+    link_directions.push_back(0);
+    link_ids.push_back(static_cast<unsigned int>(i));
+  }
+  params.offMeshConVerts = link_points.data();
+  params.offMeshConRad = link_radii.data();
+  params.offMeshConFlags = link_flags.data();
+  params.offMeshConAreas = link_areas.data();
+  params.offMeshConDir = link_directions.data();
+  params.offMeshConUserID = link_ids.data();
+  params.offMeshConCount = static_cast<int>(drops.size());
   unsigned char* bytes = nullptr;
   int size = 0;
   if (!dtCreateNavMeshData(&params, &bytes, &size)) return BuildError(tile, "Detour data");
@@ -326,7 +354,9 @@ void BuildGroup(std::span<const NavMeshSettings> profiles, const std::vector<std
       continue;
     }
     if (meshes->poly->npolys == 0) continue;
-    Result<TileData> data = CreateDetourData(settings, config, local_tile, *meshes);
+    const std::vector<DropLink> drops =
+        FindDropLinks(settings, *meshes->poly, *raster->solid, *meshes->compact);
+    Result<TileData> data = CreateDetourData(settings, config, local_tile, *meshes, drops);
     if (!data) {
       out[member] = data.error();
       continue;

@@ -93,7 +93,9 @@ nlohmann::json Report(const BakeOptions& options, const LoadedLevel& level,
             {"agent_height", settings.agent_height},
             {"agent_radius", settings.agent_radius},
             {"agent_max_climb", settings.agent_max_climb},
-            {"agent_max_slope", settings.agent_max_slope}}}};
+            {"agent_max_slope", settings.agent_max_slope},
+            {"agent_max_drop", settings.agent_max_drop}}},
+          {"drop_links", navmesh.link_count()}};
 }
 
 /// "K/N" with 0 <= K < N.

@@ -15,7 +15,8 @@ void AddProfileOption(CLI::App& command, std::string& profile, const std::string
 
 Result<std::optional<navmesh::AgentProfile>> ChosenProfile(const CLI::App& command, const std::string& name) {
   if (name.empty()) return std::optional<navmesh::AgentProfile>();
-  for (const char* agent_option : {"--agent-height", "--agent-radius", "--max-climb", "--max-slope"})
+  for (const char* agent_option :
+       {"--agent-height", "--agent-radius", "--max-climb", "--max-slope", "--max-drop"})
     if (command.count(agent_option) > 0)
       return MakeError(ErrorCode::kInvalidArgument, std::string("give --profile or ") + agent_option +
                                                         ", not both (a profile is an agent)");
@@ -33,6 +34,9 @@ void AddNavMeshSettingsOptions(CLI::App& command, navmesh::NavMeshSettings& sett
   command.add_option("--max-climb", settings.agent_max_climb, "highest walkable step (m)")
       ->capture_default_str();
   command.add_option("--max-slope", settings.agent_max_slope, "steepest walkable slope (degrees)")
+      ->capture_default_str();
+  command
+      .add_option("--max-drop", settings.agent_max_drop, "deepest ledge dropped down (m; 0: no drop links)")
       ->capture_default_str();
   command.add_option("--region-min", settings.region_min_size, "smallest region kept (cells, squared)")
       ->capture_default_str();

@@ -19,7 +19,7 @@ void AddNavMeshSettingsOptions(CLI::App& command, navmesh::NavMeshSettings& sett
 void AddProfileOption(CLI::App& command, std::string& profile, const std::string& what);
 /// The agent profile called `name` with `settings`' agent fields left out, or the agent fields of `settings`
 /// when `name` is empty. Fails for an unknown name, or a name given with --agent-height, --agent-radius,
-/// --max-climb or --max-slope on `command` (one agent, said once).
+/// --max-climb, --max-slope or --max-drop on `command` (one agent, said once).
 Result<std::optional<navmesh::AgentProfile>> ChosenProfile(const CLI::App& command, const std::string& name);
 /// Registers --scale, --z-up and --world-tile on `command`.
 void AddLevelOptions(CLI::App& command, LevelLoadOptions& options);
