@@ -348,9 +348,12 @@ Status NavMesh::ReplaceTile(TileCoord tile, TileData data) {
                            std::to_string(mesh_->getMaxTiles()) + " tiles (fewer tiles leave more bits)");
   }
   const TileCoord local = ToLocalTile(tile);
-  if (const dtTileRef old = mesh_->getTileRefAt(local.x, local.z, 0))
+  if (const dtTileRef old = mesh_->getTileRefAt(local.x, local.z, 0)) {
     mesh_->removeTile(old, nullptr, nullptr);
+    version_.fetch_add(1, std::memory_order_release);
+  }
   if (data.empty()) return Status::Ok();
+  version_.fetch_add(1, std::memory_order_release);
   const int size = data.size();
   unsigned char* bytes = data.Release();
   const dtStatus status = mesh_->addTile(bytes, size, DT_TILE_FREE_DATA, 0, nullptr);

@@ -5,6 +5,8 @@
 
 #include <DetourNavMesh.h>
 
+#include <atomic>
+#include <cstdint>
 #include <filesystem>
 #include <memory>
 #include <optional>
@@ -52,6 +54,10 @@ class NavMesh {
   /// coordinates are relative to origin() and origin_tile() (ToLocal / ToWorld convert).
   dtNavMesh& detour() { return *mesh_; }
 
+  /// Counts the tiles published and removed: a reader holding polygon references (a crowd's corridors)
+  /// checks them again when it changes.
+  std::uint64_t version() const { return version_.load(std::memory_order_acquire); }
+
   float tile_size() const { return tile_size_; }
   TileCoord origin_tile() const { return origin_tile_; }
   /// World position of Detour's (0, 0, 0).
@@ -86,6 +92,7 @@ class NavMesh {
   TileCoord ToWorldTile(int x, int z) const { return {x + origin_tile_.x, z + origin_tile_.z}; }
 
   mutable std::shared_mutex mutex_;
+  std::atomic<std::uint64_t> version_{0};
   dtNavMesh* mesh_;
   float tile_size_;
   TileCoord origin_tile_;

@@ -1,0 +1,254 @@
+#include "navmesh/Crowd.h"
+
+#include <DetourCrowd.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace strata::navmesh {
+
+namespace {
+
+float PlanarDistance(const Vec3& a, const Vec3& b) {
+  return std::hypot(a.x() - b.x(), a.z() - b.z());
+}
+
+}  // namespace
+
+Result<std::unique_ptr<Crowd>> Crowd::Create(NavMeshService& service, int profile,
+                                             const CrowdConfig& config) {
+  if (profile < 0 || profile >= service.profile_count())
+    return MakeError(ErrorCode::kInvalidArgument,
+                     "crowd: the service has no profile " + std::to_string(profile));
+  if (config.max_agents < 1 || config.max_agents > 65536)
+    return MakeError(ErrorCode::kInvalidArgument, "crowd: max_agents must be in [1, 65536]");
+  if (!std::isfinite(config.lookahead) || config.lookahead < 0.0f || config.request_every_updates < 1 ||
+      !std::isfinite(config.arrive_distance) || config.arrive_distance <= 0.0f ||
+      !std::isfinite(config.stuck_seconds) || config.stuck_seconds <= 0.0f)
+    return MakeError(
+        ErrorCode::kInvalidArgument,
+        "crowd: lookahead >= 0, request_every_updates >= 1, arrive_distance and stuck_seconds > 0");
+  std::unique_ptr<Crowd> crowd(new Crowd(service, profile, config));
+  const float radius = service.profile_settings(profile).agent_radius;
+  const bool ready = crowd->navmesh_.Read([&](const dtNavMesh&) {
+    return crowd->crowd_->init(config.max_agents, radius, &crowd->navmesh_.detour());
+  });
+  if (!ready) return MakeError(ErrorCode::kCapacityExceeded, "crowd: DetourCrowd could not allocate");
+  return crowd;
+}
+
+Crowd::Crowd(NavMeshService& service, int profile, const CrowdConfig& config)
+    : service_(service),
+      profile_(profile),
+      config_(config),
+      navmesh_(service.navmesh(profile)),
+      crowd_(dtAllocCrowd()),
+      agents_(static_cast<std::size_t>(config.max_agents)) {}
+
+void Crowd::CrowdFree::operator()(dtCrowd* crowd) const {
+  dtFreeCrowd(crowd);
+}
+
+Status Crowd::Check(int agent) const {
+  if (agent < 0 || agent >= static_cast<int>(agents_.size()) ||
+      !agents_[static_cast<std::size_t>(agent)].active)
+    return MakeError(ErrorCode::kStaleBodyId, "crowd: no agent " + std::to_string(agent));
+  return Status::Ok();
+}
+
+Result<int> Crowd::AddAgent(const Vec3& position, const CrowdAgentParams& params) {
+  if (!IsFinite(position) || !std::isfinite(params.max_speed) || params.max_speed <= 0.0f ||
+      !std::isfinite(params.max_acceleration) || params.max_acceleration <= 0.0f)
+    return MakeError(ErrorCode::kInvalidArgument,
+                     "crowd: an agent needs a finite position, speed and acceleration");
+  const NavMeshSettings& settings = service_.profile_settings(profile_);
+  dtCrowdAgentParams detour{};
+  detour.radius = settings.agent_radius;
+  detour.height = settings.agent_height;
+  detour.maxAcceleration = params.max_acceleration;
+  detour.maxSpeed = params.max_speed;
+  detour.collisionQueryRange = settings.agent_radius * 12.0f;
+  detour.pathOptimizationRange = settings.agent_radius * 30.0f;
+  detour.separationWeight = 2.0f;
+  detour.updateFlags = DT_CROWD_ANTICIPATE_TURNS | DT_CROWD_OPTIMIZE_VIS | DT_CROWD_OPTIMIZE_TOPO |
+                       DT_CROWD_OBSTACLE_AVOIDANCE | DT_CROWD_SEPARATION;
+  detour.obstacleAvoidanceType = 3;
+  const Vec3 local = navmesh_.ToLocal(position);
+  const int index = navmesh_.Read([&](const dtNavMesh&) {
+    const dtNavMeshQuery& query = *crowd_->getNavMeshQuery();
+    dtPolyRef ref = 0;
+    float nearest[3];
+    query.findNearestPoly(local.data(), crowd_->getQueryHalfExtents(), crowd_->getFilter(0), &ref, nearest);
+    return ref == 0 ? -2 : crowd_->addAgent(nearest, &detour);
+  });
+  if (index == -2)
+    return MakeError(ErrorCode::kInvalidArgument, "crowd: the position is not on the built navmesh");
+  if (index < 0) return MakeError(ErrorCode::kCapacityExceeded, "crowd: the crowd is full");
+  Agent& agent = agents_[static_cast<std::size_t>(index)];
+  agent = Agent{};
+  agent.active = true;
+  return index;
+}
+
+Status Crowd::RemoveAgent(int agent) {
+  if (Status valid = Check(agent); !valid) return valid;
+  crowd_->removeAgent(agent);
+  agents_[static_cast<std::size_t>(agent)] = Agent{};
+  return Status::Ok();
+}
+
+Status Crowd::SetTarget(int agent, const Vec3& target) {
+  if (Status valid = Check(agent); !valid) return valid;
+  if (!IsFinite(target)) return MakeError(ErrorCode::kInvalidArgument, "crowd: the target is not finite");
+  Agent& record = agents_[static_cast<std::size_t>(agent)];
+  record.has_target = true;
+  record.target = target;
+  record.best_distance = PlanarDistance(position(agent), target);
+  record.since_progress = 0.0f;
+  navmesh_.Read([&](const dtNavMesh&) {
+    Retarget(agent);
+    return 0;
+  });
+  return Status::Ok();
+}
+
+void Crowd::Retarget(int agent) {
+  Agent& record = agents_[static_cast<std::size_t>(agent)];
+  const dtNavMeshQuery& query = *crowd_->getNavMeshQuery();
+  const float extents[3] = {1.0f, 4.0f, 1.0f};
+  dtPolyRef ref = 0;
+  float nearest[3];
+  const auto find = [&](const Vec3& world) {
+    query.findNearestPoly(navmesh_.ToLocal(world).data(), extents, crowd_->getFilter(0), &ref, nearest);
+    return ref != 0;
+  };
+  // The target itself when its tile is built; else the farthest built ground on the straight way to it,
+  // to walk to and wait at while the tiles beyond are built.
+  record.target_on_mesh = find(record.target);
+  if (!record.target_on_mesh) {
+    const Vec3 from = position(agent);
+    const Vec3 way(record.target.x() - from.x(), 0.0f, record.target.z() - from.z());
+    const float length = way.norm();
+    const float step = 0.25f * service_.profile_settings(profile_).tile_size();
+    for (float along = length - step; along > 0.0f && ref == 0; along -= step)
+      find(from + (along / length) * way + Vec3(0.0f, record.target.y() - from.y(), 0.0f) * (along / length));
+  }
+  if (ref == 0) {
+    crowd_->resetMoveTarget(agent);  // nothing built on its way yet: stand and wait
+    return;
+  }
+  crowd_->requestMoveTarget(agent, ref, nearest);
+}
+
+void Crowd::ReplanStaleCorridors() {
+  const std::uint64_t version = navmesh_.version();
+  if (version == seen_version_) return;
+  seen_version_ = version;
+  const dtNavMeshQuery& query = *crowd_->getNavMeshQuery();
+  for (int i = 0; i < static_cast<int>(agents_.size()); ++i) {
+    const Agent& record = agents_[static_cast<std::size_t>(i)];
+    if (!record.active || !record.has_target || record.state == CrowdAgentState::kArrived) continue;
+    const dtPathCorridor& corridor = crowd_->getAgent(i)->corridor;
+    bool stale = false;
+    for (int k = 0; k < corridor.getPathCount() && !stale; ++k)
+      stale = !query.isValidPolyRef(corridor.getPath()[k], crowd_->getFilter(0));
+    if (stale) ++stats_.replans;
+    // A replaced tile's polygons are never walked on; a target that was not built may be now.
+    if (stale || !record.target_on_mesh) Retarget(i);
+  }
+}
+
+void Crowd::RequestTiles() {
+  const float tile = service_.profile_settings(profile_).tile_size();
+  const ProfileMask mask = ProfileMask{1} << profile_;
+  for (int i = 0; i < static_cast<int>(agents_.size()); ++i) {
+    const Agent& record = agents_[static_cast<std::size_t>(i)];
+    if (!record.active) continue;
+    const Vec3 at = position(i);
+    (void)service_.RequestAround(at, 0.75f * tile, mask);
+    if (!record.has_target || record.state == CrowdAgentState::kArrived) continue;
+    // Ahead on its way, not only around it: the tiles its straight line to the target crosses.
+    const Vec3 way = record.target - at;
+    const float length = std::min(config_.lookahead, std::hypot(way.x(), way.z()));
+    if (length <= 0.0f) continue;
+    const Vec3 step = (0.5f * tile / std::hypot(way.x(), way.z())) * Vec3(way.x(), 0.0f, way.z());
+    for (float along = 0.5f * tile; along <= length; along += 0.5f * tile)
+      (void)service_.RequestAround(at + (along / (0.5f * tile)) * step, 0.5f * tile, mask);
+  }
+}
+
+void Crowd::UpdateStates(float dt) {
+  const dtNavMeshQuery& query = *crowd_->getNavMeshQuery();
+  std::size_t stuck = 0;
+  for (int i = 0; i < static_cast<int>(agents_.size()); ++i) {
+    Agent& record = agents_[static_cast<std::size_t>(i)];
+    if (!record.active) continue;
+    ++stats_.agent_updates;
+    const dtCrowdAgent& agent = *crowd_->getAgent(i);
+    const bool on_mesh = agent.state == DT_CROWDAGENT_STATE_OFFMESH ||
+                         (agent.state == DT_CROWDAGENT_STATE_WALKING &&
+                          query.isValidPolyRef(agent.corridor.getFirstPoly(), crowd_->getFilter(0)));
+    if (!on_mesh) ++stats_.off_mesh;
+    if (!record.has_target) {
+      record.state = CrowdAgentState::kIdle;
+      continue;
+    }
+    const Vec3 at = navmesh_.ToWorld(Vec3(agent.npos[0], agent.npos[1], agent.npos[2]));
+    const float distance = PlanarDistance(at, record.target);
+    if (distance <= config_.arrive_distance) {
+      record.state = CrowdAgentState::kArrived;
+      continue;
+    }
+    const float speed = std::hypot(agent.vel[0], agent.vel[2]);
+    record.state =
+        !record.target_on_mesh && speed < 0.1f ? CrowdAgentState::kWaiting : CrowdAgentState::kWalking;
+    if (record.state == CrowdAgentState::kWaiting) {
+      stats_.waiting_seconds += dt;
+      record.since_progress = 0.0f;  // waiting for tiles is counted apart from being stuck
+      continue;
+    }
+    if (distance < record.best_distance - 0.1f) {
+      record.best_distance = distance;
+      record.since_progress = 0.0f;
+    } else {
+      record.since_progress += dt;
+    }
+    stuck += record.since_progress >= config_.stuck_seconds;
+  }
+  stats_.stuck_agents = stuck;
+}
+
+Status Crowd::Update(float dt) {
+  if (!std::isfinite(dt) || dt <= 0.0f || dt > 1.0f)
+    return MakeError(ErrorCode::kInvalidArgument, "crowd: dt must be in (0, 1] seconds");
+  if (stats_.updates % static_cast<std::size_t>(config_.request_every_updates) == 0) RequestTiles();
+  navmesh_.Read([&](const dtNavMesh&) {
+    ReplanStaleCorridors();
+    crowd_->update(dt, nullptr);
+    UpdateStates(dt);
+    return 0;
+  });
+  ++stats_.updates;
+  return Status::Ok();
+}
+
+Vec3 Crowd::position(int agent) const {
+  const dtCrowdAgent& detour = *crowd_->getAgent(agent);
+  return navmesh_.ToWorld(Vec3(detour.npos[0], detour.npos[1], detour.npos[2]));
+}
+
+Vec3 Crowd::velocity(int agent) const {
+  const dtCrowdAgent& detour = *crowd_->getAgent(agent);
+  return {detour.vel[0], detour.vel[1], detour.vel[2]};
+}
+
+CrowdAgentState Crowd::state(int agent) const {
+  return agents_.at(static_cast<std::size_t>(agent)).state;
+}
+
+int Crowd::agent_count() const {
+  return static_cast<int>(
+      std::count_if(agents_.begin(), agents_.end(), [](const Agent& a) { return a.active; }));
+}
+
+}  // namespace strata::navmesh
