@@ -34,6 +34,13 @@ Result<std::unique_ptr<Crowd>> Crowd::Create(NavMeshService& service, int profil
     return crowd->crowd_->init(config.max_agents, radius, &crowd->navmesh_.detour());
   });
   if (!ready) return MakeError(ErrorCode::kCapacityExceeded, "crowd: DetourCrowd could not allocate");
+  // Local avoidance sampled coarsely (RecastDemo's "low" quality: 5 directions, 2 rings, one refinement):
+  // the default refines five times, which for a thousand agents costs several milliseconds a frame.
+  dtObstacleAvoidanceParams avoidance = *crowd->crowd_->getObstacleAvoidanceParams(0);
+  avoidance.adaptiveDivs = 5;
+  avoidance.adaptiveRings = 2;
+  avoidance.adaptiveDepth = 1;
+  crowd->crowd_->setObstacleAvoidanceParams(0, &avoidance);
   return crowd;
 }
 
@@ -67,12 +74,13 @@ Result<int> Crowd::AddAgent(const Vec3& position, const CrowdAgentParams& params
   detour.height = settings.agent_height;
   detour.maxAcceleration = params.max_acceleration;
   detour.maxSpeed = params.max_speed;
-  detour.collisionQueryRange = settings.agent_radius * 12.0f;
+  detour.collisionQueryRange = settings.agent_radius * 6.0f;
   detour.pathOptimizationRange = settings.agent_radius * 30.0f;
   detour.separationWeight = 2.0f;
-  detour.updateFlags = DT_CROWD_ANTICIPATE_TURNS | DT_CROWD_OPTIMIZE_VIS | DT_CROWD_OPTIMIZE_TOPO |
-                       DT_CROWD_OBSTACLE_AVOIDANCE | DT_CROWD_SEPARATION;
-  detour.obstacleAvoidanceType = 3;
+  // Corridors are straightened by the periodic topology pass, not a raycast per agent per frame.
+  detour.updateFlags =
+      DT_CROWD_ANTICIPATE_TURNS | DT_CROWD_OPTIMIZE_TOPO | DT_CROWD_OBSTACLE_AVOIDANCE | DT_CROWD_SEPARATION;
+  detour.obstacleAvoidanceType = 0;
   const Vec3 local = navmesh_.ToLocal(position);
   const int index = navmesh_.Read([&](const dtNavMesh&) {
     const dtNavMeshQuery& query = *crowd_->getNavMeshQuery();

@@ -17,6 +17,7 @@
 #include "physics/body/BodyManager.h"
 #include "physics/shapes/BoxShape.h"
 #include "physics/world/PhysicsSystem.h"
+#include "tools/bench/CrowdBench.h"
 #include "tools/bench/JsonReport.h"
 #include "tools/bench/ProfileCostBench.h"
 #include "tools/bench/Progress.h"
@@ -228,6 +229,24 @@ Result<std::optional<ProfileCostFigures>> MeasureProfiles(const OpenWorldOptions
   return std::optional<ProfileCostFigures>(*figures);
 }
 
+// Crowd updates of 64, 256 and 1,024 person agents on a block at the centre, on this thread.
+Result<std::vector<CrowdUpdateFigures>> MeasureCrowds(const OpenWorldOptions& options,
+                                                      const PhysicsSystem& world) {
+  if (options.crowd_agents.empty()) return std::vector<CrowdUpdateFigures>();
+  const Vec3 center(0.5f * options.world_size, 0.0f, 0.5f * options.world_size);
+  Result<std::vector<CrowdUpdateFigures>> figures =
+      MeasureCrowdUpdates(world, options.settings, navmesh::AgentProfile::Person(), center, 8,
+                          options.crowd_agents, options.crowd_frames, options.seed);
+  if (!figures) return figures.error();
+  for (const CrowdUpdateFigures& run : *figures)
+    std::printf(
+        "crowd: %4d person agents on 8 x 8 tiles: update %.3f ms mean, %.3f ms max over %d frames (one "
+        "thread); "
+        "%zu arrivals, %zu agent-updates off the navmesh\n",
+        run.agents, run.mean_ms, run.max_ms, run.frames, run.arrived, run.off_mesh);
+  return figures;
+}
+
 nlohmann::json WalkReport(const OpenWorldOptions& options, const PhysicsSystem& world,
                           const WalkFigures& figures, const navmesh::NavMeshServiceStats& stats) {
   nlohmann::json memory = nlohmann::json::array();
@@ -282,6 +301,8 @@ int RunOpenWorldBench(const OpenWorldOptions& options) {
   const double populate_ms = Milliseconds(Clock::now() - populate_start);
   Result<std::optional<ProfileCostFigures>> profile_cost = MeasureProfiles(options, world);
   if (!profile_cost) return Fail(profile_cost.error().message);
+  Result<std::vector<CrowdUpdateFigures>> crowds = MeasureCrowds(options, world);
+  if (!crowds) return Fail(crowds.error().message);
 
   navmesh::NavMeshServiceConfig service_config;
   service_config.settings = options.settings;
@@ -309,6 +330,7 @@ int RunOpenWorldBench(const OpenWorldOptions& options) {
   if (!options.json.empty()) {
     nlohmann::json report = WalkReport(options, world, figures, stats);
     if (*profile_cost) report["profile_cost"] = (*profile_cost)->ToJson();
+    if (!crowds->empty()) report["crowd_updates"] = ToJson(*crowds);
     if (const Status written = WriteJsonReport(options.json, report); !written)
       return Fail(written.message());
   }

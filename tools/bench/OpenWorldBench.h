@@ -8,6 +8,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "navmesh/NavMeshSettings.h"
 
@@ -29,6 +30,9 @@ struct OpenWorldOptions {
   /// from one gather and with one service each, `profile_cost_runs` times alternated (0: skip).
   int profile_cost_tiles = 8;
   int profile_cost_runs = 3;
+  /// Before the walk: one crowd update's cost for these many person agents on a built block (none: skip).
+  std::vector<int> crowd_agents = {64, 256, 1024};
+  int crowd_frames = 300;
   std::string json;  ///< also write the figures here (empty: don't)
 };
 

@@ -75,7 +75,13 @@ std::function<int()> AddNavMeshBenchCommand(CLI::App& app) {
       ->add_option("--profile-cost-runs", open_world->profile_cost_runs, "open world: alternated runs of it")
       ->check(CLI::Range(1, 20))
       ->capture_default_str();
+  command
+      ->add_option("--crowd-agents", open_world->crowd_agents,
+                   "open world: crowd sizes whose update is timed on a built block (0: none)")
+      ->check(CLI::Range(0, 65536))
+      ->capture_default_str();
   return [options, open_world, open_world_on] {
+    std::erase(open_world->crowd_agents, 0);
     if (!*open_world_on) return bench::RunNavMeshBench(*options);
     open_world->physics_threads = options->physics_threads;
     open_world->navmesh_threads = options->navmesh_threads;
