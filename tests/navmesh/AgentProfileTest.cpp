@@ -6,6 +6,8 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <random>
+#include <thread>
 
 #include "NavMeshTestWorld.h"
 #include "navmesh/LevelBake.h"
@@ -162,6 +164,53 @@ TEST(AgentProfiles, ASavedSetNamesItsProfileAndShardsOfTwoProfilesDoNotMerge) {
   EXPECT_NE(merged.error().message.find("agent profile 'machine'"), std::string::npos)
       << merged.error().message;
   std::filesystem::remove_all(directory);
+}
+
+// Three profiles on two workers while another thread adds, moves and removes crates: every profile ends with
+// every tile ready and the bytes a fresh build of the final world gives it.
+TEST(AgentProfilesThreads, ThreeProfilesBuildAndRebuildWhileTheWorldChanges) {
+  auto world = MakeWorld({}, 512);
+  AddFloor(*world, 2);
+  auto service = MakeService(*world, ThreeProfiles(2));
+  std::thread mutator([&] {
+    std::mt19937 random(11);
+    std::uniform_real_distribution<float> across(2.0f, 23.0f);
+    std::vector<BodyID> crates;
+    for (int op = 0; op < 200; ++op) {
+      if (crates.size() < 8 || random() % 3 == 0) {
+        auto id =
+            world->bodies().CreateAndAddBody(Static(Box(1, 1, 1), Vec3(across(random), 1, across(random))));
+        if (id) crates.push_back(*id);
+      } else if (random() % 2 == 0) {
+        EXPECT_TRUE(world->bodies().RemoveAndDestroyBody(crates.back()).ok());
+        crates.pop_back();
+      } else {
+        EXPECT_TRUE(
+            world->bodies().SetPosition(crates.front(), Vec3(across(random), 1, across(random))).ok());
+      }
+      if (op % 10 == 0) {
+        EXPECT_TRUE(service->RequestBox(TileArea(2)).ok());
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+  });
+  mutator.join();
+  ASSERT_TRUE(service->RequestBox(TileArea(2)).ok());
+  ASSERT_TRUE(WaitUntilSettled(*service, std::chrono::seconds(120)));
+  EXPECT_EQ(service->stats().failures, 0u) << service->last_error();
+  for (int p = 0; p < service->profile_count(); ++p) {
+    for (int z = 0; z < 2; ++z) {
+      for (int x = 0; x < 2; ++x) {
+        EXPECT_EQ(service->GetTileState({x, z}, p), navmesh::TileState::kReady);
+      }
+    }
+    navmesh::NavMeshServiceConfig alone = FastServiceConfig();
+    alone.settings = service->profile_settings(p);
+    alone.profiles = {service->profile(p)};
+    const auto fresh = BuildArea(*world, TileArea(2), alone);
+    EXPECT_EQ(Bytes(service->navmesh(p), "live"), Bytes(fresh->navmesh(), "fresh"))
+        << service->profile(p).name;
+  }
 }
 
 }  // namespace
