@@ -334,7 +334,7 @@ TEST(Cli, BroadPhaseAndNavmeshBenchesWriteTheirFiguresAsJson) {
   EXPECT_TRUE(is_figure(nav_json["step"]["blocked_by_navmesh_jobs_us"]));
   const std::filesystem::path open_world = TempFile("open-world.json");
   ASSERT_EQ(RunCli("bench-navmesh --open-world --world-size 300 --bodies 1000 --agents 8 --walk 30 "
-                   "--tile-budget 16 --json " +
+                   "--tile-budget 16 --profile-cost-tiles 2 --profile-cost-runs 1 --crowd-agents 8 --json " +
                    open_world.string()),
             0);
   const nlohmann::json open_world_json = ReadJson(open_world);
@@ -342,8 +342,16 @@ TEST(Cli, BroadPhaseAndNavmeshBenchesWriteTheirFiguresAsJson) {
   EXPECT_EQ(open_world_json["failures"].get<int>(), 0);
   EXPECT_GT(open_world_json["tiles_built"].get<int>(), 0);
   EXPECT_LE(open_world_json["most_tiles_held"].get<int>(), 16);
-  for (const char* key : {"step_mean_ms", "step_max_ms", "step_body_lock_wait_ms", "walk_wall_ms"})
+  for (const char* key : {"step_mean_ms", "step_max_ms", "step_body_lock_wait_ms", "walk_wall_ms",
+                          "crowd_update_mean_ms", "crowd_update_max_ms", "waiting_agent_seconds"})
     EXPECT_TRUE(is_figure(open_world_json[key])) << key;
+  // The crowd walked on the navmesh; the profiles were built the same both ways.
+  EXPECT_EQ(open_world_json["on_mesh_share"].get<double>(), 1.0);
+  EXPECT_EQ(open_world_json["stuck_agents"].get<int>(), 0);
+  EXPECT_TRUE(open_world_json["profile_cost"]["same_tiles"].get<bool>());
+  EXPECT_EQ(open_world_json["profile_cost"]["tiles"].get<int>(), 4);
+  ASSERT_EQ(open_world_json["crowd_updates"].size(), 1u);
+  EXPECT_EQ(open_world_json["crowd_updates"][0]["off_mesh"].get<int>(), 0);
   // Resident memory at the start and at each quarter of the walk.
   ASSERT_EQ(open_world_json["memory"].size(), 5u);
   for (const auto& snapshot : open_world_json["memory"]) EXPECT_TRUE(is_figure(snapshot["resident_mb"]));

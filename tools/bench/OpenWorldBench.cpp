@@ -12,6 +12,7 @@
 #include <thread>
 #include <vector>
 
+#include "navmesh/Crowd.h"
 #include "navmesh/NavMeshService.h"
 #include "physics/body/BodyInterface.h"
 #include "physics/body/BodyManager.h"
@@ -29,7 +30,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 constexpr float kStep = 1.0f / 60.0f;
 constexpr int kSquadSize = 8;
-constexpr int kRequestEverySteps = 30;
 
 double Milliseconds(Clock::duration duration) {
   return std::chrono::duration<double, std::milli>(duration).count();
@@ -95,7 +95,8 @@ Status Populate(PhysicsSystem& world, const OpenWorldOptions& options, std::mt19
 
 struct Agent {
   Vec3 position;
-  Vec3 direction;  ///< unit, in the x-z plane
+  Vec3 heading;  ///< unit, in the x-z plane
+  int id = -1;   ///< in the crowd
 };
 
 /// Squads of up to eight, each somewhere in the world heading its own way, its agents a few metres apart.
@@ -104,28 +105,56 @@ std::vector<Agent> MakeAgents(const OpenWorldOptions& options, std::mt19937& ran
   std::uniform_real_distribution<float> angle(0.0f, 6.2831853f);
   std::uniform_real_distribution<float> spread(-6.0f, 6.0f);
   std::vector<Agent> agents;
-  Vec3 squad_position = Vec3::Zero(), squad_direction = Vec3::UnitX();
+  Vec3 squad_position = Vec3::Zero(), squad_heading = Vec3::UnitX();
   for (int i = 0; i < options.agents; ++i) {
     if (i % kSquadSize == 0) {
       const float heading = angle(random);
       squad_position = Vec3(place(random), 0.0f, place(random));
-      squad_direction = Vec3(std::cos(heading), 0.0f, std::sin(heading));
+      squad_heading = Vec3(std::cos(heading), 0.0f, std::sin(heading));
     }
-    agents.push_back({squad_position + Vec3(spread(random), 0.0f, spread(random)), squad_direction});
+    agents.push_back({squad_position + Vec3(spread(random), 0.0f, spread(random)), squad_heading});
   }
   return agents;
 }
 
-/// One step of walking; an agent that reaches the world's margin turns back (mirror bounce).
-void Walk(Agent& agent, float distance, float world_size) {
-  agent.position += agent.direction * distance;
+/// The agent's next waypoint, kWaypoint metres on along its heading; at the world's margin the heading turns
+/// back (mirror bounce).
+constexpr float kWaypoint = 150.0f;
+Vec3 NextWaypoint(Agent& agent, const Vec3& from, float world_size) {
+  Vec3 target = from + kWaypoint * agent.heading;
   for (const int axis : {0, 2}) {
-    float& coordinate = agent.position[axis];
-    if (coordinate < 10.0f || coordinate > world_size - 10.0f) {
-      agent.direction[axis] = -agent.direction[axis];
-      coordinate = std::clamp(coordinate, 10.0f, world_size - 10.0f);
-    }
+    if (target[axis] >= 10.0f && target[axis] <= world_size - 10.0f) continue;
+    agent.heading[axis] = -agent.heading[axis];
+    target[axis] = std::clamp(from[axis] + kWaypoint * agent.heading[axis], 10.0f, world_size - 10.0f);
   }
+  return target;
+}
+
+/// The tiles around every squad built, then each agent placed on the navmesh near its spot and sent off.
+Status PlaceAgents(const OpenWorldOptions& options, navmesh::NavMeshService& service, navmesh::Crowd& crowd,
+                   std::vector<Agent>& agents, std::mt19937& random) {
+  for (const Agent& agent : agents)
+    if (Status requested = service.RequestAround(agent.position, 10.0f); !requested) return requested;
+  if (!service.WaitUntilIdle(std::chrono::seconds(120)))
+    return MakeError(ErrorCode::kInvalidState, "the tiles around the agents did not build within 2 minutes");
+  std::uniform_real_distribution<float> nudge(-3.0f, 3.0f);
+  navmesh::CrowdAgentParams params;
+  params.max_speed = options.agent_speed;
+  params.max_acceleration = 4.0f * options.agent_speed;
+  for (Agent& agent : agents) {
+    for (int attempt = 0; attempt < 20 && agent.id < 0; ++attempt) {
+      const Vec3 spot =
+          agent.position + (attempt == 0 ? Vec3::Zero() : Vec3(nudge(random), 0.0f, nudge(random)));
+      if (Result<int> id = crowd.AddAgent(spot, params); id) agent.id = *id;
+    }
+    if (agent.id < 0)
+      return MakeError(ErrorCode::kInvalidState, "an agent could not be placed on the navmesh");
+    if (Status sent =
+            crowd.SetTarget(agent.id, NextWaypoint(agent, crowd.position(agent.id), options.world_size));
+        !sent)
+      return sent;
+  }
+  return Status::Ok();
 }
 
 struct Snapshot {
@@ -137,47 +166,58 @@ struct Snapshot {
 // What the walk measured.
 struct WalkFigures {
   int steps = 0;
-  std::size_t checks = 0, on_ready = 0, most_held = 0, late_frames = 0;
-  double longest_request_ms = 0.0, step_ms_total = 0.0, longest_step_ms = 0.0;
+  std::size_t checks = 0, on_ready = 0, most_held = 0, late_frames = 0, most_stuck = 0;
+  double crowd_ms_total = 0.0, longest_crowd_ms = 0.0, step_ms_total = 0.0, longest_step_ms = 0.0;
   double walk_ms = 0.0, lock_wait_ms = 0.0;
+  navmesh::CrowdStats crowd;
   std::vector<Snapshot> snapshots;
   double on_ready_share() const {
     return checks == 0 ? 0.0 : static_cast<double>(on_ready) / static_cast<double>(checks);
   }
+  double on_mesh_share() const {
+    return crowd.agent_updates == 0
+               ? 0.0
+               : 1.0 - static_cast<double>(crowd.off_mesh) / static_cast<double>(crowd.agent_updates);
+  }
 };
 
-// Every kRequestEverySteps steps each agent checks its tile and asks for the tiles around it.
-void RequestTiles(navmesh::NavMeshService& service, const std::vector<Agent>& agents, float radius,
-                  WalkFigures& figures) {
-  for (const Agent& agent : agents) {
+// One frame of the crowd: the update (timed), the agents' tiles checked, arrivals sent on to their next
+// waypoint.
+Status UpdateCrowd(const OpenWorldOptions& options, navmesh::NavMeshService& service, navmesh::Crowd& crowd,
+                   std::vector<Agent>& agents, WalkFigures& figures) {
+  const Clock::time_point start = Clock::now();
+  if (Status updated = crowd.Update(kStep); !updated) return updated;
+  const double crowd_ms = Milliseconds(Clock::now() - start);
+  figures.crowd_ms_total += crowd_ms;
+  figures.longest_crowd_ms = std::max(figures.longest_crowd_ms, crowd_ms);
+  for (Agent& agent : agents) {
+    const Vec3 at = crowd.position(agent.id);
     ++figures.checks;
-    figures.on_ready +=
-        service.GetTileState(service.grid().TileAt(agent.position)) == navmesh::TileState::kReady;
-    const Clock::time_point request_start = Clock::now();
-    (void)service.RequestAround(agent.position, radius);
-    figures.longest_request_ms =
-        std::max(figures.longest_request_ms, Milliseconds(Clock::now() - request_start));
+    figures.on_ready += service.GetTileState(service.grid().TileAt(at)) == navmesh::TileState::kReady;
+    if (crowd.state(agent.id) == navmesh::CrowdAgentState::kArrived)
+      (void)crowd.SetTarget(agent.id, NextWaypoint(agent, at, options.world_size));
   }
+  figures.most_stuck = std::max(figures.most_stuck, crowd.stats().stuck_agents);
   figures.most_held = std::max(figures.most_held, service.stats().tiles_holding_data);
+  return Status::Ok();
 }
 
 // The agents walk in frames of 60 Hz wall time while the world steps; fails if a step does.
 Status WalkAgents(const OpenWorldOptions& options, PhysicsSystem& world, navmesh::NavMeshService& service,
-                  std::vector<Agent>& agents, Progress& progress, WalkFigures& figures) {
-  const float step_distance = options.agent_speed * kStep;
+                  navmesh::Crowd& crowd, std::vector<Agent>& agents, Progress& progress,
+                  WalkFigures& figures) {
   const int steps = figures.steps;
   figures.snapshots.push_back({0, ResidentMegabytes(), service.stats()});
   const std::uint64_t lock_wait_start = ThreadBodyLockWaitNanoseconds();
   const Clock::time_point walk_start = Clock::now();
   for (int step = 0; step < steps; ++step) {
     progress.Update(static_cast<std::size_t>(step), static_cast<std::size_t>(steps));
-    if (step % kRequestEverySteps == 0) RequestTiles(service, agents, options.request_radius, figures);
     const Clock::time_point step_start = Clock::now();
     if (Status stepped = world.Step(kStep); !stepped) return stepped;
     const double step_ms = Milliseconds(Clock::now() - step_start);
     figures.step_ms_total += step_ms;
     figures.longest_step_ms = std::max(figures.longest_step_ms, step_ms);
-    for (Agent& agent : agents) Walk(agent, step_distance, options.world_size);
+    if (Status walked = UpdateCrowd(options, service, crowd, agents, figures); !walked) return walked;
     // Frames at 60 Hz of wall time, as in a game: the service builds while the frame waits for its slot.
     const Clock::time_point frame_end = walk_start + std::chrono::duration_cast<Clock::duration>(
                                                          std::chrono::duration<double>(kStep * (step + 1)));
@@ -187,6 +227,7 @@ Status WalkAgents(const OpenWorldOptions& options, PhysicsSystem& world, navmesh
       figures.snapshots.push_back({step + 1, ResidentMegabytes(), service.stats()});
   }
   figures.walk_ms = Milliseconds(Clock::now() - walk_start);
+  figures.crowd = crowd.stats();
   progress.Hide();
   figures.lock_wait_ms = static_cast<double>(ThreadBodyLockWaitNanoseconds() - lock_wait_start) * 1e-6;
   return Status::Ok();
@@ -196,14 +237,17 @@ void PrintWalk(const OpenWorldOptions& options, const WalkFigures& figures,
                const navmesh::NavMeshServiceStats& stats) {
   std::printf(
       "walk: %.0f ms wall for %.0f s simulated (60 Hz frames, %zu late); step %.3f ms mean, %.3f ms max; "
-      "step blocked on body locks %.3f ms in all; longest RequestAround %.3f ms\n",
+      "step blocked on body locks %.3f ms in all; crowd update %.3f ms mean, %.3f ms max\n",
       figures.walk_ms, figures.steps * static_cast<double>(kStep), figures.late_frames,
       figures.step_ms_total / std::max(1, figures.steps), figures.longest_step_ms, figures.lock_wait_ms,
-      figures.longest_request_ms);
+      figures.crowd_ms_total / std::max(1, figures.steps), figures.longest_crowd_ms);
   std::printf("tiles: %zu built, %zu evictions, %zu failures; at most %zu of the %d-tile budget held\n",
               stats.builds, stats.evictions, stats.failures, figures.most_held, options.tile_budget);
-  std::printf("agents on a ready tile when they asked again: %.1f%% of %zu checks\n",
-              100.0 * figures.on_ready_share(), figures.checks);
+  std::printf(
+      "crowd: agents on the navmesh %.3f%% of agent-frames, on a ready tile %.2f%%; %zu stuck at the end "
+      "(at most %zu at once), %zu replans, %.1f agent-seconds waiting for tiles\n",
+      100.0 * figures.on_mesh_share(), 100.0 * figures.on_ready_share(), figures.crowd.stuck_agents,
+      figures.most_stuck, figures.crowd.replans, figures.crowd.waiting_seconds);
   std::printf("memory over the walk (resident MB / tiles built / held):");
   for (const Snapshot& snapshot : figures.snapshots)
     std::printf("  step %d: %.1f / %zu / %zu", snapshot.step, snapshot.resident_mb, snapshot.stats.builds,
@@ -269,7 +313,13 @@ nlohmann::json WalkReport(const OpenWorldOptions& options, const PhysicsSystem& 
           {"step_mean_ms", figures.step_ms_total / std::max(1, figures.steps)},
           {"step_max_ms", figures.longest_step_ms},
           {"step_body_lock_wait_ms", figures.lock_wait_ms},
-          {"longest_request_ms", figures.longest_request_ms},
+          {"crowd_update_mean_ms", figures.crowd_ms_total / std::max(1, figures.steps)},
+          {"crowd_update_max_ms", figures.longest_crowd_ms},
+          {"on_mesh_share", figures.on_mesh_share()},
+          {"stuck_agents", figures.crowd.stuck_agents},
+          {"most_stuck_at_once", figures.most_stuck},
+          {"replans", figures.crowd.replans},
+          {"waiting_agent_seconds", figures.crowd.waiting_seconds},
           {"tiles_built", stats.builds},
           {"evictions", stats.evictions},
           {"failures", stats.failures},
@@ -306,22 +356,30 @@ int RunOpenWorldBench(const OpenWorldOptions& options) {
 
   navmesh::NavMeshServiceConfig service_config;
   service_config.settings = options.settings;
+  service_config.profiles = {navmesh::AgentProfile::Person()};
   service_config.worker_threads = options.navmesh_threads;
   service_config.max_tiles = options.tile_budget;
   auto service = navmesh::NavMeshService::Create(world, service_config);
   if (!service) return Fail(service.error().message);
+  navmesh::CrowdConfig crowd_config;
+  crowd_config.max_agents = options.agents;
+  crowd_config.arrive_distance = 2.0f;
+  auto crowd = navmesh::Crowd::Create(**service, 0, crowd_config);
+  if (!crowd) return Fail(crowd.error().message);
   std::vector<Agent> agents = MakeAgents(options, random);
+  if (Status placed = PlaceAgents(options, **service, **crowd, agents, random); !placed)
+    return Fail(placed.message());
   WalkFigures figures;
   figures.steps = static_cast<int>(std::ceil(options.walk_distance / (options.agent_speed * kStep)));
   std::printf(
       "open world: %.0f m x %.0f m, %zu bodies (populated in %.0f ms), %d agents in squads of %d walking "
-      "%.0f m at %.1f m/s (%d steps), requests of %.1f m every %d steps, tile budget %d; %d physics "
-      "thread(s), %d navmesh thread(s)\n",
+      "%.0f m at up to %.1f m/s (%d steps) with a crowd, tile budget %d; %d physics thread(s), %d navmesh "
+      "thread(s)\n",
       options.world_size, options.world_size, world.body_count_in_world(), populate_ms, options.agents,
-      kSquadSize, options.walk_distance, options.agent_speed, figures.steps, options.request_radius,
-      kRequestEverySteps, options.tile_budget, options.physics_threads, options.navmesh_threads);
+      kSquadSize, options.walk_distance, options.agent_speed, figures.steps, options.tile_budget,
+      options.physics_threads, options.navmesh_threads);
   Progress progress("strata bench-navmesh --open-world", "steps");
-  if (Status walked = WalkAgents(options, world, **service, agents, progress, figures); !walked)
+  if (Status walked = WalkAgents(options, world, **service, **crowd, agents, progress, figures); !walked)
     return Fail(walked.message());
   (void)(*service)->WaitUntilIdle(std::chrono::seconds(60));
   const navmesh::NavMeshServiceStats stats = (*service)->stats();

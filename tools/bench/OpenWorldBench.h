@@ -1,6 +1,7 @@
 // OpenWorldBench: agents walking across a generated open world far larger than the navmesh tile budget.
-// Squads of agents walk (bouncing off the world's edges) and ask for the tiles around them while the world
-// steps; the service builds them in the background and evicts the ones left behind. Prints steps, builds,
+// Squads of crowd agents (person profile) walk from waypoint to waypoint (bouncing off the world's edges)
+// while the world steps; the crowd asks for the tiles around and ahead of them, the service builds them in
+// the background and evicts the ones left behind. Prints steps, builds,
 // evictions, failures, tiles held, how often an agent stood on a ready tile, and memory over the walk
 // and what several agent profiles built from one gather cost against one service each (and, with `json`,
 // writes them to a file).
@@ -19,8 +20,7 @@ struct OpenWorldOptions {
   int bodies = 20000;             ///< static obstacles and resting crates, the ground included
   int agents = 64;                ///< in squads of up to 8 that walk together
   float walk_distance = 2000.0f;  ///< each agent's walk (m)
-  float agent_speed = 25.0f;      ///< m/s; frames are 1/60 s of wall time, as in a game (2 km: 80 s)
-  float request_radius = 8.0f;    ///< each agent asks for the tiles this close, twice a second
+  float agent_speed = 25.0f;      ///< m/s, the crowd agents' top speed; frames are 1/60 s of wall time
   int tile_budget = 256;          ///< the service's max_tiles
   int physics_threads = 1;
   int navmesh_threads = 1;

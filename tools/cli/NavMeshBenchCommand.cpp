@@ -57,10 +57,6 @@ std::function<int()> AddNavMeshBenchCommand(CLI::App& app) {
   command->add_option("--agent-speed", open_world->agent_speed, "open world: m/s")
       ->check(CLI::Range(0.1f, 1000.0f))
       ->capture_default_str();
-  command
-      ->add_option("--request-radius", open_world->request_radius, "open world: radius of each request (m)")
-      ->check(CLI::Range(0.0f, 1000.0f))
-      ->capture_default_str();
   command->add_option("--tile-budget", open_world->tile_budget, "open world: the service's max_tiles")
       ->check(CLI::Range(1, navmesh::NavMeshService::kMaxTiles))
       ->capture_default_str();
