@@ -1,3 +1,6 @@
+// About 600 lines, on purpose: besides publishing and reading, a navmesh loads files, and every count, index
+// and link of every tile is checked here before Detour sees a byte (Detour trusts its data); those checks
+// read the file layout Save writes, so they stay beside it.
 #include "navmesh/NavMesh.h"
 
 #include <DetourAlloc.h>
