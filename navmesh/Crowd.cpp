@@ -111,7 +111,7 @@ Status Crowd::SetTarget(int agent, const Vec3& target) {
   Agent& record = agents_[static_cast<std::size_t>(agent)];
   record.has_target = true;
   record.target = target;
-  record.best_distance = PlanarDistance(position(agent), target);
+  record.best_distance = PlanarDistance(PositionOf(agent), target);
   record.since_progress = 0.0f;
   navmesh_.Read([&](const dtNavMesh&) {
     Retarget(agent);
@@ -134,7 +134,7 @@ void Crowd::Retarget(int agent) {
   // to walk to and wait at while the tiles beyond are built.
   record.target_on_mesh = find(record.target);
   if (!record.target_on_mesh) {
-    const Vec3 from = position(agent);
+    const Vec3 from = PositionOf(agent);
     const Vec3 way(record.target.x() - from.x(), 0.0f, record.target.z() - from.z());
     const float length = way.norm();
     const float step = 0.25f * service_.profile_settings(profile_).tile_size();
@@ -172,7 +172,7 @@ void Crowd::RequestTiles() {
   for (int i = 0; i < static_cast<int>(agents_.size()); ++i) {
     const Agent& record = agents_[static_cast<std::size_t>(i)];
     if (!record.active) continue;
-    const Vec3 at = position(i);
+    const Vec3 at = PositionOf(i);
     (void)service_.RequestAround(at, 0.75f * tile, mask);
     if (!record.has_target || record.state == CrowdAgentState::kArrived) continue;
     // Ahead on its way, not only around it: the tiles its straight line to the target crosses.
@@ -240,18 +240,25 @@ Status Crowd::Update(float dt) {
   return Status::Ok();
 }
 
-Vec3 Crowd::position(int agent) const {
+Vec3 Crowd::PositionOf(int agent) const {
   const dtCrowdAgent& detour = *crowd_->getAgent(agent);
   return navmesh_.ToWorld(Vec3(detour.npos[0], detour.npos[1], detour.npos[2]));
 }
 
-Vec3 Crowd::velocity(int agent) const {
-  const dtCrowdAgent& detour = *crowd_->getAgent(agent);
-  return {detour.vel[0], detour.vel[1], detour.vel[2]};
+Result<Vec3> Crowd::position(int agent) const {
+  if (Status valid = Check(agent); !valid) return valid.error();
+  return PositionOf(agent);
 }
 
-CrowdAgentState Crowd::state(int agent) const {
-  return agents_.at(static_cast<std::size_t>(agent)).state;
+Result<Vec3> Crowd::velocity(int agent) const {
+  if (Status valid = Check(agent); !valid) return valid.error();
+  const dtCrowdAgent& detour = *crowd_->getAgent(agent);
+  return Vec3(detour.vel[0], detour.vel[1], detour.vel[2]);
+}
+
+Result<CrowdAgentState> Crowd::state(int agent) const {
+  if (Status valid = Check(agent); !valid) return valid.error();
+  return agents_[static_cast<std::size_t>(agent)].state;
 }
 
 int Crowd::agent_count() const {

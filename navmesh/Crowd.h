@@ -62,9 +62,10 @@ class Crowd {
   /// Advances every agent by `dt` seconds.
   Status Update(float dt);
 
-  Vec3 position(int agent) const;
-  Vec3 velocity(int agent) const;
-  CrowdAgentState state(int agent) const;
+  /// An agent's position, velocity and state; an error for an id that is not a live agent.
+  Result<Vec3> position(int agent) const;
+  Result<Vec3> velocity(int agent) const;
+  Result<CrowdAgentState> state(int agent) const;
   int agent_count() const;
   const CrowdStats& stats() const { return stats_; }
 
@@ -81,6 +82,7 @@ class Crowd {
 
   Crowd(NavMeshService& service, int profile, const CrowdConfig& config);
   Status Check(int agent) const;
+  Vec3 PositionOf(int agent) const;  // a live agent's
   void RequestTiles();
   void Retarget(int agent);     // navmesh read lock held
   void ReplanStaleCorridors();  // navmesh read lock held

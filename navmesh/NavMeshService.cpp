@@ -442,6 +442,7 @@ void NavMeshService::WorkerLoop() {
       SetState({p, coord}, found->second, TileState::kBuilding);
       profiles.push_back(p);
     }
+    if (profiles.empty()) continue;  // nothing left to build there (no gather for it)
     ++gathers_;
     lock.unlock();
     BuildOne(coord, profiles);

@@ -34,7 +34,7 @@ bool WalkUntilArrived(
     EXPECT_TRUE(crowd.Update(1.0f / 30.0f).ok());
     after_update();
     if (std::all_of(agents.begin(), agents.end(),
-                    [&](int agent) { return crowd.state(agent) == CrowdAgentState::kArrived; }))
+                    [&](int agent) { return *crowd.state(agent) == CrowdAgentState::kArrived; }))
       return true;
     std::this_thread::sleep_for(std::chrono::microseconds(500));  // the service's thread builds meanwhile
   }
@@ -65,7 +65,7 @@ TEST(Crowd, AgentsWalkToTargetsOnTilesNotBuiltWhenTheySetOut) {
   const std::vector<int> agents = AddRow(*crowd, 3.0f, 2.0f, 6, Vec3(55.0f, 0.0f, 0.0f));
   ASSERT_EQ(agents.size(), 6u);
   EXPECT_TRUE(WalkUntilArrived(*crowd, agents, 60.0));
-  for (int agent : agents) EXPECT_NEAR(crowd->position(agent).x(), 58.0f, 0.6f);
+  for (int agent : agents) EXPECT_NEAR(crowd->position(agent)->x(), 58.0f, 0.6f);
   EXPECT_EQ(crowd->stats().off_mesh, 0u);
   EXPECT_EQ(crowd->stats().stuck_agents, 0u);
   EXPECT_GE(service->navmesh(0).tile_count(), 5);  // asked for ahead of them
@@ -85,6 +85,11 @@ TEST(Crowd, BadAgentsAndCallsAreRefused) {
   EXPECT_FALSE(crowd->Update(0.0f).ok());
   ASSERT_TRUE(crowd->RemoveAgent(agent).ok());
   EXPECT_FALSE(crowd->RemoveAgent(agent).ok());
+  // A removed or never-made agent's id is an error, not another agent's data.
+  EXPECT_FALSE(crowd->position(agent).ok());
+  EXPECT_FALSE(crowd->state(agent).ok());
+  EXPECT_FALSE(crowd->velocity(-1).ok());
+  EXPECT_FALSE(crowd->position(1 << 20).ok());
   EXPECT_EQ(crowd->agent_count(), 0);
 }
 
@@ -112,7 +117,7 @@ TEST(CrowdThreads, AgentsKeepWalkingWhileTheirTilesAreRebuiltAndEvicted) {
     }
   });
   const bool arrived =
-      WalkUntilArrived(*crowd, agents, 120.0, [&] { front = crowd->position(agents[0]).x(); });
+      WalkUntilArrived(*crowd, agents, 120.0, [&] { front = crowd->position(agents[0])->x(); });
   stop = true;
   invalidator.join();
   EXPECT_TRUE(arrived);

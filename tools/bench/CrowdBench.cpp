@@ -41,7 +41,7 @@ Result<CrowdUpdateFigures> RunCrowd(navmesh::NavMeshService& service, const AABB
     total_ms += ms;
     figures.max_ms = std::max(figures.max_ms, ms);
     for (const int id : ids) {
-      if (crowd.state(id) != navmesh::CrowdAgentState::kArrived) continue;
+      if (*crowd.state(id) != navmesh::CrowdAgentState::kArrived) continue;
       ++figures.arrived;
       (void)crowd.SetTarget(id, somewhere());
     }

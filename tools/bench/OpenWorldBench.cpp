@@ -150,7 +150,7 @@ Status PlaceAgents(const OpenWorldOptions& options, navmesh::NavMeshService& ser
     if (agent.id < 0)
       return MakeError(ErrorCode::kInvalidState, "an agent could not be placed on the navmesh");
     if (Status sent =
-            crowd.SetTarget(agent.id, NextWaypoint(agent, crowd.position(agent.id), options.world_size));
+            crowd.SetTarget(agent.id, NextWaypoint(agent, *crowd.position(agent.id), options.world_size));
         !sent)
       return sent;
   }
@@ -191,10 +191,10 @@ Status UpdateCrowd(const OpenWorldOptions& options, navmesh::NavMeshService& ser
   figures.crowd_ms_total += crowd_ms;
   figures.longest_crowd_ms = std::max(figures.longest_crowd_ms, crowd_ms);
   for (Agent& agent : agents) {
-    const Vec3 at = crowd.position(agent.id);
+    const Vec3 at = *crowd.position(agent.id);
     ++figures.checks;
     figures.on_ready += service.GetTileState(service.grid().TileAt(at)) == navmesh::TileState::kReady;
-    if (crowd.state(agent.id) == navmesh::CrowdAgentState::kArrived)
+    if (*crowd.state(agent.id) == navmesh::CrowdAgentState::kArrived)
       (void)crowd.SetTarget(agent.id, NextWaypoint(agent, at, options.world_size));
   }
   figures.most_stuck = std::max(figures.most_stuck, crowd.stats().stuck_agents);
