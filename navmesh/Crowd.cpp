@@ -176,12 +176,11 @@ void Crowd::RequestTiles() {
     (void)service_.RequestAround(at, 0.75f * tile, mask);
     if (!record.has_target || record.state == CrowdAgentState::kArrived) continue;
     // Ahead on its way, not only around it: the tiles its straight line to the target crosses.
-    const Vec3 way = record.target - at;
-    const float length = std::min(config_.lookahead, std::hypot(way.x(), way.z()));
-    if (length <= 0.0f) continue;
-    const Vec3 step = (0.5f * tile / std::hypot(way.x(), way.z())) * Vec3(way.x(), 0.0f, way.z());
+    const Vec3 way(record.target.x() - at.x(), 0.0f, record.target.z() - at.z());
+    const float distance = way.norm();
+    const float length = std::min(config_.lookahead, distance);
     for (float along = 0.5f * tile; along <= length; along += 0.5f * tile)
-      (void)service_.RequestAround(at + (along / (0.5f * tile)) * step, 0.5f * tile, mask);
+      (void)service_.RequestAround(at + (along / distance) * way, 0.5f * tile, mask);
   }
 }
 
