@@ -246,6 +246,8 @@ TEST(Cli, NavmeshBakeWritesSetObjAndReportThenPathQueriesIt) {
 TEST(Cli, NavmeshBakeAndPathTakeAProfile) {
   const auto person = TempFile("arena_person.bin"), machine = TempFile("arena_machine.bin");
   const auto report = TempFile("arena_person.json"), errors = TempFile("profile_errors.txt");
+  const auto never = TempFile("never.bin");
+  std::filesystem::remove(never);  // one left by an earlier process with the same id would spoil the check
   const std::string level = (kLevels / "arena.glb").string();
   ASSERT_EQ(RunCli("navmesh bake " + level + " --profile person --out " + person.string() + " --json " +
                    report.string()),
@@ -267,18 +269,18 @@ TEST(Cli, NavmeshBakeAndPathTakeAProfile) {
                          message),
             2);
   EXPECT_NE(message.find("baked for profile 'machine', not 'person'"), std::string::npos) << message;
-  EXPECT_EQ(RunCliErrors("navmesh bake " + level + " --profile person --agent-radius 0.3 --out " +
-                             TempFile("never.bin").string(),
-                         message),
-            2);
+  EXPECT_EQ(
+      RunCliErrors("navmesh bake " + level + " --profile person --agent-radius 0.3 --out " + never.string(),
+                   message),
+      2);
   EXPECT_NE(message.find("give --profile or --agent-radius, not both"), std::string::npos) << message;
-  EXPECT_EQ(RunCli("navmesh bake " + level + " --profile thunderjaw --out " + TempFile("never.bin").string()),
-            2);
-  EXPECT_FALSE(std::filesystem::exists(TempFile("never.bin")));
+  EXPECT_EQ(RunCli("navmesh bake " + level + " --profile thunderjaw --out " + never.string()), 2);
+  EXPECT_FALSE(std::filesystem::exists(never));
 }
 
 TEST(Cli, NavmeshBadInputExitsWithTwo) {
   const auto nav = TempFile("bad.bin");
+  std::filesystem::remove(nav);  // one left by an earlier process with the same id would pass for a new one
   EXPECT_EQ(RunCli("navmesh bake " + TempFile("missing.obj").string() + " --out " + nav.string()), 2);
   EXPECT_EQ(RunCli("navmesh bake " + (kLevels / "arena.glb").string() + " --out " + nav.string() +
                    " --max-slope 120"),
@@ -294,15 +296,17 @@ TEST(Cli, NavmeshBadInputExitsWithTwo) {
 // Every input that is not a regular file is refused at once (exit 2), never read: a directory used to abort
 // the process, /dev/zero and a pipe with no writer used to hang it. `timeout` turns a hang into a failure.
 TEST(Cli, InputsThatAreNotRegularFilesExitTwoAtOnce) {
-  const auto fifo = TempFile("fifo");
+  const auto fifo = TempFile("fifo"), never = TempFile("never.bin");
+  std::filesystem::remove(fifo);  // left by an earlier process with the same id
+  std::filesystem::remove(never);
   ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
   const std::string directory = std::filesystem::temp_directory_path().string();
   for (const std::string& input : {directory, std::string("/dev/zero"), fifo.string()}) {
     EXPECT_EQ(RunCli("simulate " + input + " --steps 1"), 2) << input;
     EXPECT_EQ(RunCli("navmesh path " + input + " --from 1,0,1 --to 2,0,2"), 2) << input;
-    EXPECT_EQ(RunCli("navmesh bake " + input + " --out " + TempFile("never.bin").string()), 2) << input;
+    EXPECT_EQ(RunCli("navmesh bake " + input + " --out " + never.string()), 2) << input;
   }
-  EXPECT_FALSE(std::filesystem::exists(TempFile("never.bin")));
+  EXPECT_FALSE(std::filesystem::exists(never));
   std::filesystem::remove(fifo);
 }
 
