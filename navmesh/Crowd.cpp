@@ -76,10 +76,10 @@ Result<int> Crowd::AddAgent(const Vec3& position, const CrowdAgentParams& params
   detour.maxSpeed = params.max_speed;
   detour.collisionQueryRange = settings.agent_radius * 6.0f;
   detour.pathOptimizationRange = settings.agent_radius * 30.0f;
-  detour.separationWeight = 2.0f;
-  // Corridors are straightened by the periodic topology pass, not a raycast per agent per frame.
-  detour.updateFlags =
-      DT_CROWD_ANTICIPATE_TURNS | DT_CROWD_OPTIMIZE_TOPO | DT_CROWD_OBSTACLE_AVOIDANCE | DT_CROWD_SEPARATION;
+  // Corridors are straightened by the periodic topology pass, not a raycast per agent per frame. No
+  // separation: it pushes agents apart across the whole query range (15 m for a machine), so two agents whose
+  // ways cross near their targets hold each other off; avoidance alone keeps them from walking into another.
+  detour.updateFlags = DT_CROWD_ANTICIPATE_TURNS | DT_CROWD_OPTIMIZE_TOPO | DT_CROWD_OBSTACLE_AVOIDANCE;
   detour.obstacleAvoidanceType = 0;
   const Vec3 local = navmesh_.ToLocal(position);
   const int index = navmesh_.Read([&](const dtNavMesh&) {
@@ -258,6 +258,13 @@ Result<Vec3> Crowd::velocity(int agent) const {
 Result<CrowdAgentState> Crowd::state(int agent) const {
   if (Status valid = Check(agent); !valid) return valid.error();
   return agents_[static_cast<std::size_t>(agent)].state;
+}
+
+Result<bool> Crowd::stuck(int agent) const {
+  if (Status valid = Check(agent); !valid) return valid.error();
+  const Agent& record = agents_[static_cast<std::size_t>(agent)];
+  return record.has_target && record.state == CrowdAgentState::kWalking &&
+         record.since_progress >= config_.stuck_seconds;
 }
 
 int Crowd::agent_count() const {

@@ -66,6 +66,8 @@ class Crowd {
   Result<Vec3> position(int agent) const;
   Result<Vec3> velocity(int agent) const;
   Result<CrowdAgentState> state(int agent) const;
+  /// Whether the agent has a target and gained no ground on it for stuck_seconds (waiting for tiles aside).
+  Result<bool> stuck(int agent) const;
   int agent_count() const;
   const CrowdStats& stats() const { return stats_; }
 

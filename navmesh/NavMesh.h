@@ -22,6 +22,10 @@
 
 namespace strata::navmesh {
 
+/// Polygon flags a query filter may test: ground an agent walks on, and an off-mesh link down a ledge.
+inline constexpr unsigned short kGroundPolyFlag = 1;
+inline constexpr unsigned short kDropLinkFlag = 2;
+
 /// A Detour tiled navmesh shared between the threads that publish tiles and the threads that query it.
 class NavMesh {
  public:

@@ -2,6 +2,8 @@
 
 #include <string>
 
+#include <cmath>
+
 namespace strata::navmesh {
 
 namespace {
@@ -15,6 +17,14 @@ Error NotFinite(const char* what) {
 
 Vec3 ToVec3(const float* v) {
   return {v[0], v[1], v[2]};
+}
+
+// Detour draws its random numbers through a plain function pointer: the caller's generator is reached
+// through this thread's slot for the length of one call.
+thread_local std::mt19937* t_random = nullptr;
+
+float DrawUnit() {
+  return std::uniform_real_distribution<float>(0.0f, 1.0f)(*t_random);
 }
 
 }  // namespace
@@ -110,6 +120,32 @@ Result<NavRaycastResult> NavMeshQuery::Raycast(const Vec3& from, const Vec3& to)
     result.fraction = result.hit_wall ? t : 1.0f;
     return result;
   });
+}
+
+Result<Vec3> NavMeshQuery::RandomPointAround(const Vec3& center, float radius, std::mt19937& random) const {
+  if (!IsFinite(center)) return NotFinite("circle centre");
+  if (!std::isfinite(radius) || radius <= 0.0f)
+    return MakeError(ErrorCode::kInvalidArgument, "navmesh query: the radius must be a finite number > 0");
+  const Vec3 local = navmesh_.ToLocal(center);
+  return navmesh_.Read([&](const dtNavMesh&) -> Result<Vec3> {
+    NearestPoly start;
+    query_->findNearestPoly(local.data(), extents_.data(), &filter_, &start.poly, start.point.data());
+    if (start.poly == 0)
+      return MakeError(ErrorCode::kInvalidArgument, "navmesh query: no polygon near the circle's centre");
+    t_random = &random;
+    dtPolyRef poly = 0;
+    Vec3 point;
+    const dtStatus status = query_->findRandomPointAroundCircle(start.poly, start.point.data(), radius,
+                                                                &filter_, DrawUnit, &poly, point.data());
+    t_random = nullptr;
+    if (dtStatusFailed(status) || poly == 0)
+      return MakeError(ErrorCode::kInvalidArgument, "navmesh query: no random point found");
+    return navmesh_.ToWorld(point);
+  });
+}
+
+void NavMeshQuery::set_links_allowed(bool allowed) {
+  filter_.setExcludeFlags(allowed ? 0 : kDropLinkFlag);
 }
 
 }  // namespace strata::navmesh

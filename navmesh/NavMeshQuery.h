@@ -6,6 +6,7 @@
 #include <DetourNavMeshQuery.h>
 
 #include <memory>
+#include <random>
 #include <vector>
 
 #include "navmesh/NavMesh.h"
@@ -53,6 +54,14 @@ class NavMeshQuery {
   /// target is not an error (found with reached_end false, or found false when the end has no polygon).
   Result<PathResult> FindPath(const Vec3& from, const Vec3& to) const;
   Result<NavRaycastResult> Raycast(const Vec3& from, const Vec3& to) const;
+  /// A point drawn from `random` on the navmesh connected to the polygon nearest `center`, among the
+  /// polygons within about `radius` of it (by area): where a wandering agent may go. The same navmesh and
+  /// generator state give the same point. Fails off the navmesh or for bad numbers.
+  Result<Vec3> RandomPointAround(const Vec3& center, float radius, std::mt19937& random) const;
+
+  /// Whether paths may take off-mesh links (drop-downs; on by default): off, a query answers what a walker
+  /// that never drops can reach.
+  void set_links_allowed(bool allowed);
 
  private:
   NavMeshQuery(const NavMesh& navmesh, dtNavMeshQuery* query) : navmesh_(navmesh), query_(query) {}

@@ -289,6 +289,8 @@ void NavMeshService::SetFrontState(ProfileTile tile, TileState state) {
   if (std::size_t* count = CountOf(stats, front)) --*count;
   if (std::size_t* count = CountOf(stats, state)) ++*count;
   front = state;
+  if (state == TileState::kReady) front_published_.insert(tile);
+  if (state == TileState::kMissing) front_published_.erase(tile);
 }
 
 void NavMeshService::ForgetFrontState(ProfileTile tile) {
@@ -298,6 +300,7 @@ void NavMeshService::ForgetFrontState(ProfileTile tile) {
   if (std::size_t* count = CountOf(front_stats_[static_cast<std::size_t>(tile.profile)], found->second))
     --*count;
   front_states_.erase(found);
+  front_published_.erase(tile);
 }
 
 void NavMeshService::MirrorCounters() {
@@ -366,6 +369,11 @@ TileState NavMeshService::GetTileState(TileCoord tile, int profile) const {
   const std::lock_guard lock(front_mutex_);
   const auto found = front_states_.find({profile, tile});
   return found == front_states_.end() ? TileState::kMissing : found->second;
+}
+
+bool NavMeshService::IsPublished(TileCoord tile, int profile) const {
+  const std::lock_guard lock(front_mutex_);
+  return front_published_.count({profile, tile}) > 0;
 }
 
 bool NavMeshService::Idle() const {

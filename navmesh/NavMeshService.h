@@ -93,6 +93,10 @@ class NavMeshService {
   Status Invalidate(const AABB& box, ProfileMask profiles = kAllProfiles);
 
   TileState GetTileState(TileCoord tile, int profile = 0) const;
+  /// Whether the tile's navmesh (perhaps empty) is published for the profile: true from its first build until
+  /// it is evicted, also while it is stale and a rebuild is queued or running (its old polygons stay walkable
+  /// until the new ones replace them).
+  bool IsPublished(TileCoord tile, int profile = 0) const;
   /// Blocks until no tile is queued, building or stale, or the timeout passes; true when idle. For tools
   /// and tests; a game polls GetTileState instead.
   bool WaitUntilIdle(std::chrono::milliseconds timeout) const;
@@ -209,6 +213,7 @@ class NavMeshService {
   mutable std::mutex front_mutex_;
   std::vector<PendingRequest> inbox_;
   std::map<ProfileTile, TileState> front_states_;
+  std::set<ProfileTile> front_published_;  // tiles that went ready and were not evicted since
   // Per profile: state counts kept with front_states_, counters mirrored from the back.
   std::vector<NavMeshServiceStats> front_stats_;
   std::atomic<std::uint64_t> work_epoch_{0};  // bumped (and waited on) whenever workers may have work

@@ -4,6 +4,7 @@
 #include <Recast.h>
 
 #include "navmesh/DropLinks.h"
+#include "navmesh/NavMesh.h"
 
 #include <algorithm>
 #include <chrono>
@@ -19,9 +20,6 @@ namespace strata::navmesh {
 
 namespace {
 
-/// Polygon flags: ground an agent walks on, and a ledge it drops down (filters may test them).
-constexpr unsigned short kWalkFlag = 1;
-constexpr unsigned short kDropFlag = 2;
 /// The area of drop links (ground is RC_WALKABLE_AREA), so a query filter may cost them apart.
 constexpr unsigned char kDropArea = 1;
 
@@ -189,7 +187,8 @@ Result<TileData> CreateDetourData(const NavMeshSettings& settings, const rcConfi
                                   RecastMeshes& meshes, const std::vector<DropLink>& drops) {
   rcPolyMesh& poly = *meshes.poly;
   if (poly.nverts >= 0xffff) return BuildError(tile, "Detour data (too many vertices)");
-  for (int i = 0; i < poly.npolys; ++i) poly.flags[i] = poly.areas[i] == RC_WALKABLE_AREA ? kWalkFlag : 0;
+  for (int i = 0; i < poly.npolys; ++i)
+    poly.flags[i] = poly.areas[i] == RC_WALKABLE_AREA ? kGroundPolyFlag : 0;
 
   dtNavMeshCreateParams params{};
   params.verts = poly.verts;
@@ -224,7 +223,7 @@ Result<TileData> CreateDetourData(const NavMeshSettings& settings, const rcConfi
     for (const Vec3* point : {&drops[i].top, &drops[i].bottom})
       link_points.insert(link_points.end(), point->data(), point->data() + 3);
     link_radii.push_back(std::max(settings.agent_radius, 3.0f * settings.cell_size));
-    link_flags.push_back(kDropFlag);
+    link_flags.push_back(kDropLinkFlag);
     link_areas.push_back(kDropArea);
     link_directions.push_back(0);
     link_ids.push_back(static_cast<unsigned int>(i));

@@ -71,6 +71,26 @@ TEST(Crowd, AgentsWalkToTargetsOnTilesNotBuiltWhenTheySetOut) {
   EXPECT_GE(service->navmesh(0).tile_count(), 5);  // asked for ahead of them
 }
 
+TEST(Crowd, AnAgentWhoseTargetIsWalledOffIsStuckAndOneWaitingForTilesIsNot) {
+  auto world = MakeWorld();
+  AddSlab(*world, 0.0f, 2 * 12.8f, 0.0f, 12.8f, 0.0f);
+  AddSlab(*world, 12.0f, 13.0f, 0.0f, 12.8f, 3.0f);  // a wall across the floor, end to end
+  auto service = BuildArea(*world, TileArea(2), PersonService(16));
+  auto crowd = std::move(*Crowd::Create(*service, 0));
+  const int walled_off = *crowd->AddAgent(Vec3(6, 0, 6));
+  ASSERT_TRUE(crowd->SetTarget(walled_off, Vec3(20, 0, 6)).ok());
+  const int waiting = *crowd->AddAgent(Vec3(6, 0, 8));
+  ASSERT_TRUE(crowd->SetTarget(waiting, Vec3(-40, 0, 8)).ok());  // tiles no one builds in this test
+  EXPECT_FALSE(*crowd->stuck(walled_off));
+  // Four seconds to the wall, then more than five without getting nearer.
+  for (int frame = 0; frame < 30 * 10; ++frame) ASSERT_TRUE(crowd->Update(1.0f / 30.0f).ok());
+  EXPECT_TRUE(*crowd->stuck(walled_off));
+  EXPECT_LT(crowd->position(walled_off)->x(), 12.0f);
+  EXPECT_FALSE(*crowd->stuck(waiting));
+  EXPECT_EQ(*crowd->state(waiting), CrowdAgentState::kWaiting);
+  EXPECT_FALSE(crowd->stuck(99).ok());
+}
+
 TEST(Crowd, BadAgentsAndCallsAreRefused) {
   auto world = MakeWorld();
   AddFloor(*world, 1);

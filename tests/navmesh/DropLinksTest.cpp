@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <random>
 
 #include "NavMeshTestWorld.h"
 
@@ -48,6 +49,42 @@ TEST(DropLinks, ALedgeOfOneAndAHalfMetresIsADropForTwoMetresAndNotForOne) {
   EXPECT_FALSE(PathDown(dropper->navmesh(), bottom, top).reached_end);
   // The same navmesh as the walker's otherwise: the links add no ground.
   EXPECT_EQ(dropper->navmesh().polygon_count(), walker->navmesh().polygon_count());
+}
+
+TEST(DropLinks, AQueryThatAllowsNoLinksFindsWhatAWalkerReaches) {
+  auto world = MakeWorld();
+  AddLedge(*world);
+  const auto service = BuildArea(*world, TileArea(1), DropConfig(2.0f));
+  const Vec3 top(7.0f, 1.5f, 6.0f), bottom(7.0f, 0.0f, 11.5f);
+  auto query = MakeQuery(service->navmesh());
+  EXPECT_TRUE(query->FindPath(top, bottom)->reached_end);
+  query->set_links_allowed(false);
+  EXPECT_FALSE(query->FindPath(top, bottom)->reached_end);
+  query->set_links_allowed(true);
+  EXPECT_TRUE(query->FindPath(top, bottom)->reached_end);
+}
+
+TEST(DropLinks, RandomPointsAreOnGroundTheStartReachesAndRepeatWithTheSeed) {
+  auto world = MakeWorld();
+  AddLedge(*world);
+  const auto dropper = BuildArea(*world, TileArea(1), DropConfig(2.0f));
+  const auto walker = BuildArea(*world, TileArea(1), DropConfig(1.0f));
+  const Vec3 top(7.0f, 1.5f, 6.0f);
+  std::mt19937 first(5), again(5), walker_random(5);
+  auto dropper_query = MakeQuery(dropper->navmesh()), walker_query = MakeQuery(walker->navmesh());
+  int below = 0;
+  for (int i = 0; i < 40; ++i) {
+    const Result<Vec3> point = dropper_query->RandomPointAround(top, 30.0f, first);
+    ASSERT_TRUE(point.ok()) << point.error().message;
+    EXPECT_EQ(*point, *dropper_query->RandomPointAround(top, 30.0f, again));
+    EXPECT_TRUE(dropper_query->FindPath(top, *point)->reached_end);
+    below += point->y() < 0.5f;
+    // Without a link down, the walker's points all lie on the platform.
+    EXPECT_GT(walker_query->RandomPointAround(top, 30.0f, walker_random)->y(), 1.0f);
+  }
+  EXPECT_GT(below, 20) << "the ground below is most of what a dropper reaches";
+  EXPECT_FALSE(dropper_query->RandomPointAround(top, -1.0f, first).ok());
+  EXPECT_FALSE(dropper_query->RandomPointAround(Vec3(500, 0, 500), 10.0f, first).ok());
 }
 
 TEST(DropLinks, LinksAreSavedAndLoadedWithTheirTile) {

@@ -99,6 +99,7 @@ TEST(NavMeshService, ARebuildThatFailsKeepsTheOldTilePublishedAndStale) {
   EXPECT_NE(service->last_error().find("polygons, more than the 64 a tile holds"), std::string::npos)
       << service->last_error();
   EXPECT_EQ(service->GetTileState({0, 0}), TileState::kStale);
+  EXPECT_TRUE(service->IsPublished({0, 0}));
   EXPECT_EQ(service->navmesh().polygon_count(), polygons);  // the old tile, still there for agents
   const auto during = query->FindPath(from, to);
   ASSERT_TRUE(during.ok() && during->reached_end);
@@ -132,6 +133,7 @@ TEST(NavMeshService, AnAgentWalksAcrossAWorldLargerThanTheTileBudget) {
     EXPECT_LE(stats.tiles_holding_data, 9u);
     EXPECT_LE(service->navmesh().tile_count(), 9);
     EXPECT_EQ(service->GetTileState(service->grid().TileAt(agent)), TileState::kReady) << x;
+    EXPECT_TRUE(service->IsPublished(service->grid().TileAt(agent))) << x;
     const auto ahead = query->FindPath(agent, agent + Vec3(10.0f, 0.0f, 0.0f));
     ASSERT_TRUE(ahead.ok()) << x << ": " << ahead.error().message;
     EXPECT_TRUE(ahead->reached_end) << x;
@@ -148,6 +150,8 @@ TEST(NavMeshService, AnAgentWalksAcrossAWorldLargerThanTheTileBudget) {
   EXPECT_LE(most_records, 4u * 9u + 64u);
   // The start of the walk has been given up; a new request there builds it again.
   EXPECT_EQ(service->GetTileState({0, 1}), TileState::kMissing);
+  EXPECT_FALSE(service->IsPublished({0, 1}));
+  EXPECT_FALSE(service->IsPublished({0, 1}, 5));  // no such profile: nothing published
 }
 
 TEST(NavMeshService, SmallMovesAndDebrisLeaveTilesReady) {

@@ -11,7 +11,9 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <regex>
 #include <set>
+#include <sstream>
 #include <string>
 #include <tuple>
 
@@ -77,10 +79,51 @@ TEST(Cli, DemoBuildsTilesWhileSteppingAndWritesPictures) {
   EXPECT_GT(meshes["paths"]->mNumFaces, 0u);
 }
 
-TEST(Cli, DemoPlayerWalksTheCourtyardTourUpTheStairsAndOverTheBridge) {
+/// The demo's table of agents: per row its profile, whether it reached its target and the note.
+struct AgentRow {
+  std::string profile;
+  bool reached = false;
+  std::string note;
+};
+
+std::vector<AgentRow> AgentRows(const std::string& output) {
+  std::vector<AgentRow> rows;
+  std::istringstream lines(output.substr(output.find("\nagent profile")));
+  std::string line;
+  std::getline(lines, line);
+  std::getline(lines, line);  // the header
+  // "index profile (from) (to) set-off arrived walked-m reached  note"
+  const std::regex row_pattern(R"(^\d+\s+(\S+)\s.*?\s\d+\.\d\s+(yes|no)  (.*)$)");
+  while (std::getline(lines, line) && !line.empty() && std::isdigit(static_cast<unsigned char>(line[0]))) {
+    std::smatch match;
+    if (!std::regex_match(line, match, row_pattern)) {
+      ADD_FAILURE() << "not an agent row: " << line;
+      continue;
+    }
+    rows.push_back({match[1], match[2] == "yes", match[3]});
+  }
+  return rows;
+}
+
+TEST(Cli, DemoAgentsWalkToTheirTargetsAndThePlayerWalksTheCourtyardTour) {
+  // At four times a game's pace: the background still has the time it needs between frames.
   const auto out = TempFile("demo_player");
   std::string output;
-  ASSERT_EQ(RunCliCapture("demo --out-dir " + out.string(), output), 0) << output;
+  ASSERT_EQ(RunCliCapture("demo --time-scale 4 --out-dir " + out.string(), output), 0) << output;
+  // Every agent, people and machines, walked to its target through its crowd; the two on the crate stack
+  // could only get down by a drop link.
+  const std::vector<AgentRow> rows = AgentRows(output);
+  ASSERT_EQ(rows.size(), 10u) << output;
+  std::size_t machines = 0, drop_downs = 0;
+  for (const AgentRow& row : rows) {
+    EXPECT_TRUE(row.reached) << output;
+    machines += row.profile == "machine";
+    drop_downs += row.note == "drop-down agent: no way without a drop link";
+  }
+  EXPECT_EQ(machines, 2u);
+  EXPECT_EQ(drop_downs, 2u) << output;
+  EXPECT_NE(output.find("agents: 10 of 10 reached their targets walking"), std::string::npos) << output;
+
   const auto at = output.find("player: reached ");
   ASSERT_NE(at, std::string::npos) << output;
   int reached = 0, waypoints = 0;
@@ -97,6 +140,26 @@ TEST(Cli, DemoPlayerWalksTheCourtyardTourUpTheStairsAndOverTheBridge) {
   EXPECT_GT(x, 50.0f);                // across the trench, over the bridge (x 38-50)
   EXPECT_NEAR(y, 0.0f, 0.05f);
   EXPECT_GT(walked, 60.0f);
+  std::filesystem::remove_all(out);
+}
+
+TEST(Cli, DemoAgentsOnTheCrateStackStayThereWithoutDropLinks) {
+  // Only the two drop-down agents, for ten seconds (they need under ten with links).
+  const auto out = TempFile("demo_no_links");
+  const std::string quiet =
+      " --steps 600 --time-scale 4 --agents 0 --crates 0 --boulders 0 --no-player --out-dir ";
+  std::string with_links, without_links;
+  ASSERT_EQ(RunCliCapture("demo" + quiet + out.string(), with_links), 0) << with_links;
+  ASSERT_EQ(RunCliCapture("demo --no-drop-links" + quiet + out.string(), without_links), 0) << without_links;
+  const std::vector<AgentRow> walked = AgentRows(with_links), stayed = AgentRows(without_links);
+  ASSERT_EQ(walked.size(), 2u) << with_links;
+  ASSERT_EQ(stayed.size(), 2u) << without_links;
+  for (std::size_t i = 0; i < 2; ++i) {
+    EXPECT_TRUE(walked[i].reached) << with_links;
+    EXPECT_FALSE(stayed[i].reached) << without_links;
+    EXPECT_EQ(stayed[i].note, "drop-down agent: no way without a drop link");
+  }
+  EXPECT_NE(without_links.find("drops 0 m"), std::string::npos) << without_links;
   std::filesystem::remove_all(out);
 }
 

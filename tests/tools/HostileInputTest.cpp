@@ -137,6 +137,7 @@ TEST(HostileInput, DamagedPlyFilesAreErrorsNotCrashesOrSpins) {
 
 TEST(HostileInput, APipeALevelRefersToIsRefusedNotWaitedOn) {
   const auto folder = Temp("referenced");
+  std::filesystem::remove_all(folder);  // an earlier run under a reused process id left its pipes
   std::filesystem::create_directories(folder);
   ASSERT_EQ(::mkfifo((folder / "materials.mtl").c_str(), 0600), 0);
   ASSERT_EQ(::mkfifo((folder / "buffer.bin").c_str(), 0600), 0);
@@ -169,6 +170,11 @@ TEST(HostileInput, SizeAndThreadOptionsNameTheirLimits) {
       {"demo --threads 20000", "--threads must be from 1 to 256"},
       {"demo --navmesh-threads 1000", "--navmesh-threads must be from 1 to 64"},
       {"demo --crates 1000000", "--crates"},
+      {"demo --profiles elephant", "--profiles"},
+      {"demo --profiles person,person", "'person' is named twice"},
+      {"demo --profiles person --agent-radius 1", "give --profiles or --agent-radius, not both"},
+      {"demo --time-scale -1", "--time-scale"},
+      {"demo --target-radius nan", "--target-radius"},
       {"bench --threads 100000", "--threads must be from 1 to 256"},
       {"bench-broadphase --max-threads 100000", "--max-threads must be from 0 to 256"},
       {"bench-navmesh --blocks -1 --steps -5", "--blocks must be from 2 to 1000"},

@@ -137,9 +137,13 @@ TEST(View, ARecordedDemoOpensInHeadlessChromiumWithItsLevelNavmeshAndPaths) {
   EXPECT_EQ(stats["agents"].get<std::size_t>(), recording["agents"].size());
   EXPECT_EQ(stats["frames"].get<std::size_t>(), recording["frames"].size());
   EXPECT_EQ(stats["tiles"].get<std::size_t>(), recording["tiles"]["coords"].size());
-  EXPECT_EQ(stats["navmesh_triangles"].get<std::size_t>(), recording["navmesh"]["positions"].size() / 9);
+  // The first profile's navmesh shows first.
+  ASSERT_EQ(recording["navmeshes"].size(), 2u);
+  EXPECT_EQ(stats["profiles"], nlohmann::json({"person", "machine"}));
+  EXPECT_EQ(stats["profile"].get<int>(), 0);
+  EXPECT_EQ(stats["navmesh_triangles"].get<std::size_t>(), recording["navmeshes"][0]["positions"].size() / 9);
   EXPECT_EQ(stats["level_objects"].get<int>(), 1);
-  EXPECT_EQ(stats["path_objects"].get<int>(), 1);
+  EXPECT_EQ(stats["path_objects"].get<int>(), 2);  // a layer of paths a profile
   // Level, navmesh, bodies, agents and their targets, tile borders, paths.
   EXPECT_GE(stats["objects"].get<std::size_t>(),
             3 + recording["bodies"].size() + 2 * recording["agents"].size());
@@ -181,6 +185,40 @@ TEST(View, ARecordedDemoOpensInHeadlessChromiumWithItsLevelNavmeshAndPaths) {
   EXPECT_GT(navmesh_pixels / total, 0.05) << "the navmesh should cover much of the view";
   EXPECT_GT(path_pixels, 200u) << "the agents' paths should show";
   EXPECT_GT(grey_pixels / total, 0.01) << "the level should show";
+}
+
+TEST(View, ThePageSwitchesProfileAndMovesTheAgentsAlongTheTimeline) {
+  const RecordedDemo& demo = Demo();
+  const nlohmann::json& recording = demo.document;
+  ASSERT_TRUE(recording.is_object());
+  // The recording: each agent's position in every frame, and they walked.
+  const nlohmann::json& frames = recording["frames"];
+  const std::size_t agents = recording["agents"].size();
+  ASSERT_GE(frames.size(), 2u);
+  ASSERT_GT(agents, 0u);
+  double moved = 0.0;
+  for (std::size_t i = 0; i < 3 * agents; ++i) {
+    ASSERT_EQ(frames.front()["agents"].size(), 3 * agents);
+    moved += std::abs(frames.back()["agents"][i].get<double>() - frames.front()["agents"][i].get<double>());
+  }
+  EXPECT_GT(moved, 1.0) << "the agents should walk";
+  const std::string browser = Chromium();
+  if (browser.empty()) GTEST_SKIP() << "no chromium here (tools/scripts/install-deps.sh installs it)";
+
+  // The second profile, at the first frame: its navmesh, and every agent where that frame puts it.
+  const std::string url = "file://" + (demo.folder / "index.html").string() + "?profile=1&frame=0";
+  const nlohmann::json stats = PageStats(browser, url);
+  ASSERT_TRUE(stats.value("ready", false)) << stats.dump();
+  EXPECT_EQ(stats["profile"].get<int>(), 1);
+  EXPECT_EQ(stats["frame"].get<int>(), 0);
+  EXPECT_EQ(stats["navmesh_triangles"].get<std::size_t>(), recording["navmeshes"][1]["positions"].size() / 9);
+  EXPECT_NE(stats["navmesh_triangles"], stats["navmesh_triangles_by_profile"][0])
+      << "a machine's navmesh is not a person's";
+  ASSERT_EQ(stats["agent_positions"].size(), agents);
+  for (std::size_t a = 0; a < agents; ++a)
+    for (std::size_t k = 0; k < 3; ++k)
+      EXPECT_NEAR(stats["agent_positions"][a][k].get<double>(),
+                  frames.front()["agents"][3 * a + k].get<double>() - stats["origin"][k].get<double>(), 1e-3);
 }
 
 /// GET `target` from 127.0.0.1:`port`; the status line and body.
@@ -279,7 +317,7 @@ TEST(View, ASimulateRunIsRecordedAndViewedWithoutANavmesh) {
   const nlohmann::json document = nlohmann::json::parse(ReadText(recording));
   EXPECT_EQ(document["source"], "simulate");
   EXPECT_GT(document["bodies"].size(), 0u);
-  EXPECT_FALSE(document.contains("navmesh"));
+  EXPECT_FALSE(document.contains("navmeshes"));
   // 60 steps at the scene's dt, about 30 frames a simulated second, and the first and last steps.
   ASSERT_GE(document["frames"].size(), 3u);
   EXPECT_EQ(document["frames"].back()["step"].get<int>(), 60);
@@ -295,7 +333,7 @@ TEST(View, ALevelFarFromTheOriginIsDrawnRelativeToItsMiddle) {
   const double far_x = 5.0e6, far_z = -3.0e6;
   nlohmann::json recording = {
       {"format", "strata-recording"},
-      {"version", 1},
+      {"version", 2},
       {"source", "simulate"},
       {"title", "far"},
       {"static",
@@ -391,6 +429,16 @@ TEST(View, BadRecordingsAreRefusedWithTheFieldNamedAndNothingWritten) {
   bad_state["frames"][0]["tiles"][0] = 9;
   nlohmann::json bad_index = demo.document;
   bad_index["static"]["indices"][0] = 999999999;
+  nlohmann::json one_profile_of_tiles = demo.document;  // states for one profile where two are named
+  one_profile_of_tiles["frames"][0]["tiles"].erase(0);
+  nlohmann::json bad_agent_profile = demo.document;
+  bad_agent_profile["agents"][0]["profile"] = 7;
+  nlohmann::json short_agents = demo.document;
+  short_agents["frames"][2]["agents"].erase(0);
+  nlohmann::json unnamed_profile = demo.document;
+  unnamed_profile["profiles"][1]["name"] = 3;
+  nlohmann::json extra_navmesh = demo.document;
+  extra_navmesh["navmeshes"].push_back(extra_navmesh["navmeshes"][0]);
   // Each of these aborted, overflowed the stack or wrote a wrapped value into the page before.
   nlohmann::json format_number = demo.document;
   format_number["format"] = 1;
@@ -412,10 +460,15 @@ TEST(View, BadRecordingsAreRefusedWithTheFieldNamedAndNothingWritten) {
       {"bad-time", nan_time.dump(), "frames[1]"},
       {"bad-state", bad_state.dump(), "frames[0].tiles"},
       {"bad-index", bad_index.dump(), "static.indices"},
+      {"tiles-of-one-profile", one_profile_of_tiles.dump(), "frames[0].tiles"},
+      {"bad-agent-profile", bad_agent_profile.dump(), "agents[0].profile"},
+      {"short-agent-positions", short_agents.dump(), "frames[2].agents"},
+      {"unnamed-profile", unnamed_profile.dump(), "profiles[1].name"},
+      {"navmesh-of-no-profile", extra_navmesh.dump(), "navmeshes"},
       {"not-json", "{\"format\": \"strata-rec", "invalid JSON"},
       {"other-json", "{\"scene\": 1}", "not a strata recording"},
       {"format-of-the-wrong-type", format_number.dump(), "format: not a strata recording"},
-      {"version-of-the-wrong-type", version_string.dump(), "version: version 1 expected"},
+      {"version-of-the-wrong-type", version_string.dump(), "version: version 2 expected"},
       {"tile-state-that-would-wrap", wrapping_state.dump(), "frames[0].tiles"},
       {"nested-deeper-than-the-stack", "{\"format\": " + deep + "}", "nests deeper than 64 levels"},
       {"key-given-twice", duplicate, "the key \"title\" appears twice"},

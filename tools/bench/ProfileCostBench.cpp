@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <ctime>
 
 namespace strata::bench {
 
@@ -10,14 +11,24 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+/// CPU time of every thread of the process so far (ms): the services' workers and scanners, while the world
+/// is idle and the main thread sleeps in WaitUntilIdle.
+double ProcessCpuMs() {
+  timespec now{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &now);
+  return 1e3 * static_cast<double>(now.tv_sec) + 1e-6 * static_cast<double>(now.tv_nsec);
+}
+
 struct Built {
   double ms = 0.0;
+  double cpu_ms = 0.0;
   std::vector<std::pair<int, double>> navmeshes;  ///< per profile: polygons, walkable area
 };
 
 Result<Built> BuildBlock(const PhysicsSystem& world, const navmesh::NavMeshServiceConfig& config,
                          const AABB& block) {
   const Clock::time_point start = Clock::now();
+  const double cpu_start = ProcessCpuMs();
   Result<std::unique_ptr<navmesh::NavMeshService>> service = navmesh::NavMeshService::Create(world, config);
   if (!service) return service.error();
   if (Status requested = (*service)->RequestBox(block); !requested) return requested.error();
@@ -26,6 +37,7 @@ Result<Built> BuildBlock(const PhysicsSystem& world, const navmesh::NavMeshServi
   if ((*service)->stats().failures > 0) return MakeError(ErrorCode::kInvalidState, (*service)->last_error());
   Built built;
   built.ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+  built.cpu_ms = ProcessCpuMs() - cpu_start;
   for (int p = 0; p < (*service)->profile_count(); ++p)
     built.navmeshes.emplace_back((*service)->navmesh(p).polygon_count(),
                                  (*service)->navmesh(p).WalkableArea());
@@ -40,8 +52,15 @@ double Median(std::vector<double> values) {
 }  // namespace
 
 nlohmann::json ProfileCostFigures::ToJson() const {
-  return {{"profiles", profiles},       {"tiles", tiles},   {"shared_ms", shared_ms},
-          {"separate_ms", separate_ms}, {"ratio", ratio()}, {"same_tiles", same_tiles}};
+  return {{"profiles", profiles},
+          {"tiles", tiles},
+          {"shared_ms", shared_ms},
+          {"separate_ms", separate_ms},
+          {"ratio", ratio()},
+          {"shared_cpu_ms", shared_cpu_ms},
+          {"separate_cpu_ms", separate_cpu_ms},
+          {"cpu_ratio", cpu_ratio()},
+          {"same_tiles", same_tiles}};
 }
 
 Result<ProfileCostFigures> MeasureProfileCost(const PhysicsSystem& world,
@@ -76,22 +95,27 @@ Result<ProfileCostFigures> MeasureProfileCost(const PhysicsSystem& world,
   figures.profiles = static_cast<int>(profiles.size());
   figures.tiles = side * side;
   figures.same_tiles = true;
-  std::vector<double> shared_runs, separate_runs;
+  std::vector<double> shared_runs, separate_runs, shared_cpu_runs, separate_cpu_runs;
   for (int run = 0; run < runs; ++run) {
     Result<Built> together = BuildBlock(world, shared, block);
     if (!together) return together.error();
     shared_runs.push_back(together->ms);
-    double apart_ms = 0.0;
+    shared_cpu_runs.push_back(together->cpu_ms);
+    double apart_ms = 0.0, apart_cpu_ms = 0.0;
     for (std::size_t p = 0; p < separate.size(); ++p) {
       Result<Built> apart = BuildBlock(world, separate[p], block);
       if (!apart) return apart.error();
       apart_ms += apart->ms;
+      apart_cpu_ms += apart->cpu_ms;
       figures.same_tiles = figures.same_tiles && apart->navmeshes.front() == together->navmeshes[p];
     }
     separate_runs.push_back(apart_ms);
+    separate_cpu_runs.push_back(apart_cpu_ms);
   }
   figures.shared_ms = Median(shared_runs);
   figures.separate_ms = Median(separate_runs);
+  figures.shared_cpu_ms = Median(shared_cpu_runs);
+  figures.separate_cpu_ms = Median(separate_cpu_runs);
   return figures;
 }
 

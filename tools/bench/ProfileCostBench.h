@@ -14,8 +14,13 @@ struct ProfileCostFigures {
   int tiles = 0;
   double shared_ms = 0.0;    ///< one service, every profile (median of the runs)
   double separate_ms = 0.0;  ///< one service per profile, one after another (median of the runs)
-  bool same_tiles = false;   ///< every profile's navmesh had the same polygons and area both ways
+  /// CPU time of the process's threads over the same builds: every service's worker and its scanner, which
+  /// compares each ready tile with the world (wall time on two cores hides a scanner on the other core).
+  double shared_cpu_ms = 0.0;
+  double separate_cpu_ms = 0.0;
+  bool same_tiles = false;  ///< every profile's navmesh had the same polygons and area both ways
   double ratio() const { return separate_ms > 0.0 ? shared_ms / separate_ms : 0.0; }
+  double cpu_ratio() const { return separate_cpu_ms > 0.0 ? shared_cpu_ms / separate_cpu_ms : 0.0; }
   nlohmann::json ToJson() const;
 };
 

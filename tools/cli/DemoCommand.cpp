@@ -1,7 +1,8 @@
 // `strata demo [LEVEL]`: the main job. Imports a level (the bundled courtyard by default), fills it with
-// falling crates and rolling boulders, spawns agents that request navmesh tiles around themselves and a
+// falling crates and rolling boulders, spawns agents of two kinds (people and machines, each with its own
+// navmesh) that request navmesh tiles around themselves and walk to their targets through their crowd, and a
 // player character that walks a route (the courtyard's: up the stairs and over the bridge), and steps the
-// world while the tiles build in the background. Prints per-tile build figures, the agents' paths, the
+// world while the tiles build in the background. Prints per-tile build figures, each agent's walk, the
 // player's walk and the longest foreground stall, and writes the navmesh as OBJ, a top-down PNG, and the
 // level, navmesh (coloured by island) and paths as one glTF binary.
 #include <algorithm>
@@ -13,6 +14,7 @@
 #include <map>
 #include <optional>
 #include <random>
+#include <thread>
 #include <variant>
 
 #include "assets/import/GltfExporter.h"
@@ -28,6 +30,7 @@
 #include "tools/cli/Commands.h"
 #include "tools/cli/NavMeshOptions.h"
 #include "tools/cli/Validators.h"
+#include "tools/demo/DemoAgents.h"
 #include "tools/demo/ScriptedWalk.h"
 #include "tools/demo/TopDownImage.h"
 #include "tools/view/Recording.h"
@@ -48,8 +51,12 @@ struct DemoOptions {
   int boulders = 6;
   int agents = 8;
   float request_radius = 16.0f;
+  float target_radius = 24.0f;
+  std::vector<std::string> profiles = {"person", "machine"};
+  bool drop_links = true;
   int physics_threads = 1;
   int navmesh_threads = 1;
+  float time_scale = 1.0f;  ///< simulated seconds per wall-clock second; 0: as fast as it goes
   std::string out_dir = "build/demo";
   unsigned seed = 1;
   std::string record;    ///< a recording for `strata view` (empty: none)
@@ -65,11 +72,6 @@ constexpr int kMaxSteps = 10'000'000;
 // about 2 GB.
 constexpr int kMaxSpawned = 50'000;
 constexpr int kMaxAgents = 10'000;
-
-struct Agent {
-  Vec3 position;
-  Vec3 target;
-};
 
 double Milliseconds(Clock::duration duration) {
   return std::chrono::duration<double, std::milli>(duration).count();
@@ -167,15 +169,24 @@ Status SpawnDynamicBodies(PhysicsSystem& world, const AABB& level, const FloorSa
   return Status::Ok();
 }
 
-std::vector<Agent> SpawnAgents(const PhysicsSystem& world, const AABB& level, const FloorSampler& floors,
-                               int count, std::mt19937& random) {
-  std::vector<Agent> agents;
-  for (int attempt = 0; attempt < 50 * count && static_cast<int>(agents.size()) < count; ++attempt) {
+/// `count` agents at random floor points, and on the bundled courtyard the two of the first profile that
+/// start on the crate stack and need a drop link. Every fourth agent is of another profile than the first
+/// (taking them in turn): large machines are fewer than people, and a courtyard full of them jams.
+std::vector<demo::DemoAgentPlan> PlanAgents(const PhysicsSystem& world, const DemoOptions& options,
+                                            const AABB& level, const FloorSampler& floors, int profile_count,
+                                            std::mt19937& random) {
+  std::vector<demo::DemoAgentPlan> plans;
+  for (int attempt = 0; attempt < 50 * options.agents && static_cast<int>(plans.size()) < options.agents;
+       ++attempt) {
     const auto start = RandomGround(world, level, floors, random);
-    const auto target = RandomGround(world, level, floors, random);
-    if (start && target) agents.push_back({*start, *target});
+    if (!start) continue;
+    const int index = static_cast<int>(plans.size());
+    const int profile = profile_count > 1 && index % 4 == 3 ? 1 + (index / 4) % (profile_count - 1) : 0;
+    plans.push_back({*start, profile, std::nullopt, false});
   }
-  return agents;
+  if (std::filesystem::path(options.level).stem() == "courtyard")
+    for (const demo::DemoAgentPlan& plan : demo::CourtyardDropDownAgents(0)) plans.push_back(plan);
+  return plans;
 }
 
 /// The player's route: the one asked for, the tour of the bundled courtyard, or four random floor points.
@@ -243,8 +254,8 @@ std::vector<Triangle> LevelTriangles(PhysicsSystem& world, const LoadedLevel& le
 }
 
 Status DrawPicture(PhysicsSystem& world, const LoadedLevel& level, const navmesh::NavMeshService& service,
-                   const std::vector<Agent>& agents, const std::vector<navmesh::PathResult>& paths,
-                   const std::vector<Vec3>& player_trail, const std::filesystem::path& path) {
+                   const std::vector<demo::DemoAgent>& agents, const std::vector<Vec3>& player_trail,
+                   const std::filesystem::path& path) {
   demo::TopDownImage image(level.bounds.Expanded(Vec3(2.0f, 0.0f, 2.0f)), 8.0f);
   // Level: grey by height, lower surfaces first.
   struct Face {
@@ -294,11 +305,11 @@ Status DrawPicture(PhysicsSystem& world, const LoadedLevel& level, const navmesh
     if (motion.ok() && *motion == MotionType::kDynamic)
       image.DrawDot(*world.bodies().GetPosition(id), 2, {150, 90, 30});
   }
-  for (std::size_t i = 0; i < agents.size(); ++i) {
-    for (std::size_t k = 1; k < paths[i].points.size(); ++k)
-      image.DrawLine(paths[i].points[k - 1], paths[i].points[k], {220, 30, 30});
-    image.DrawDot(agents[i].position, 4, {20, 170, 40});
-    image.DrawDot(agents[i].target, 3, {200, 30, 200});
+  for (const demo::DemoAgent& agent : agents) {
+    for (std::size_t k = 1; k < agent.planned_path.size(); ++k)
+      image.DrawLine(agent.planned_path[k - 1], agent.planned_path[k], {220, 30, 30});
+    image.DrawDot(agent.plan.start, 4, {20, 170, 40});
+    if (agent.crowd_id >= 0) image.DrawDot(agent.target, 3, {200, 30, 200});
   }
   for (std::size_t k = 1; k < player_trail.size(); ++k)
     image.DrawLine(player_trail[k - 1], player_trail[k], {40, 210, 230});
@@ -307,14 +318,15 @@ Status DrawPicture(PhysicsSystem& world, const LoadedLevel& level, const navmesh
 
 /// The level, the navmesh by island and the agents' paths, as the viewer's scene.glb shows them.
 Status WriteGltf(PhysicsSystem& world, const LoadedLevel& level, const navmesh::NavMesh& navmesh,
-                 const std::vector<navmesh::PathResult>& paths, const std::filesystem::path& path) {
+                 const std::vector<demo::DemoAgent>& agents, const std::filesystem::path& path) {
   view::SceneGeometry geometry;
   for (const Triangle& t : LevelTriangles(world, level))
     geometry.level.insert(geometry.level.end(), std::begin(t.vertices), std::end(t.vertices));
   navmesh::NavMeshTriangles surface = navmesh::TrianglesByIsland(navmesh);
   geometry.navmesh = std::move(surface.vertices);
   geometry.island = std::move(surface.island);
-  for (const navmesh::PathResult& agent_path : paths) geometry.paths.push_back(agent_path.points);
+  for (const demo::DemoAgent& agent : agents)
+    if (agent.plan.profile == 0) geometry.paths.push_back(agent.planned_path);
   return ExportGltf(view::SceneLayers(geometry), path);
 }
 
@@ -328,8 +340,8 @@ struct DemoFailure {
 struct DemoWorld {
   std::unique_ptr<PhysicsSystem> world;
   LoadedLevel level;
-  std::vector<Agent> agents;
   std::unique_ptr<navmesh::NavMeshService> service;
+  std::unique_ptr<demo::DemoAgents> walkers;
   std::unique_ptr<demo::ScriptedWalk> player;  // null with --no-player
   std::optional<view::Recorder> recorder;      // with --record
 };
@@ -337,10 +349,11 @@ struct DemoWorld {
 // What the foreground saw while the navmesh built in the background.
 struct LoopFigures {
   double longest_frame_ms = 0.0;
-  double longest_request_ms = 0.0;
   double longest_step_ms = 0.0;
   double step_ms_total = 0.0;
   int steps_with_jobs = 0;
+  double agents_ms_total = 0.0;  ///< DemoAgents::Update: joining, drawing targets, the crowds
+  double longest_agents_ms = 0.0;
 };
 
 std::optional<DemoFailure> CheckOptions(const DemoOptions& options,
@@ -368,6 +381,12 @@ std::optional<DemoFailure> StartRecording(const DemoOptions& options, DemoWorld&
                         "strata demo: " + std::filesystem::path(options.level).filename().string());
   demo.recorder->TrackTiles(*demo.service, demo.level.bounds);
   if (demo.player) demo.recorder->TrackCharacter(demo.player->character(), "player", demo.player->route());
+  const demo::DemoAgents& walkers = *demo.walkers;
+  demo.recorder->TrackAgents(walkers.agents().size(), [&walkers] {
+    std::vector<Vec3> positions;
+    for (const demo::DemoAgent& agent : walkers.agents()) positions.push_back(agent.position);
+    return positions;
+  });
   const auto frames = static_cast<std::uint64_t>(options.steps / options.record_every) + 2;
   if (Status fits = demo.recorder->CheckFrameBudget(frames); !fits)
     return DemoFailure{2, "--record: " + fits.message()};
@@ -398,13 +417,22 @@ std::variant<DemoWorld, DemoFailure> SetUpDemo(const DemoOptions& options,
   const FloorSampler floors(*demo.world, demo.level);
   if (Status spawned = SpawnDynamicBodies(*demo.world, demo.level.bounds, floors, options, random); !spawned)
     return DemoFailure{2, "cannot add the crates and boulders: " + spawned.message()};
-  demo.agents = SpawnAgents(*demo.world, demo.level.bounds, floors, options.agents, random);
+  std::vector<demo::DemoAgentPlan> plans = PlanAgents(*demo.world, options, demo.level.bounds, floors,
+                                                      static_cast<int>(config.profiles.size()), random);
   const Result<navmesh::NavMeshServiceConfig> level_config =
       navmesh::ConfigForLevel(config, demo.level.bounds);
   if (!level_config) return DemoFailure{2, options.level + ": " + level_config.error().message};
   auto service = navmesh::NavMeshService::Create(*demo.world, *level_config);
   if (!service) return DemoFailure{2, service.error().message};
   demo.service = std::move(*service);
+  demo::DemoAgentsConfig agents_config;
+  agents_config.request_radius = options.request_radius;
+  agents_config.target_radius = options.target_radius;
+  agents_config.snap_distance = std::max(options.request_radius, 1.0f);  // onto any ground it waited for
+  agents_config.seed = options.seed;
+  auto walkers = demo::DemoAgents::Create(*demo.service, std::move(plans), agents_config);
+  if (!walkers) return DemoFailure{2, walkers.error().message};
+  demo.walkers = std::move(*walkers);
   auto player = MakePlayer(*demo.world, *demo.service, options, demo.level.bounds, floors, random);
   if (!player) return DemoFailure{2, std::string()};  // MakePlayer said why
   demo.player = std::move(*player);
@@ -412,24 +440,22 @@ std::variant<DemoWorld, DemoFailure> SetUpDemo(const DemoOptions& options,
   return demo;
 }
 
-// The game loop: agents (re)request tiles around them every second; the world steps at 60 Hz.
+// The game loop at 60 Hz: the world steps, the player and the agents walk (the agents' crowds ask for the
+// tiles around and ahead of them).
 std::variant<LoopFigures, DemoFailure> RunGameLoop(const DemoOptions& options, DemoWorld& demo) {
   LoopFigures figures;
   bench::Progress progress("strata demo", "steps");
+  // A game's frames come at their pace, and the background builds in the time between; a loop that ran
+  // ahead would see tiles arrive later in simulated time than any game would.
+  const Clock::time_point loop_start = Clock::now();
+  const auto frame_due = [&](int step) {
+    const double seconds = static_cast<double>(step) / (60.0 * static_cast<double>(options.time_scale));
+    return loop_start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(seconds));
+  };
   for (int step = 0; step < options.steps; ++step) {
+    if (options.time_scale > 0.0f) std::this_thread::sleep_until(frame_due(step));
     progress.Update(static_cast<std::size_t>(step), static_cast<std::size_t>(options.steps));
     const Clock::time_point frame_start = Clock::now();
-    if (step % 60 == 0) {
-      // Around where each agent stands and where it wants to go (nearer tiles first).
-      for (const Agent& agent : demo.agents) {
-        for (const Vec3& point : {agent.position, agent.target}) {
-          const Clock::time_point request_start = Clock::now();
-          (void)demo.service->RequestAround(point, options.request_radius);
-          figures.longest_request_ms =
-              std::max(figures.longest_request_ms, Milliseconds(Clock::now() - request_start));
-        }
-      }
-    }
     const navmesh::NavMeshServiceStats before = demo.service->stats();
     const Clock::time_point step_start = Clock::now();
     if (Status status = demo.world->Step(1.0f / 60.0f); !status.ok()) return DemoFailure{1, status.message()};
@@ -439,6 +465,12 @@ std::variant<LoopFigures, DemoFailure> RunGameLoop(const DemoOptions& options, D
       if (Status walked = demo.player->Update(1.0f / 60.0f, static_cast<float>(step + 1) / 60.0f); !walked)
         return DemoFailure{1, "the player: " + walked.message()};
     }
+    const Clock::time_point agents_start = Clock::now();
+    if (Status walked = demo.walkers->Update(1.0f / 60.0f, static_cast<float>(step + 1) / 60.0f); !walked)
+      return DemoFailure{1, "the agents: " + walked.message()};
+    const double agents_ms = Milliseconds(Clock::now() - agents_start);
+    figures.agents_ms_total += agents_ms;
+    figures.longest_agents_ms = std::max(figures.longest_agents_ms, agents_ms);
     figures.longest_step_ms = std::max(figures.longest_step_ms, step_ms);
     figures.steps_with_jobs += before.building > 0 || before.queued > 0;
     figures.longest_frame_ms = std::max(figures.longest_frame_ms, Milliseconds(Clock::now() - frame_start));
@@ -455,26 +487,53 @@ std::variant<LoopFigures, DemoFailure> RunGameLoop(const DemoOptions& options, D
   return figures;
 }
 
-// Each agent's path to its target on the finished navmesh, printed as a table.
-std::vector<navmesh::PathResult> FindAgentPaths(const DemoWorld& demo) {
-  auto query = navmesh::NavMeshQuery::Create(demo.service->navmesh());
-  std::vector<navmesh::PathResult> paths;
-  std::printf("\n%-5s %-24s %-24s %6s %8s %9s %7s\n", "agent", "from", "to", "found", "reached", "length m",
-              "corners");
-  for (std::size_t i = 0; i < demo.agents.size(); ++i) {
-    const Agent& agent = demo.agents[i];
-    auto path = (*query)->FindPath(agent.position, agent.target);
-    paths.push_back(path.ok() ? *path : navmesh::PathResult{});
-    const navmesh::PathResult& p = paths.back();
-    char from[64], to[64];
-    std::snprintf(from, sizeof(from), "(%.1f, %.1f, %.1f)", agent.position.x(), agent.position.y(),
-                  agent.position.z());
-    std::snprintf(to, sizeof(to), "(%.1f, %.1f, %.1f)", agent.target.x(), agent.target.y(), agent.target.z());
-    std::printf("%-5zu %-24s %-24s %6s %8s %9.2f %7zu%s\n", i, from, to, p.found ? "yes" : "no",
-                p.reached_end ? "yes" : "no", p.length, p.points.size(),
-                path.ok() ? "" : "  (no navmesh at start)");
+std::string PointText(const Vec3& point) {
+  char text[64];
+  std::snprintf(text, sizeof(text), "(%.1f, %.1f, %.1f)", point.x(), point.y(), point.z());
+  return text;
+}
+
+// What became of an agent beyond its figures: why it never set off, or for one placed to need a drop link,
+// whether a walker that never drops could have got there.
+std::string AgentNote(const demo::DemoAgents& walkers, std::size_t index) {
+  const demo::DemoAgent& agent = walkers.agents()[index];
+  if (!agent.problem.empty()) return agent.problem;
+  if (!agent.joined) return "its ground was not built in time";
+  if (!agent.plan.drop_down)
+    return agent.new_targets == 0 ? ""
+                                  : "drew " + std::to_string(agent.new_targets) +
+                                        " new target(s): the world cut its way or its target off";
+  const Result<bool> without = walkers.ReachesWithoutLinks(index);
+  if (!without) return "drop-down agent: " + without.error().message;
+  return *without ? "drop-down agent, but a way without links exists too"
+                  : "drop-down agent: no way without a drop link";
+}
+
+// Each agent's walk through its crowd, as a table.
+void PrintAgents(const DemoWorld& demo) {
+  const demo::DemoAgents& walkers = *demo.walkers;
+  std::printf("\n%-5s %-8s %-20s %-20s %7s %8s %8s %7s  %s\n", "agent", "profile", "from", "to", "set off",
+              "arrived", "walked m", "reached", "note");
+  for (std::size_t i = 0; i < walkers.agents().size(); ++i) {
+    const demo::DemoAgent& agent = walkers.agents()[i];
+    char set_off[16] = "-", arrived[16] = "-";
+    if (agent.crowd_id >= 0) std::snprintf(set_off, sizeof(set_off), "%.1f s", agent.joined_at);
+    if (agent.arrived_at >= 0.0f) std::snprintf(arrived, sizeof(arrived), "%.1f s", agent.arrived_at);
+    std::printf("%-5zu %-8s %-20s %-20s %7s %8s %8.1f %7s  %s\n", i,
+                demo.service->profile(agent.plan.profile).name.c_str(), PointText(agent.plan.start).c_str(),
+                agent.crowd_id >= 0 ? PointText(agent.target).c_str() : "-", set_off, arrived, agent.walked,
+                agent.arrived_at >= 0.0f ? "yes" : "no", AgentNote(walkers, i).c_str());
   }
-  return paths;
+  std::printf("agents: %zu of %zu reached their targets walking", walkers.arrived(), walkers.agents().size());
+  for (int p = 0; p < demo.service->profile_count(); ++p) {
+    const navmesh::Crowd* crowd = walkers.crowd(p);
+    if (!crowd) continue;
+    const navmesh::CrowdStats& stats = crowd->stats();
+    std::printf("; %s crowd: %zu replans, %.1f agent-s waiting for tiles, %zu stuck",
+                demo.service->profile(p).name.c_str(), stats.replans, stats.waiting_seconds,
+                stats.stuck_agents);
+  }
+  std::printf("\n");
 }
 
 void PrintSummary(const DemoOptions& options, const DemoWorld& demo, const LoopFigures& figures) {
@@ -483,17 +542,17 @@ void PrintSummary(const DemoOptions& options, const DemoWorld& demo, const LoopF
   std::printf("\nnavmesh: %d tiles, %d polygons, %.1f m^2 walkable, %d islands\n", navmesh.tile_count(),
               navmesh.polygon_count(), navmesh.WalkableArea(), navmesh::CountIslands(navmesh));
   std::printf(
-      "foreground: longest frame %.2f ms (step + requests), longest RequestAround %.3f ms; step %.2f ms "
-      "mean, %.2f ms max; jobs were running during %d of %d steps (bench-navmesh compares steps with "
-      "and without jobs)\n",
-      figures.longest_frame_ms, figures.longest_request_ms,
-      figures.step_ms_total / std::max(1, options.steps), figures.longest_step_ms, figures.steps_with_jobs,
-      options.steps);
+      "foreground: longest frame %.2f ms (step, player, agents); step %.2f ms mean, %.2f ms max; agents "
+      "(crowds "
+      "and their tile requests) %.3f ms mean, %.3f ms max; jobs were running during %d of %d steps "
+      "(bench-navmesh compares steps with and without jobs)\n",
+      figures.longest_frame_ms, figures.step_ms_total / std::max(1, options.steps), figures.longest_step_ms,
+      figures.agents_ms_total / std::max(1, options.steps), figures.longest_agents_ms,
+      figures.steps_with_jobs, options.steps);
 }
 
 // navmesh.obj, navmesh.png, scene.glb and the recording.
-std::optional<DemoFailure> WriteOutputs(const DemoOptions& options, DemoWorld& demo,
-                                        const std::vector<navmesh::PathResult>& paths) {
+std::optional<DemoFailure> WriteOutputs(const DemoOptions& options, DemoWorld& demo) {
   const navmesh::NavMesh& navmesh = demo.service->navmesh();
   const std::filesystem::path folder(options.out_dir);
   const std::filesystem::path obj = folder / "navmesh.obj", png = folder / "navmesh.png",
@@ -501,15 +560,19 @@ std::optional<DemoFailure> WriteOutputs(const DemoOptions& options, DemoWorld& d
   const std::vector<Vec3> trail = demo.player ? demo.player->trail() : std::vector<Vec3>{};
   for (const Status& written :
        {navmesh.WriteObj(obj),
-        DrawPicture(*demo.world, demo.level, *demo.service, demo.agents, paths, trail, png),
-        WriteGltf(*demo.world, demo.level, navmesh, paths, glb)})
+        DrawPicture(*demo.world, demo.level, *demo.service, demo.walkers->agents(), trail, png),
+        WriteGltf(*demo.world, demo.level, navmesh, demo.walkers->agents(), glb)})
     if (!written) return DemoFailure{2, written.message()};
   std::printf("wrote %s, %s and %s\n", obj.string().c_str(), png.string().c_str(), glb.string().c_str());
   if (!demo.recorder) return std::nullopt;
   std::vector<view::RecordedAgent> recorded;
-  for (std::size_t i = 0; i < demo.agents.size(); ++i)
-    recorded.push_back({demo.agents[i].position, demo.agents[i].target, paths[i].points});
-  demo.recorder->Finish(&navmesh, recorded);
+  for (const demo::DemoAgent& agent : demo.walkers->agents()) {
+    const navmesh::NavMeshSettings& walker = demo.service->profile_settings(agent.plan.profile);
+    recorded.push_back({agent.plan.start, agent.crowd_id >= 0 ? agent.target : agent.plan.start,
+                        agent.planned_path, agent.plan.profile, walker.agent_radius, walker.agent_height,
+                        agent.arrived_at >= 0.0f});
+  }
+  demo.recorder->Finish(demo.service.get(), recorded);
   if (Status written = demo.recorder->Write(options.record); !written)
     return DemoFailure{2, written.message()};
   std::printf("recorded %zu frames to %s (strata view %s --out DIR)\n", demo.recorder->frame_count(),
@@ -522,22 +585,33 @@ int Fail(const DemoFailure& failure) {
   return failure.exit_code;
 }
 
-int RunDemo(const DemoOptions& options) {
+int RunDemo(const DemoOptions& options, const CLI::App& command) {
   navmesh::NavMeshServiceConfig config;
   config.settings = options.settings;
   config.worker_threads = options.navmesh_threads;
+  Result<std::vector<navmesh::AgentProfile>> profiles =
+      ChosenProfiles(command, options.profiles, options.settings);
+  if (!profiles) return Fail({2, profiles.error().message});
+  config.profiles = std::move(*profiles);
+  if (!options.drop_links)
+    for (navmesh::AgentProfile& profile : config.profiles) profile.max_drop = 0.0f;
   if (auto failed = CheckOptions(options, config)) return Fail(*failed);
   auto set_up = SetUpDemo(options, config);
   if (auto* failed = std::get_if<DemoFailure>(&set_up)) return Fail(*failed);
   DemoWorld& demo = std::get<DemoWorld>(set_up);
-  std::printf("%zu bodies, %zu agents; %d physics thread(s), %d navmesh thread(s)\n",
-              demo.world->body_count_in_world(), demo.agents.size(), options.physics_threads,
+  std::printf("%zu bodies, %zu agents (", demo.world->body_count_in_world(), demo.walkers->agents().size());
+  for (int p = 0; p < demo.service->profile_count(); ++p) {
+    const navmesh::AgentProfile& profile = demo.service->profile(p);
+    std::printf("%s%s %.2g m x %.2g m, drops %.2g m", p > 0 ? "; " : "", profile.name.c_str(), profile.radius,
+                profile.height, profile.max_drop);
+  }
+  std::printf("); %d physics thread(s), %d navmesh thread(s)\n", options.physics_threads,
               options.navmesh_threads);
   auto loop = RunGameLoop(options, demo);
   if (auto* failed = std::get_if<DemoFailure>(&loop)) return Fail(*failed);
-  const std::vector<navmesh::PathResult> paths = FindAgentPaths(demo);
+  PrintAgents(demo);
   PrintSummary(options, demo, std::get<LoopFigures>(loop));
-  if (auto failed = WriteOutputs(options, demo, paths)) return Fail(*failed);
+  if (auto failed = WriteOutputs(options, demo)) return Fail(*failed);
   // A demo whose agents got no navmesh did not do its job, whatever the reason: say so in the exit code.
   const navmesh::NavMeshServiceStats stats = demo.service->stats();
   if (stats.failures > 0 || demo.service->navmesh().polygon_count() == 0)
@@ -563,17 +637,36 @@ std::function<int()> AddDemoCommand(CLI::App& app) {
   demo->add_option("--boulders", options->boulders, "rolling boulders (2 m: they count)")
       ->check(CLI::Range(0, kMaxSpawned))
       ->capture_default_str();
-  demo->add_option("--agents", options->agents, "agents requesting tiles")
+  demo->add_option(
+          "--agents", options->agents,
+          "agents walking to random targets, every fourth of the second profile (on the courtyard two "
+          "more start on the crate stack, where only a drop leads off)")
       ->check(CLI::Range(0, kMaxAgents))
       ->capture_default_str();
-  demo->add_option("--request-radius", options->request_radius, "radius of each agent's request (m)")
+  demo->add_option("--profiles", options->profiles,
+                   "the kinds of walker, each with its own navmesh: person, machine, critter (instead of the "
+                   "agent options)")
+      ->delimiter(',')
+      ->check(CLI::IsMember({"person", "machine", "critter"}))
+      ->capture_default_str();
+  demo->add_flag("!--no-drop-links", options->drop_links, "build no drop-down links (every max drop 0)");
+  demo->add_option("--request-radius", options->request_radius,
+                   "tiles an agent waits for around its spawn before it sets off (m)")
       ->check(FiniteIn(0.0, 1.0e4))
+      ->capture_default_str();
+  demo->add_option("--target-radius", options->target_radius, "how far (about) an agent's target lies (m)")
+      ->check(FiniteIn(0.5, 1.0e4))
       ->capture_default_str();
   demo->add_option("--threads", options->physics_threads, "physics threads")
       ->check(CountIn(1, kMaxThreads, "--threads"))
       ->capture_default_str();
   demo->add_option("--navmesh-threads", options->navmesh_threads, "background navmesh threads")
       ->check(CountIn(1, kMaxNavMeshThreads, "--navmesh-threads"))
+      ->capture_default_str();
+  demo->add_option("--time-scale", options->time_scale,
+                   "simulated seconds per second: 1 runs at a game's pace (60 steps a second), 0 as fast as "
+                   "it goes (the background then falls behind in simulated time)")
+      ->check(FiniteIn(0.0, 1000.0))
       ->capture_default_str();
   demo->add_option("--out-dir", options->out_dir, "where navmesh.obj, navmesh.png and scene.glb go")
       ->capture_default_str();
@@ -594,7 +687,7 @@ std::function<int()> AddDemoCommand(CLI::App& app) {
       ->capture_default_str();
   AddNavMeshSettingsOptions(*demo, options->settings);
   AddLevelOptions(*demo, options->level_options);
-  return [options] { return RunDemo(*options); };
+  return [options, demo] { return RunDemo(*options, *demo); };
 }
 
 }  // namespace strata::cli

@@ -13,16 +13,49 @@ void AddProfileOption(CLI::App& command, std::string& profile, const std::string
       ->check(CLI::IsMember({"person", "machine", "critter"}));
 }
 
+namespace {
+
+constexpr const char* kAgentOptions[] = {"--agent-height", "--agent-radius", "--max-climb", "--max-slope",
+                                         "--max-drop"};
+
+/// The first agent option given on `command`, or null.
+const char* GivenAgentOption(const CLI::App& command) {
+  for (const char* agent_option : kAgentOptions)
+    if (command.count(agent_option) > 0) return agent_option;
+  return nullptr;
+}
+
+}  // namespace
+
 Result<std::optional<navmesh::AgentProfile>> ChosenProfile(const CLI::App& command, const std::string& name) {
   if (name.empty()) return std::optional<navmesh::AgentProfile>();
-  for (const char* agent_option :
-       {"--agent-height", "--agent-radius", "--max-climb", "--max-slope", "--max-drop"})
-    if (command.count(agent_option) > 0)
-      return MakeError(ErrorCode::kInvalidArgument, std::string("give --profile or ") + agent_option +
-                                                        ", not both (a profile is an agent)");
+  if (const char* agent_option = GivenAgentOption(command))
+    return MakeError(ErrorCode::kInvalidArgument,
+                     std::string("give --profile or ") + agent_option + ", not both (a profile is an agent)");
   Result<navmesh::AgentProfile> profile = navmesh::AgentProfile::Named(name);
   if (!profile) return profile.error();
   return std::optional<navmesh::AgentProfile>(*profile);
+}
+
+Result<std::vector<navmesh::AgentProfile>> ChosenProfiles(const CLI::App& command,
+                                                          const std::vector<std::string>& names,
+                                                          const navmesh::NavMeshSettings& settings) {
+  const char* agent_option = GivenAgentOption(command);
+  if (agent_option && command.count("--profiles") > 0)
+    return MakeError(ErrorCode::kInvalidArgument, std::string("give --profiles or ") + agent_option +
+                                                      ", not both (a profile is an agent)");
+  if (agent_option) return std::vector<navmesh::AgentProfile>{navmesh::AgentProfile::FromSettings(settings)};
+  if (names.empty()) return MakeError(ErrorCode::kInvalidArgument, "--profiles: name one profile or more");
+  std::vector<navmesh::AgentProfile> profiles;
+  for (const std::string& name : names) {
+    Result<navmesh::AgentProfile> profile = navmesh::AgentProfile::Named(name);
+    if (!profile) return profile.error();
+    for (const navmesh::AgentProfile& earlier : profiles)
+      if (earlier.name == name)
+        return MakeError(ErrorCode::kInvalidArgument, "--profiles: '" + name + "' is named twice");
+    profiles.push_back(*profile);
+  }
+  return profiles;
 }
 
 void AddNavMeshSettingsOptions(CLI::App& command, navmesh::NavMeshSettings& settings) {

@@ -21,6 +21,12 @@ void AddProfileOption(CLI::App& command, std::string& profile, const std::string
 /// when `name` is empty. Fails for an unknown name, or a name given with --agent-height, --agent-radius,
 /// --max-climb, --max-slope or --max-drop on `command` (one agent, said once).
 Result<std::optional<navmesh::AgentProfile>> ChosenProfile(const CLI::App& command, const std::string& name);
+/// The profiles a command with several walkers builds for: those named in `names` (--profiles on `command`),
+/// or one made of `settings`' agent fields when --profiles was not given but an agent option was. Fails for
+/// an unknown or repeated name, or --profiles given with an agent option.
+Result<std::vector<navmesh::AgentProfile>> ChosenProfiles(const CLI::App& command,
+                                                          const std::vector<std::string>& names,
+                                                          const navmesh::NavMeshSettings& settings);
 /// Registers --scale, --z-up and --world-tile on `command`.
 void AddLevelOptions(CLI::App& command, LevelLoadOptions& options);
 /// Parses "x,y,z"; nullopt for anything else.

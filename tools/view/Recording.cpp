@@ -1,6 +1,7 @@
 #include "tools/view/Recording.h"
 #include "assets/json/StrictJson.h"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <utility>
@@ -14,7 +15,7 @@ namespace strata::view {
 
 namespace {
 
-constexpr int kFormatVersion = 1;
+constexpr int kFormatVersion = 2;
 // Recordings of big worlds run to hundreds of megabytes; past this a file is not one we wrote.
 // A recording's text, and what its parsed document may take: `strata view` holds it, a copy with the
 // coordinates moved and the page's text at once, so the document gets a third of a 3 GB budget.
@@ -112,6 +113,19 @@ void Recorder::TrackTiles(const navmesh::NavMeshService& service, const AABB& bo
   for (const navmesh::TileCoord tile : tiles_) coords.push_back({tile.x, tile.z});
   document_["tiles"] = {
       {"size", grid.tile_size()}, {"y", Rounded(box.min.y())}, {"coords", std::move(coords)}};
+  nlohmann::json profiles = nlohmann::json::array();
+  for (int p = 0; p < service.profile_count(); ++p) {
+    const navmesh::NavMeshSettings& settings = service.profile_settings(p);
+    profiles.push_back({{"name", service.profile(p).name},
+                        {"radius", Rounded(settings.agent_radius)},
+                        {"height", Rounded(settings.agent_height)}});
+  }
+  document_["profiles"] = std::move(profiles);
+}
+
+void Recorder::TrackAgents(std::size_t count, std::function<std::vector<Vec3>()> positions) {
+  agent_count_ = count;
+  agent_positions_ = std::move(positions);
 }
 
 void Recorder::TrackCharacter(const Character& character, const std::string& name,
@@ -127,7 +141,9 @@ void Recorder::TrackCharacter(const Character& character, const std::string& nam
 }
 
 Status Recorder::CheckFrameBudget(std::uint64_t frames) const {
-  const std::uint64_t per_frame = 2 + 7 * moving_.size() + 3 * characters_.size() + tiles_.size();
+  const std::uint64_t profiles = service_ ? static_cast<std::uint64_t>(service_->profile_count()) : 0;
+  const std::uint64_t per_frame =
+      2 + 7 * moving_.size() + 3 * characters_.size() + 3 * agent_count_ + profiles * tiles_.size();
   if (frames * per_frame <= kMaxFrameValues) return Status::Ok();
   return MakeError(
       ErrorCode::kInvalidArgument,
@@ -156,31 +172,47 @@ void Recorder::Capture(int step, float time) {
     for (const Character* character : characters_) AppendPoint(feet, character->feet());
     frame["characters"] = std::move(feet);
   }
+  if (agent_positions_) {
+    nlohmann::json positions = nlohmann::json::array();
+    for (const Vec3& position : agent_positions_()) AppendPoint(positions, position);
+    frame["agents"] = std::move(positions);
+  }
   if (service_) {
+    // Profile by profile, each profile's tiles in `coords` order.
     nlohmann::json states = nlohmann::json::array();
-    for (const navmesh::TileCoord tile : tiles_) states.push_back(StateCode(service_->GetTileState(tile)));
+    for (int p = 0; p < service_->profile_count(); ++p)
+      for (const navmesh::TileCoord tile : tiles_)
+        states.push_back(StateCode(service_->GetTileState(tile, p)));
     frame["tiles"] = std::move(states);
   }
   frames_.push_back(std::move(frame));
 }
 
-void Recorder::Finish(const navmesh::NavMesh* navmesh, const std::vector<RecordedAgent>& agents) {
+void Recorder::Finish(const navmesh::NavMeshService* service, const std::vector<RecordedAgent>& agents) {
   nlohmann::json agent_list = nlohmann::json::array();
   for (const RecordedAgent& agent : agents) {
     nlohmann::json path = nlohmann::json::array();
     for (const Vec3& point : agent.path) path.push_back(PointJson(point));
     agent_list.push_back({{"position", PointJson(agent.position)},
                           {"target", PointJson(agent.target)},
-                          {"path", std::move(path)}});
+                          {"path", std::move(path)},
+                          {"profile", agent.profile},
+                          {"radius", Rounded(agent.radius)},
+                          {"height", Rounded(agent.height)},
+                          {"reached", agent.reached}});
   }
   document_["agents"] = std::move(agent_list);
-  if (!navmesh) return;
-  const navmesh::NavMeshTriangles surface = navmesh::TrianglesByIsland(*navmesh);
-  nlohmann::json positions = nlohmann::json::array(), islands = nlohmann::json::array();
-  for (const Vec3& vertex : surface.vertices) AppendPoint(positions, vertex);
-  for (const int island : surface.island) islands.push_back(island);
-  document_["navmesh"] = {
-      {"positions", std::move(positions)}, {"island", std::move(islands)}, {"islands", surface.islands}};
+  if (!service) return;
+  nlohmann::json navmeshes = nlohmann::json::array();
+  for (int p = 0; p < service->profile_count(); ++p) {
+    const navmesh::NavMeshTriangles surface = navmesh::TrianglesByIsland(service->navmesh(p));
+    nlohmann::json positions = nlohmann::json::array(), islands = nlohmann::json::array();
+    for (const Vec3& vertex : surface.vertices) AppendPoint(positions, vertex);
+    for (const int island : surface.island) islands.push_back(island);
+    navmeshes.push_back(
+        {{"positions", std::move(positions)}, {"island", std::move(islands)}, {"islands", surface.islands}});
+  }
+  document_["navmeshes"] = std::move(navmeshes);
 }
 
 Status Recorder::Write(const std::filesystem::path& path) const {
@@ -264,7 +296,28 @@ Status CheckBodies(const nlohmann::json& document, const RecordingChecker& check
   return Status::Ok();
 }
 
-// The tile grid, if any; `tile_count` is how many tiles every frame must hold a state for.
+// The agent profiles, if any: each named, with a positive radius and height.
+Status CheckProfiles(const nlohmann::json& document, const RecordingChecker& check) {
+  const nlohmann::json& profiles = Member(document, "profiles", Missing::kEmptyArray);
+  if (!profiles.is_array()) return check.Fail("profiles", "must be an array");
+  for (std::size_t i = 0; i < profiles.size(); ++i) {
+    const std::string field = "profiles[" + std::to_string(i) + "]";
+    if (!Member(profiles[i], "name").is_string()) return check.Fail(field + ".name", "must be a string");
+    for (const char* size : {"radius", "height"}) {
+      const nlohmann::json& value = Member(profiles[i], size);
+      if (!value.is_number() || !(value.get<double>() > 0.0) || !std::isfinite(value.get<double>()))
+        return check.Fail(field + "." + size, "must be a finite number > 0");
+    }
+  }
+  return Status::Ok();
+}
+
+/// How many profiles the frames' tile states and the navmeshes are for (one when none is named).
+std::size_t ProfileCount(const nlohmann::json& document) {
+  return std::max<std::size_t>(1, Member(document, "profiles", Missing::kEmptyArray).size());
+}
+
+// The tile grid, if any; `tile_count` is how many tile states every frame must hold (a tile a profile).
 Status CheckTiles(const nlohmann::json& document, const RecordingChecker& check, std::size_t& tile_count) {
   tile_count = 0;
   if (document.contains("tiles")) {
@@ -277,7 +330,7 @@ Status CheckTiles(const nlohmann::json& document, const RecordingChecker& check,
       if (!coord.is_array() || coord.size() != 2 || !coord[0].is_number_integer() ||
           !coord[1].is_number_integer())
         return check.Fail("tiles.coords", "must be [x, z] pairs of whole numbers");
-    tile_count = tiles["coords"].size();
+    tile_count = tiles["coords"].size() * ProfileCount(document);
   }
   return Status::Ok();
 }
@@ -323,10 +376,16 @@ Status CheckFrames(const nlohmann::json& document, const RecordingChecker& check
       if (feet.size() != 3 * characters.size())
         return check.Fail(field + ".characters", "must hold 3 numbers a character");
     }
+    if (frame.contains("agents")) {
+      const nlohmann::json& positions = frame["agents"];
+      if (Status status = check.Numbers(positions, field + ".agents", 3); !status) return status;
+      if (positions.size() != 3 * Member(document, "agents", Missing::kEmptyArray).size())
+        return check.Fail(field + ".agents", "must hold 3 numbers an agent");
+    }
     if (tile_count > 0) {
       const nlohmann::json& states = Member(frame, "tiles");
       if (!states.is_array() || states.size() != tile_count)
-        return check.Fail(field + ".tiles", "must hold one state a tile");
+        return check.Fail(field + ".tiles", "must hold one state a tile a profile");
       for (const nlohmann::json& state : states)
         if (!state.is_number_unsigned() ||
             state.get<std::uint64_t>() > static_cast<std::uint64_t>(StateCode(navmesh::TileState::kStale)))
@@ -336,42 +395,67 @@ Status CheckFrames(const nlohmann::json& document, const RecordingChecker& check
   return Status::Ok();
 }
 
-// The navmesh by island, and the agents with their paths.
-Status CheckNavMeshAndAgents(const nlohmann::json& document, const RecordingChecker& check) {
-  if (document.contains("navmesh")) {
-    const nlohmann::json& surface = document["navmesh"];
-    if (!surface.is_object()) return check.Fail("navmesh", "must be an object");
-    if (Status status = check.Numbers(Member(surface, "positions"), "navmesh.positions", 9); !status)
-      return status;
-    const nlohmann::json& islands = Member(surface, "island");
-    if (!islands.is_array() || islands.size() != surface["positions"].size() / 9)
-      return check.Fail("navmesh.island", "must hold one island a triangle");
-    for (const nlohmann::json& island : islands)
-      if (!island.is_number_unsigned() || island.get<std::uint64_t>() > std::uint64_t{1} << 30)
-        return check.Fail("navmesh.island", "must be whole numbers up to 2^30");
+Status CheckSurface(const nlohmann::json& surface, const std::string& field, const RecordingChecker& check) {
+  if (!surface.is_object()) return check.Fail(field, "must be an object");
+  if (Status status = check.Numbers(Member(surface, "positions"), field + ".positions", 9); !status)
+    return status;
+  const nlohmann::json& islands = Member(surface, "island");
+  if (!islands.is_array() || islands.size() != surface["positions"].size() / 9)
+    return check.Fail(field + ".island", "must hold one island a triangle");
+  for (const nlohmann::json& island : islands)
+    if (!island.is_number_unsigned() || island.get<std::uint64_t>() > std::uint64_t{1} << 30)
+      return check.Fail(field + ".island", "must be whole numbers up to 2^30");
+  return Status::Ok();
+}
+
+// One agent: its points and path, and the profile and size it walks with.
+Status CheckAgent(const nlohmann::json& agent, const std::string& field, std::size_t profile_count,
+                  const RecordingChecker& check) {
+  if (!agent.is_object()) return check.Fail(field, "must be an object");
+  for (const char* point : {"position", "target"}) {
+    const nlohmann::json& value = Member(agent, point);
+    if (Status status = check.Numbers(value, field + "." + point, 3); !status) return status;
+    if (value.size() != 3) return check.Fail(field + "." + point, "must be x, y, z");
   }
+  const nlohmann::json& path = Member(agent, "path", Missing::kEmptyArray);
+  if (!path.is_array()) return check.Fail(field + ".path", "must be an array of points");
+  for (const nlohmann::json& point : path)
+    if (Status status = check.Numbers(point, field + ".path", 3); !status || point.size() != 3)
+      return check.Fail(field + ".path", "must be an array of x, y, z points");
+  if (agent.contains("profile") &&
+      (!agent["profile"].is_number_unsigned() || agent["profile"].get<std::uint64_t>() >= profile_count))
+    return check.Fail(field + ".profile", "must be the index of a profile");
+  for (const char* size : {"radius", "height"})
+    if (agent.contains(size) && (!agent[size].is_number() || !(agent[size].get<double>() > 0.0) ||
+                                 !std::isfinite(agent[size].get<double>())))
+      return check.Fail(field + "." + size, "must be a finite number > 0");
+  if (agent.contains("reached") && !agent["reached"].is_boolean())
+    return check.Fail(field + ".reached", "must be true or false");
+  return Status::Ok();
+}
+
+// Each profile's navmesh by island, and the agents with their paths.
+Status CheckNavMeshAndAgents(const nlohmann::json& document, const RecordingChecker& check) {
+  const std::size_t profile_count = ProfileCount(document);
+  const nlohmann::json& navmeshes = Member(document, "navmeshes", Missing::kEmptyArray);
+  if (!navmeshes.is_array() || navmeshes.size() > profile_count)
+    return check.Fail("navmeshes", "must be an array of at most one navmesh a profile");
+  for (std::size_t i = 0; i < navmeshes.size(); ++i)
+    if (Status status = CheckSurface(navmeshes[i], "navmeshes[" + std::to_string(i) + "]", check); !status)
+      return status;
   const nlohmann::json& agents = Member(document, "agents", Missing::kEmptyArray);
   if (!agents.is_array()) return check.Fail("agents", "must be an array");
-  for (std::size_t i = 0; i < agents.size(); ++i) {
-    const std::string field = "agents[" + std::to_string(i) + "]";
-    if (!agents[i].is_object()) return check.Fail(field, "must be an object");
-    for (const char* point : {"position", "target"}) {
-      const nlohmann::json& value = Member(agents[i], point);
-      if (Status status = check.Numbers(value, field + "." + point, 3); !status) return status;
-      if (value.size() != 3) return check.Fail(field + "." + point, "must be x, y, z");
-    }
-    const nlohmann::json& path = Member(agents[i], "path", Missing::kEmptyArray);
-    if (!path.is_array()) return check.Fail(field + ".path", "must be an array of points");
-    for (const nlohmann::json& point : path)
-      if (Status status = check.Numbers(point, field + ".path", 3); !status || point.size() != 3)
-        return check.Fail(field + ".path", "must be an array of x, y, z points");
-  }
+  for (std::size_t i = 0; i < agents.size(); ++i)
+    if (Status status = CheckAgent(agents[i], "agents[" + std::to_string(i) + "]", profile_count, check);
+        !status)
+      return status;
   return Status::Ok();
 }
 
 Status CheckRecording(const nlohmann::json& document, const RecordingChecker& check) {
   std::size_t tile_count = 0;
   if (Status status = CheckBodies(document, check); !status) return status;
+  if (Status status = CheckProfiles(document, check); !status) return status;
   if (Status status = CheckTiles(document, check, tile_count); !status) return status;
   if (Status status = CheckCharacters(document, check); !status) return status;
   if (Status status = CheckFrames(document, check, tile_count); !status) return status;

@@ -1,12 +1,13 @@
 // Recording: what a demo or simulate run leaves for `strata view` (`--record FILE`): the static bodies'
 // triangles once, each moving body's (and sensor's) shape once, sampled frames of their poses, of the
-// characters' positions and of the navmesh tiles' states, and at the end the navmesh surface by island and
-// the agents with their paths. A JSON file
-// (format "strata-recording", version 1; tools/README.md lists its fields). Call a Recorder from the thread
-// that steps the world, between steps; ReadRecording from any thread.
+// characters' and agents' positions and of every agent profile's navmesh tile states, and at the end each
+// profile's navmesh surface by island and the agents with their paths. A JSON file (format
+// "strata-recording", version 2; tools/README.md lists its fields). Call a Recorder from the thread that
+// steps the world, between steps; ReadRecording from any thread.
 #pragma once
 
 #include <filesystem>
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -18,11 +19,16 @@
 
 namespace strata::view {
 
-/// An agent as the demo places it, with the path it was given at the end.
+/// An agent as the demo placed it: where it started, its target and the path it set off on, the profile it
+/// walks (an index into the service's) with its size, and whether it arrived.
 struct RecordedAgent {
   Vec3 position;
   Vec3 target;
   std::vector<Vec3> path;
+  int profile = 0;
+  float radius = 0.6f;
+  float height = 2.0f;
+  bool reached = false;
 };
 
 class Recorder {
@@ -33,16 +39,20 @@ class Recorder {
   /// recorder.
   Recorder(PhysicsSystem& world, std::string source, std::string title);
 
-  /// Records the navmesh tiles over `box` from now on (their states in every frame).
+  /// Records the service's profiles and their navmesh tiles over `box` from now on (every profile's tile
+  /// states in every frame).
   void TrackTiles(const navmesh::NavMeshService& service, const AABB& box);
+  /// Records `count` agents' positions in every frame from now on: `positions` gives them (count points).
+  void TrackAgents(std::size_t count, std::function<std::vector<Vec3>()> positions);
   /// Records `character` (its capsule, and its feet in every frame) under `name`; it must outlive the
   /// recorder. `route`: the points it was sent along, if any, drawn as a line.
   void TrackCharacter(const Character& character, const std::string& name,
                       const std::vector<Vec3>& route = {});
   /// One frame: the moving bodies' poses and, when tracked, the tiles' states.
   void Capture(int step, float time);
-  /// The navmesh surface (by island) and the agents, at the end of the run.
-  void Finish(const navmesh::NavMesh* navmesh, const std::vector<RecordedAgent>& agents);
+  /// Every profile's navmesh surface (by island) when `service` is given, and the agents, at the end of the
+  /// run (as many as TrackAgents said, when it was called).
+  void Finish(const navmesh::NavMeshService* service, const std::vector<RecordedAgent>& agents);
 
   std::size_t frame_count() const { return frames_.size(); }
   /// The most numbers a recording's frames may hold together: what `strata view` reads back within its
@@ -62,6 +72,8 @@ class Recorder {
   const navmesh::NavMeshService* service_ = nullptr;
   std::vector<navmesh::TileCoord> tiles_;
   std::vector<const Character*> characters_;
+  std::size_t agent_count_ = 0;
+  std::function<std::vector<Vec3>()> agent_positions_;
   nlohmann::json frames_ = nlohmann::json::array();
   nlohmann::json document_;  // all but the frames
 };

@@ -78,28 +78,50 @@ std::string Base64(const std::string& bytes) {
   return out;
 }
 
-/// scene.glb's layers from the recording, moved to `origin`.
-std::vector<GltfLayer> RecordedSceneLayers(const nlohmann::json& recording, const Vec3d& origin,
-                                           ViewerFolderSummary& summary) {
+/// Profile `profile`'s navmesh (when recorded) and the paths of its agents, moved to `origin`.
+SceneGeometry ProfileGeometry(const nlohmann::json& recording, std::size_t profile, const Vec3d& origin) {
   SceneGeometry geometry;
-  const nlohmann::json& static_mesh = recording["static"];
-  for (const nlohmann::json& index : static_mesh["indices"])
-    geometry.level.push_back(PointAt(static_mesh["positions"], index.get<std::size_t>(), origin));
-  if (recording.contains("navmesh")) {
-    const nlohmann::json& surface = recording["navmesh"];
+  const nlohmann::json& navmeshes =
+      recording.contains("navmeshes") ? recording["navmeshes"] : nlohmann::json();
+  if (profile < navmeshes.size()) {
+    const nlohmann::json& surface = navmeshes[profile];
     for (std::size_t v = 0; v < surface["positions"].size() / 3; ++v)
       geometry.navmesh.push_back(PointAt(surface["positions"], v, origin));
     for (const nlohmann::json& island : surface["island"]) geometry.island.push_back(island.get<int>());
   }
   for (const nlohmann::json& agent : recording["agents"]) {
+    if (agent.value("profile", std::size_t{0}) != profile) continue;
     std::vector<Vec3>& path = geometry.paths.emplace_back();
     for (const nlohmann::json& point : agent["path"]) path.push_back(PointAt(point, 0, origin));
   }
+  return geometry;
+}
+
+/// scene.glb's layers from the recording, moved to `origin`: the level, then each profile's navmesh and
+/// paths ("navmesh" and "paths" for the first profile, "navmesh_1", "paths_1" for the second, ...).
+std::vector<GltfLayer> RecordedSceneLayers(const nlohmann::json& recording, const Vec3d& origin,
+                                           ViewerFolderSummary& summary) {
+  SceneGeometry geometry = ProfileGeometry(recording, 0, origin);
+  const nlohmann::json& static_mesh = recording["static"];
+  for (const nlohmann::json& index : static_mesh["indices"])
+    geometry.level.push_back(PointAt(static_mesh["positions"], index.get<std::size_t>(), origin));
   summary.level_triangles = geometry.level.size() / 3;
   summary.navmesh_triangles = geometry.island.size();
   for (const int island : std::set<int>(geometry.island.begin(), geometry.island.end()))
     summary.navmesh_colours.push_back(HexColour(IslandColor(island)));
-  return SceneLayers(geometry);
+  std::vector<GltfLayer> layers = SceneLayers(geometry);
+  const std::size_t profiles = std::max<std::size_t>(
+      1, recording.contains("profiles") ? recording["profiles"].size() : std::size_t{0});
+  for (std::size_t profile = 1; profile < profiles; ++profile) {
+    const std::string suffix = std::to_string(profile);
+    std::vector<GltfLayer> more = SceneLayers(ProfileGeometry(recording, profile, origin));
+    for (GltfLayer& layer : more) {
+      if (layer.name == "level") continue;
+      layer.name.append(1, '_').append(suffix);
+      layers.push_back(std::move(layer));
+    }
+  }
+  return layers;
 }
 
 /// The page's data: what it animates (the file's static layers are in scene.glb), relative to `origin`.
@@ -114,10 +136,11 @@ nlohmann::json PageData(const nlohmann::json& recording, const Vec3d& origin,
     for (std::size_t i = 0; i + 7 <= frame["poses"].size(); i += 7)
       for (std::size_t k = 0; k < 3; ++k)
         frame["poses"][i + k] = frame["poses"][i + k].get<double>() - origin[static_cast<Eigen::Index>(k)];
-    if (!frame.contains("characters")) continue;
-    for (std::size_t i = 0; i < frame["characters"].size(); ++i)
-      frame["characters"][i] =
-          frame["characters"][i].get<double>() - origin[static_cast<Eigen::Index>(i % 3)];
+    for (const char* points : {"characters", "agents"}) {
+      if (!frame.contains(points)) continue;
+      for (std::size_t i = 0; i < frame[points].size(); ++i)
+        frame[points][i] = frame[points][i].get<double>() - origin[static_cast<Eigen::Index>(i % 3)];
+    }
   }
   nlohmann::json characters = nlohmann::json::array();
   if (recording.contains("characters"))
@@ -132,13 +155,19 @@ nlohmann::json PageData(const nlohmann::json& recording, const Vec3d& origin,
     }
   nlohmann::json agents = nlohmann::json::array();
   for (const nlohmann::json& agent : recording["agents"])
-    agents.push_back({{"position", shifted(agent["position"])}, {"target", shifted(agent["target"])}});
+    agents.push_back({{"position", shifted(agent["position"])},
+                      {"target", shifted(agent["target"])},
+                      {"profile", agent.value("profile", 0)},
+                      {"radius", agent.value("radius", 0.6)},
+                      {"height", agent.value("height", 2.0)},
+                      {"reached", agent.value("reached", false)}});
   nlohmann::json data = {
       {"title", recording["title"]},         {"origin", {origin.x(), origin.y(), origin.z()}},
       {"shapes", recording["shapes"]},       {"bodies", recording["bodies"]},
       {"frames", std::move(frames)},         {"agents", std::move(agents)},
       {"characters", std::move(characters)}, {"navmesh_colours", summary.navmesh_colours}};
   if (recording.contains("tiles")) data["tiles"] = recording["tiles"];
+  data["profiles"] = recording.contains("profiles") ? recording["profiles"] : nlohmann::json::array();
   return data;
 }
 

@@ -1,6 +1,7 @@
-// The page `strata view` writes: the level, the navmesh (by island or by tile), tile borders coloured by
-// their state, bodies (sensors see-through), agents and their paths, and characters walking their routes,
-// over the frames of a recorded demo or simulate run.
+// The page `strata view` writes: the level, each agent profile's navmesh (by island or by tile; one profile
+// shown at a time), tile borders coloured by that profile's tile states, bodies (sensors see-through), agents
+// walking to their targets along the timeline with their paths, and characters walking their routes, over
+// the frames of a recorded demo or simulate run. The address may choose what shows first: ?profile=N&frame=N.
 // data.js sets window.STRATA_VIEW (the recording, prepared by ViewerFolder) and window.STRATA_GLB (scene.glb
 // as base64), so the page also works opened straight from disk, where a browser refuses to fetch files.
 import * as THREE from 'three';
@@ -22,6 +23,14 @@ const TILE_STATE_COLOURS = {
   stale: 0xffa020,
 };
 const TILE_STATES = ['missing', 'queued', 'building', 'ready', 'stale'];
+// One colour a profile for its agents (the first profile's green as before).
+const PROFILE_COLOURS = [0x30d060, 0xe07030, 0x40a0f0, 0xd0d040, 0xc050c0];
+
+// The profile a glTF layer belongs to: "navmesh" and "paths" are the first's, "navmesh_2" the third's.
+function layerProfile(name) {
+  const match = /_(\d+)$/.exec(name);
+  return match ? Number(match[1]) : 0;
+}
 
 function decodeBase64(text) {
   const binary = atob(text);
@@ -51,6 +60,8 @@ class Viewer {
     this.origin = view.origin || [0, 0, 0];
     this.frame = 0;
     this.playing = false;
+    this.profiles = view.profiles && view.profiles.length > 0 ? view.profiles : [{ name: 'navmesh' }];
+    this.profile = 0;
     this.layers = {};
     this.renderer = new THREE.WebGLRenderer({ antialias: false, preserveDrawingBuffer: true });
     this.renderer.outputColorSpace = THREE.LinearSRGBColorSpace;
@@ -84,7 +95,12 @@ class Viewer {
     this.addCharacters();
     this.frameCamera();
     this.setupControls();
-    this.showFrame(this.view.frames.length > 0 ? this.view.frames.length - 1 : 0);
+    const asked = new URLSearchParams(window.location.search);
+    const lastFrame = Math.max(this.view.frames.length - 1, 0);
+    const frame = asked.has('frame') ? Math.min(Math.max(Number(asked.get('frame')) || 0, 0), lastFrame) : lastFrame;
+    const profile = Math.min(Math.max(Number(asked.get('profile')) || 0, 0), this.profiles.length - 1);
+    this.showProfile(profile);
+    this.showFrame(frame);
     this.render();
     this.publishStats();
   }
@@ -95,6 +111,7 @@ class Viewer {
     const name = object.name || (object.parent && object.parent.name) || '';
     const layer = ['level', 'navmesh', 'paths'].find((known) => name.startsWith(known));
     if (!layer) return;
+    object.userData.profile = layerProfile(name);
     if (layer === 'level') {
       object.material = new THREE.MeshLambertMaterial({ vertexColors: true, side: THREE.DoubleSide });
       object.geometry.computeVertexNormals();
@@ -218,21 +235,28 @@ class Viewer {
     this.layers.bodies = this.bodies;
   }
 
+  // Each agent as a cylinder of its profile's size and colour, where the frame puts it (where it started when
+  // the recording has no positions), and its target as a cone.
   addAgents() {
-    const agentGeometry = new THREE.CylinderGeometry(0.6, 0.6, 2.0, 16);
-    agentGeometry.translate(0, 1.0, 0);
     const targetGeometry = new THREE.ConeGeometry(0.5, 1.2, 12);
     targetGeometry.rotateX(Math.PI);
     targetGeometry.translate(0, 0.6, 0);
-    const agentMaterial = new THREE.MeshLambertMaterial({ color: 0x30d060 });
     const targetMaterial = new THREE.MeshLambertMaterial({ color: 0xd030d0 });
+    const materials = PROFILE_COLOURS.map((colour) => new THREE.MeshLambertMaterial({ color: colour }));
     this.agents = [];
     this.layers.agents = [];
     for (const agent of this.view.agents) {
-      const body = new THREE.Mesh(agentGeometry, agentMaterial);
+      const radius = agent.radius || 0.6;
+      const height = agent.height || 2.0;
+      const geometry = new THREE.CylinderGeometry(radius, radius, height, 16);
+      geometry.translate(0, height / 2, 0);
+      const profile = agent.profile || 0;
+      const body = new THREE.Mesh(geometry, materials[profile % materials.length]);
       body.position.fromArray(agent.position);
+      body.userData.profile = profile;
       const target = new THREE.Mesh(targetGeometry, targetMaterial);
       target.position.fromArray(agent.target);
+      target.userData.profile = profile;
       this.scene.add(body, target);
       this.agents.push(body);
       this.layers.agents.push(body, target);
@@ -288,10 +312,23 @@ class Viewer {
       const layer = input.dataset.layer;
       if (!this.layers[layer] || this.layers[layer].length === 0) input.parentElement.classList.add('empty');
       input.addEventListener('change', () => {
-        for (const object of this.layers[layer] || []) object.visible = input.checked;
+        this.applyVisibility();
         this.render();
       });
     }
+    const chooser = document.getElementById('profile');
+    this.profiles.forEach((profile, index) => {
+      const option = document.createElement('option');
+      option.value = String(index);
+      option.textContent = profile.radius ? `${profile.name} (${profile.radius} m x ${profile.height} m)` : profile.name;
+      chooser.appendChild(option);
+    });
+    if (this.profiles.length < 2) document.getElementById('profile-row').classList.add('empty');
+    chooser.addEventListener('change', () => {
+      this.showProfile(Number(chooser.value));
+      this.showFrame(this.frame);
+      this.render();
+    });
     document.getElementById('colour-mode').addEventListener('change', (event) => {
       this.colourNavmesh(event.target.value);
       this.render();
@@ -315,6 +352,34 @@ class Viewer {
       entry.innerHTML = `<i style="background:#${TILE_STATE_COLOURS[state].toString(16).padStart(6, '0')}"></i>${state}`;
       legend.appendChild(entry);
     }
+  }
+
+  // The layers the boxes tick, and of the navmesh and paths only the profile shown; agents of other profiles
+  // stay, fainter.
+  applyVisibility() {
+    for (const input of document.querySelectorAll('input[data-layer]')) {
+      const layer = input.dataset.layer;
+      const perProfile = layer === 'navmesh' || layer === 'paths';
+      for (const object of this.layers[layer] || [])
+        object.visible = input.checked && (!perProfile || object.userData.profile === this.profile);
+    }
+    for (const object of this.layers.agents || []) {
+      if (!object.userData.ownMaterial) {
+        object.userData.ownMaterial = object.material;
+        object.userData.fadedMaterial = object.material.clone();
+        object.userData.fadedMaterial.transparent = true;
+        object.userData.fadedMaterial.opacity = 0.35;
+      }
+      const own = object.userData.profile === this.profile;
+      object.material = own ? object.userData.ownMaterial : object.userData.fadedMaterial;
+    }
+  }
+
+  showProfile(index) {
+    this.profile = index;
+    document.getElementById('profile').value = String(index);
+    this.applyVisibility();
+    if (this.statsPublished) this.publishStats();
   }
 
   colourNavmesh(mode) {
@@ -361,16 +426,24 @@ class Viewer {
     this.characters.forEach((mesh, i) => {
       if (3 * i + 2 < feet.length) mesh.position.set(feet[3 * i], feet[3 * i + 1], feet[3 * i + 2]);
     });
+    const walkers = frame.agents || [];
+    this.agents.forEach((mesh, i) => {
+      if (3 * i + 2 < walkers.length) mesh.position.set(walkers[3 * i], walkers[3 * i + 1], walkers[3 * i + 2]);
+    });
     const borders = this.layers.tiles && this.layers.tiles[0];
     if (borders && frame.tiles) {
+      // The frame holds every profile's states, profile after profile; the shown profile's are drawn.
+      const count = this.view.tiles.coords.length;
       const colours = borders.geometry.getAttribute('color');
       const colour = new THREE.Color();
-      frame.tiles.forEach((state, tile) => {
+      for (let tile = 0; tile < count; ++tile) {
+        const state = frame.tiles[this.profile * count + tile];
         colour.setHex(TILE_STATE_COLOURS[TILE_STATES[state]] || 0xffffff);
         for (let v = 0; v < 8; ++v) colours.setXYZ(tile * 8 + v, colour.r, colour.g, colour.b);
-      });
+      }
       colours.needsUpdate = true;
     }
+    if (this.statsPublished) this.publishStats();
   }
 
   resize() {
@@ -397,15 +470,21 @@ class Viewer {
         triangles += (index ? index.count : object.geometry.getAttribute('position').count) / 3;
       }
     });
-    const navmeshTriangles = (this.layers.navmesh || []).reduce((sum, mesh) => {
+    const byProfile = this.profiles.map(() => 0);
+    for (const mesh of this.layers.navmesh || []) {
       const index = mesh.geometry.getIndex();
-      return sum + (index ? index.count : mesh.geometry.getAttribute('position').count) / 3;
-    }, 0);
+      byProfile[mesh.userData.profile] += (index ? index.count : mesh.geometry.getAttribute('position').count) / 3;
+    }
     const stats = {
       ready: true,
       objects,
       triangles,
-      navmesh_triangles: navmeshTriangles,
+      navmesh_triangles: byProfile[this.profile],
+      navmesh_triangles_by_profile: byProfile,
+      profiles: this.profiles.map((profile) => profile.name),
+      profile: this.profile,
+      frame: this.frame,
+      agent_positions: this.agents.map((mesh) => [mesh.position.x, mesh.position.y, mesh.position.z]),
       level_objects: (this.layers.level || []).length,
       path_objects: (this.layers.paths || []).length,
       bodies: this.bodies.length,
@@ -420,6 +499,7 @@ class Viewer {
     };
     document.getElementById('stats').textContent = JSON.stringify(stats);
     document.body.dataset.ready = '1';
+    this.statsPublished = true;
   }
 }
 
