@@ -31,7 +31,9 @@ Result<std::unique_ptr<Crowd>> Crowd::Create(NavMeshService& service, int profil
   std::unique_ptr<Crowd> crowd(new Crowd(service, profile, config));
   const float radius = service.profile_settings(profile).agent_radius;
   const bool ready = crowd->navmesh_.Read([&](const dtNavMesh&) {
-    return crowd->crowd_->init(config.max_agents, radius, &crowd->navmesh_.detour());
+    // DetourCrowd's neighbour grid has cells of three times the radius it is given: twice the agents' radius
+    // gives cells of 2.4 m for people, so a neighbour query (6 radii around) reads 9 cells, not 25.
+    return crowd->crowd_->init(config.max_agents, 2.0f * radius, &crowd->navmesh_.detour());
   });
   if (!ready) return MakeError(ErrorCode::kCapacityExceeded, "crowd: DetourCrowd could not allocate");
   // Local avoidance sampled coarsely (RecastDemo's "low" quality: 5 directions, 2 rings, one refinement):
@@ -86,7 +88,10 @@ Result<int> Crowd::AddAgent(const Vec3& position, const CrowdAgentParams& params
     const dtNavMeshQuery& query = *crowd_->getNavMeshQuery();
     dtPolyRef ref = 0;
     float nearest[3];
-    query.findNearestPoly(local.data(), crowd_->getQueryHalfExtents(), crowd_->getFilter(0), &ref, nearest);
+    // DetourCrowd's own placement box is sized from the radius init was given (twice the agents').
+    const float extents[3] = {2.0f * settings.agent_radius, 1.5f * settings.agent_radius,
+                              2.0f * settings.agent_radius};
+    query.findNearestPoly(local.data(), extents, crowd_->getFilter(0), &ref, nearest);
     return ref == 0 ? -2 : crowd_->addAgent(nearest, &detour);
   });
   if (index == -2)
@@ -167,21 +172,28 @@ void Crowd::ReplanStaleCorridors() {
 }
 
 void Crowd::RequestTiles() {
+  // A share of the agents each update, all of them every request_every_updates: the cost is spread over the
+  // frames, and tiles many agents want are queued once.
   const float tile = service_.profile_settings(profile_).tile_size();
   const ProfileMask mask = ProfileMask{1} << profile_;
-  for (int i = 0; i < static_cast<int>(agents_.size()); ++i) {
-    const Agent& record = agents_[static_cast<std::size_t>(i)];
+  const std::size_t share = static_cast<std::size_t>(config_.request_every_updates);
+  around_.clear();
+  ahead_.clear();
+  for (std::size_t i = stats_.updates % share; i < agents_.size(); i += share) {
+    const Agent& record = agents_[i];
     if (!record.active) continue;
-    const Vec3 at = PositionOf(i);
-    (void)service_.RequestAround(at, 0.75f * tile, mask);
+    const Vec3 at = PositionOf(static_cast<int>(i));
+    around_.push_back(at);
     if (!record.has_target || record.state == CrowdAgentState::kArrived) continue;
     // Ahead on its way, not only around it: the tiles its straight line to the target crosses.
     const Vec3 way(record.target.x() - at.x(), 0.0f, record.target.z() - at.z());
     const float distance = way.norm();
     const float length = std::min(config_.lookahead, distance);
     for (float along = 0.5f * tile; along <= length; along += 0.5f * tile)
-      (void)service_.RequestAround(at + (along / distance) * way, 0.5f * tile, mask);
+      ahead_.push_back(at + (along / distance) * way);
   }
+  (void)service_.RequestAroundPoints(around_, 0.75f * tile, mask);
+  (void)service_.RequestAroundPoints(ahead_, 0.5f * tile, mask);
 }
 
 void Crowd::UpdateStates(float dt) {
@@ -228,7 +240,7 @@ void Crowd::UpdateStates(float dt) {
 Status Crowd::Update(float dt) {
   if (!std::isfinite(dt) || dt <= 0.0f || dt > 1.0f)
     return MakeError(ErrorCode::kInvalidArgument, "crowd: dt must be in (0, 1] seconds");
-  if (stats_.updates % static_cast<std::size_t>(config_.request_every_updates) == 0) RequestTiles();
+  RequestTiles();
   navmesh_.Read([&](const dtNavMesh&) {
     ReplanStaleCorridors();
     crowd_->update(dt, nullptr);

@@ -18,7 +18,7 @@ namespace strata::navmesh {
 struct CrowdConfig {
   int max_agents = 1024;
   float lookahead = 40.0f;         ///< tiles are asked for along each agent's way this far ahead (m)
-  int request_every_updates = 15;  ///< how often agents ask for tiles (updates)
+  int request_every_updates = 15;  ///< how often each agent asks for tiles (updates; a share of them each)
   float arrive_distance = 0.5f;    ///< an agent this close to its target (x-z, m) has arrived
   float stuck_seconds = 5.0f;      ///< an agent with a target that gains no ground for this long is stuck
 };
@@ -99,6 +99,7 @@ class Crowd {
   };
   std::unique_ptr<dtCrowd, CrowdFree> crowd_;
   std::vector<Agent> agents_;
+  std::vector<Vec3> around_, ahead_;  // RequestTiles' points, kept between updates
   std::uint64_t seen_version_ = 0;
   CrowdStats stats_;
 };

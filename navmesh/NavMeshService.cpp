@@ -179,28 +179,43 @@ Status NavMeshService::CheckMask(ProfileMask profiles) const {
 }
 
 Status NavMeshService::RequestAround(const Vec3& position, float radius, ProfileMask profiles) {
-  if (!IsFinite(position))
-    return MakeError(ErrorCode::kInvalidArgument, "navmesh request: position is not finite");
+  return RequestAroundPoints(std::span<const Vec3>(&position, 1), radius, profiles);
+}
+
+Status NavMeshService::RequestAroundPoints(std::span<const Vec3> points, float radius, ProfileMask profiles) {
   if (!std::isfinite(radius) || radius < 0.0f)
     return MakeError(ErrorCode::kInvalidArgument, "navmesh request: radius must be a finite number >= 0");
   if (Status mask = CheckMask(profiles); !mask) return mask;
-  if (Status reach = CheckReach(AABB(position, position).Expanded(radius), gather_settings(), "the request");
-      !reach)
-    return reach;
   // Only an absurd radius is refused. Tiles with nothing walkable (off the level) take no slot in the tile
   // table, so a circle wider than the level is a normal request, however small the table.
   const Vec3 reach(radius, 0.0f, radius);
-  const std::uint64_t tiles = grid_.TileCount(AABB(position - reach, position + reach));
-  if (tiles > static_cast<std::uint64_t>(kMaxTiles))
-    return MakeError(ErrorCode::kInvalidArgument, "navmesh request: a radius of " + std::to_string(radius) +
-                                                      " m touches " + std::to_string(tiles) +
-                                                      " tiles, more than a navmesh holds (" +
-                                                      std::to_string(kMaxTiles) + ")");
+  for (const Vec3& position : points) {
+    if (!IsFinite(position))
+      return MakeError(ErrorCode::kInvalidArgument, "navmesh request: position is not finite");
+    if (Status in_reach =
+            CheckReach(AABB(position, position).Expanded(radius), gather_settings(), "the request");
+        !in_reach)
+      return in_reach;
+    const std::uint64_t tiles = grid_.TileCount(AABB(position - reach, position + reach));
+    if (tiles > static_cast<std::uint64_t>(kMaxTiles))
+      return MakeError(ErrorCode::kInvalidArgument, "navmesh request: a radius of " + std::to_string(radius) +
+                                                        " m touches " + std::to_string(tiles) +
+                                                        " tiles, more than a navmesh holds (" +
+                                                        std::to_string(kMaxTiles) + ")");
+  }
   const Clock::time_point now = Clock::now();
   std::vector<PendingRequest> requests;
-  for (const TileCoord tile : grid_.TilesInCircle(position, radius))
-    requests.push_back({tile, SquaredPlanarDistance(grid_.Center(tile), position), now, profiles});
-  Submit(std::move(requests));
+  std::map<TileCoord, std::size_t> index;  // each tile once, by its nearest requester
+  for (const Vec3& position : points)
+    for (const TileCoord tile : grid_.TilesInCircle(position, radius)) {
+      const float priority = SquaredPlanarDistance(grid_.Center(tile), position);
+      const auto [found, added] = index.try_emplace(tile, requests.size());
+      if (added)
+        requests.push_back({tile, priority, now, profiles});
+      else
+        requests[found->second].priority = std::min(requests[found->second].priority, priority);
+    }
+  if (!requests.empty()) Submit(std::move(requests));
   return Status::Ok();
 }
 

@@ -15,6 +15,7 @@
 #include <memory>
 #include <mutex>
 #include <set>
+#include <span>
 #include <thread>
 #include <vector>
 
@@ -85,6 +86,9 @@ class NavMeshService {
   /// nearest to a requester first. Tiles already queued move up if this requester is nearer. Fails for a
   /// non-finite or negative input, or a mask naming no profile of the service.
   Status RequestAround(const Vec3& position, float radius, ProfileMask profiles = kAllProfiles);
+  /// RequestAround for many requesters at once (a crowd's agents): each tile is queued once, by its nearest
+  /// point, under one lock. Fails, queueing nothing, if any point or the radius would fail RequestAround.
+  Status RequestAroundPoints(std::span<const Vec3> points, float radius, ProfileMask profiles = kAllProfiles);
   /// Queues the tiles overlapping `box` (x-z), e.g. a whole level for a bake.
   Status RequestBox(const AABB& box, ProfileMask profiles = kAllProfiles);
 
