@@ -11,7 +11,6 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
-#include <regex>
 #include <set>
 #include <sstream>
 #include <string>
@@ -92,15 +91,21 @@ std::vector<AgentRow> AgentRows(const std::string& output) {
   std::string line;
   std::getline(lines, line);
   std::getline(lines, line);  // the header
-  // "index profile (from) (to) set-off arrived walked-m reached  note"
-  const std::regex row_pattern(R"(^\d+\s+(\S+)\s.*?\s\d+\.\d\s+(yes|no)  (.*)$)");
+  // "index profile (from) (to) set-off arrived walked-m reached  note": the reached column is right-aligned in
+  // seven characters and followed by two spaces.
   while (std::getline(lines, line) && !line.empty() && std::isdigit(static_cast<unsigned char>(line[0]))) {
-    std::smatch match;
-    if (!std::regex_match(line, match, row_pattern)) {
+    std::istringstream fields(line);
+    std::string index;
+    AgentRow row;
+    fields >> index >> row.profile;
+    const std::size_t yes = line.find("    yes  "), no = line.find("     no  ");
+    if (yes == std::string::npos && no == std::string::npos) {
       ADD_FAILURE() << "not an agent row: " << line;
       continue;
     }
-    rows.push_back({match[1], match[2] == "yes", match[3]});
+    row.reached = yes != std::string::npos && (no == std::string::npos || yes < no);
+    row.note = line.substr((row.reached ? yes : no) + 9);
+    rows.push_back(row);
   }
   return rows;
 }
