@@ -1,6 +1,7 @@
 #include "navmesh/Crowd.h"
 
 #include <DetourCrowd.h>
+#include <DetourNavMeshQuery.h>
 
 #include <algorithm>
 #include <cmath>
@@ -10,7 +11,40 @@ namespace strata::navmesh {
 namespace {
 
 float PlanarDistance(const Vec3& a, const Vec3& b) {
-  return std::hypot(a.x() - b.x(), a.z() - b.z());
+  const float dx = a.x() - b.x(), dz = a.z() - b.z();
+  return std::sqrt(dx * dx + dz * dz);  // not std::hypot: its overflow care costs, every agent every frame
+}
+
+constexpr int kMaxRoutePolys = 1024;
+constexpr int kMaxRouteCorners = 256;
+constexpr int kRouteSearchNodes = 4096;
+constexpr float kCornerPassed = 1.0f;  // a route corner this near (x-z, m) is behind the agent
+
+Vec3 FromDetour(const float* v) {
+  return {v[0], v[1], v[2]};
+}
+
+/// Whether an agent at `at` has turned corner `k` of `corners` (not the last): it is near it, or ahead of it
+/// along the way on. Its corridor takes it round a corner wherever is shortest, not through the corner point.
+bool CornerPassed(const Vec3& at, const std::vector<Vec3>& corners, std::size_t k) {
+  const Vec3 corner = corners[k], onward = corners[k + 1] - corner, from_corner = at - corner;
+  return PlanarDistance(at, corner) < kCornerPassed ||
+         from_corner.x() * onward.x() + from_corner.z() * onward.z() > 0.0f;
+}
+
+/// The point `reach` metres along the way from `at` through `corners` (from `next` on), and whether the way
+/// ends before it (the point is then the last corner).
+std::pair<Vec3, bool> AlongRoute(const Vec3& at, const std::vector<Vec3>& corners, std::size_t next,
+                                 float reach) {
+  Vec3 from = at;
+  float left = reach;
+  for (std::size_t k = next; k < corners.size(); ++k) {
+    const float length = (corners[k] - from).norm();
+    if (length >= left) return {from + (left / length) * (corners[k] - from), false};
+    left -= length;
+    from = corners[k];
+  }
+  return {corners.back(), true};
 }
 
 }  // namespace
@@ -24,10 +58,12 @@ Result<std::unique_ptr<Crowd>> Crowd::Create(NavMeshService& service, int profil
     return MakeError(ErrorCode::kInvalidArgument, "crowd: max_agents must be in [1, 65536]");
   if (!std::isfinite(config.lookahead) || config.lookahead < 0.0f || config.request_every_updates < 1 ||
       !std::isfinite(config.arrive_distance) || config.arrive_distance <= 0.0f ||
-      !std::isfinite(config.stuck_seconds) || config.stuck_seconds <= 0.0f)
+      !std::isfinite(config.stuck_seconds) || config.stuck_seconds <= 0.0f ||
+      !std::isfinite(config.corridor_reach) || config.corridor_reach < 1.0f)
     return MakeError(
         ErrorCode::kInvalidArgument,
-        "crowd: lookahead >= 0, request_every_updates >= 1, arrive_distance and stuck_seconds > 0");
+        "crowd: lookahead >= 0, request_every_updates >= 1, arrive_distance and stuck_seconds > 0, "
+        "corridor_reach >= 1 m");
   std::unique_ptr<Crowd> crowd(new Crowd(service, profile, config));
   const float radius = service.profile_settings(profile).agent_radius;
   const bool ready = crowd->navmesh_.Read([&](const dtNavMesh&) {
@@ -35,7 +71,11 @@ Result<std::unique_ptr<Crowd>> Crowd::Create(NavMeshService& service, int profil
     // gives cells of 2.4 m for people, so a neighbour query (6 radii around) reads 9 cells, not 25.
     return crowd->crowd_->init(config.max_agents, 2.0f * radius, &crowd->navmesh_.detour());
   });
-  if (!ready) return MakeError(ErrorCode::kCapacityExceeded, "crowd: DetourCrowd could not allocate");
+  const bool route_ready = crowd->route_query_ && crowd->navmesh_.Read([&](const dtNavMesh& mesh) {
+    return dtStatusSucceed(crowd->route_query_->init(&mesh, kRouteSearchNodes));
+  });
+  if (!ready || !route_ready)
+    return MakeError(ErrorCode::kCapacityExceeded, "crowd: DetourCrowd could not allocate");
   // Local avoidance sampled coarsely (RecastDemo's "low" quality: 5 directions, 2 rings, one refinement):
   // the default refines five times, which for a thousand agents costs several milliseconds a frame.
   dtObstacleAvoidanceParams avoidance = *crowd->crowd_->getObstacleAvoidanceParams(0);
@@ -52,10 +92,17 @@ Crowd::Crowd(NavMeshService& service, int profile, const CrowdConfig& config)
       config_(config),
       navmesh_(service.navmesh(profile)),
       crowd_(dtAllocCrowd()),
+      route_query_(dtAllocNavMeshQuery()),
+      route_polys_(kMaxRoutePolys),
+      route_corners_(3 * kMaxRouteCorners),
       agents_(static_cast<std::size_t>(config.max_agents)) {}
 
 void Crowd::CrowdFree::operator()(dtCrowd* crowd) const {
   dtFreeCrowd(crowd);
+}
+
+void Crowd::QueryFree::operator()(dtNavMeshQuery* query) const {
+  dtFreeNavMeshQuery(query);
 }
 
 Status Crowd::Check(int agent) const {
@@ -146,11 +193,73 @@ void Crowd::Retarget(int agent) {
     for (float along = length - step; along > 0.0f && ref == 0; along -= step)
       find(from + (along / length) * way + Vec3(0.0f, record.target.y() - from.y(), 0.0f) * (along / length));
   }
+  record.route.clear();
+  record.goal_ref = ref;
   if (ref == 0) {
     crowd_->resetMoveTarget(agent);  // nothing built on its way yet: stand and wait
     return;
   }
+  record.goal = FromDetour(nearest);
+  PlanRoute(agent);
+  Steer(agent, true);
+}
+
+void Crowd::PlanRoute(int agent) {
+  Agent& record = agents_[static_cast<std::size_t>(agent)];
+  record.route.clear();
+  record.route_next = 0;
+  record.route_version = navmesh_.version();
+  const dtCrowdAgent& detour = *crowd_->getAgent(agent);
+  const Vec3 at = FromDetour(detour.npos);
+  const dtPolyRef start = detour.corridor.getFirstPoly();
+  if (start == 0 || PlanarDistance(at, record.goal) <= config_.corridor_reach) return;
+  int polys = 0;
+  route_query_->findPath(start, record.goal_ref, at.data(), record.goal.data(), crowd_->getFilter(0),
+                         route_polys_.data(), &polys, kMaxRoutePolys);
+  if (polys == 0) return;
+  // A partial route (the search ran out of nodes) ends at the polygon nearest the goal.
+  Vec3 end = record.goal;
+  if (route_polys_[static_cast<std::size_t>(polys - 1)] != record.goal_ref)
+    route_query_->closestPointOnPoly(route_polys_[static_cast<std::size_t>(polys - 1)], record.goal.data(),
+                                     end.data(), nullptr);
+  int corners = 0;
+  route_query_->findStraightPath(at.data(), end.data(), route_polys_.data(), polys, route_corners_.data(),
+                                 nullptr, nullptr, &corners, kMaxRouteCorners);
+  for (int k = 1; k < corners; ++k)
+    record.route.push_back(FromDetour(&route_corners_[3 * static_cast<std::size_t>(k)]));
+}
+
+void Crowd::Steer(int agent, bool now) {
+  Agent& record = agents_[static_cast<std::size_t>(agent)];
+  if (record.route.empty()) {
+    if (now) {
+      crowd_->requestMoveTarget(agent, record.goal_ref, record.goal.data());
+      record.corridor_end = record.goal;
+    }
+    return;
+  }
+  const Vec3 at = FromDetour(crowd_->getAgent(agent)->npos);
+  while (record.route_next + 1 < record.route.size() && CornerPassed(at, record.route, record.route_next))
+    ++record.route_next;
+  if (!now && PlanarDistance(at, record.corridor_end) > 0.5f * config_.corridor_reach) return;
+  if (!now && record.route_version != navmesh_.version()) {
+    // Tiles ahead changed since the route was planned: plan it again before following it further.
+    PlanRoute(agent);
+    return Steer(agent, true);
+  }
+  const auto [point, at_goal] = AlongRoute(at, record.route, record.route_next, config_.corridor_reach);
+  dtPolyRef ref = 0;
+  float nearest[3];
+  const float extents[3] = {1.0f, 4.0f, 1.0f};
+  crowd_->getNavMeshQuery()->findNearestPoly(point.data(), extents, crowd_->getFilter(0), &ref, nearest);
+  if (at_goal || ref == 0) {
+    record.route.clear();
+    crowd_->requestMoveTarget(agent, record.goal_ref, record.goal.data());
+    record.corridor_end = record.goal;
+    return;
+  }
   crowd_->requestMoveTarget(agent, ref, nearest);
+  record.corridor_end = point;
 }
 
 void Crowd::ReplanStaleCorridors() {
@@ -185,12 +294,12 @@ void Crowd::RequestTiles() {
     const Vec3 at = PositionOf(static_cast<int>(i));
     around_.push_back(at);
     if (!record.has_target || record.state == CrowdAgentState::kArrived) continue;
-    // Ahead on its way, not only around it: the tiles its straight line to the target crosses.
+    // Ahead on its way, not only around it: the tiles its straight line to the target crosses (circles of
+    // half a tile, a tile apart, touch every tile the line crosses).
     const Vec3 way(record.target.x() - at.x(), 0.0f, record.target.z() - at.z());
     const float distance = way.norm();
     const float length = std::min(config_.lookahead, distance);
-    for (float along = 0.5f * tile; along <= length; along += 0.5f * tile)
-      ahead_.push_back(at + (along / distance) * way);
+    for (float along = tile; along <= length; along += tile) ahead_.push_back(at + (along / distance) * way);
   }
   (void)service_.RequestAroundPoints(around_, 0.75f * tile, mask);
   (void)service_.RequestAroundPoints(ahead_, 0.5f * tile, mask);
@@ -218,7 +327,7 @@ void Crowd::UpdateStates(float dt) {
       record.state = CrowdAgentState::kArrived;
       continue;
     }
-    const float speed = std::hypot(agent.vel[0], agent.vel[2]);
+    const float speed = std::sqrt(agent.vel[0] * agent.vel[0] + agent.vel[2] * agent.vel[2]);
     record.state =
         !record.target_on_mesh && speed < 0.1f ? CrowdAgentState::kWaiting : CrowdAgentState::kWalking;
     if (record.state == CrowdAgentState::kWaiting) {
@@ -243,6 +352,9 @@ Status Crowd::Update(float dt) {
   RequestTiles();
   navmesh_.Read([&](const dtNavMesh&) {
     ReplanStaleCorridors();
+    for (int i = 0; i < static_cast<int>(agents_.size()); ++i)
+      if (agents_[static_cast<std::size_t>(i)].active && !agents_[static_cast<std::size_t>(i)].route.empty())
+        Steer(i, false);
     crowd_->update(dt, nullptr);
     UpdateStates(dt);
     return 0;

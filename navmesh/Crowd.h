@@ -9,18 +9,25 @@
 #include <memory>
 #include <vector>
 
+#include <DetourNavMesh.h>
+
 #include "navmesh/NavMeshService.h"
 
 class dtCrowd;
+class dtNavMeshQuery;
 
 namespace strata::navmesh {
 
 struct CrowdConfig {
   int max_agents = 1024;
   float lookahead = 40.0f;         ///< tiles are asked for along each agent's way this far ahead (m)
-  int request_every_updates = 15;  ///< how often each agent asks for tiles (updates; a share of them each)
+  int request_every_updates = 30;  ///< how often each agent asks for tiles (updates; a share of them each)
   float arrive_distance = 0.5f;    ///< an agent this close to its target (x-z, m) has arrived
   float stuck_seconds = 5.0f;      ///< an agent with a target that gains no ground for this long is stuck
+  /// How far along its way an agent's DetourCrowd corridor reaches (m). A farther target is planned as a
+  /// route of corners; the corridor follows it, moved on as the agent walks. DetourCrowd walks an agent's
+  /// whole corridor every frame, so corridors across a map cost every agent every frame.
+  float corridor_reach = 16.0f;
 };
 
 /// How one agent moves.
@@ -80,15 +87,26 @@ class Crowd {
     float best_distance = 0.0f;   ///< nearest it has come to its target (stuck detection)
     float since_progress = 0.0f;
     CrowdAgentState state = CrowdAgentState::kIdle;
+    // Where it is going now (the target, or the farthest built point on its way), in the navmesh's frame:
+    // reached through `route` when farther than corridor_reach.
+    dtPolyRef goal_ref = 0;
+    Vec3 goal = Vec3::Zero();
+    std::vector<Vec3> route;     ///< corners to the goal, the start left out (empty: steering at the goal)
+    std::size_t route_next = 0;  ///< the first corner not yet passed
+    std::uint64_t route_version = 0;   ///< the navmesh's version when the route was planned
+    Vec3 corridor_end = Vec3::Zero();  ///< where its DetourCrowd corridor ends now
   };
 
   Crowd(NavMeshService& service, int profile, const CrowdConfig& config);
   Status Check(int agent) const;
   Vec3 PositionOf(int agent) const;  // a live agent's
   void RequestTiles();
-  void Retarget(int agent);     // navmesh read lock held
-  void ReplanStaleCorridors();  // navmesh read lock held
-  void UpdateStates(float dt);  // navmesh read lock held
+  void Retarget(int agent);   // navmesh read lock held
+  void PlanRoute(int agent);  // navmesh read lock held
+  /// Moves the agent's corridor on along its route once it has walked half of it (`now`: at once).
+  void Steer(int agent, bool now);  // navmesh read lock held
+  void ReplanStaleCorridors();      // navmesh read lock held
+  void UpdateStates(float dt);      // navmesh read lock held
 
   NavMeshService& service_;
   const int profile_;
@@ -98,6 +116,12 @@ class Crowd {
     void operator()(dtCrowd* crowd) const;
   };
   std::unique_ptr<dtCrowd, CrowdFree> crowd_;
+  struct QueryFree {
+    void operator()(dtNavMeshQuery* query) const;
+  };
+  std::unique_ptr<dtNavMeshQuery, QueryFree> route_query_;  // routes: searched from the game thread
+  std::vector<dtPolyRef> route_polys_;
+  std::vector<float> route_corners_;
   std::vector<Agent> agents_;
   std::vector<Vec3> around_, ahead_;  // RequestTiles' points, kept between updates
   std::uint64_t seen_version_ = 0;

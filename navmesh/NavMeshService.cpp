@@ -203,18 +203,21 @@ Status NavMeshService::RequestAroundPoints(std::span<const Vec3> points, float r
                                                         " tiles, more than a navmesh holds (" +
                                                         std::to_string(kMaxTiles) + ")");
   }
+  // Each tile once, by its nearest requester: every (tile, distance) pair, sorted, the first of each tile
+  // kept.
   const Clock::time_point now = Clock::now();
   std::vector<PendingRequest> requests;
-  std::map<TileCoord, std::size_t> index;  // each tile once, by its nearest requester
   for (const Vec3& position : points)
-    for (const TileCoord tile : grid_.TilesInCircle(position, radius)) {
-      const float priority = SquaredPlanarDistance(grid_.Center(tile), position);
-      const auto [found, added] = index.try_emplace(tile, requests.size());
-      if (added)
-        requests.push_back({tile, priority, now, profiles});
-      else
-        requests[found->second].priority = std::min(requests[found->second].priority, priority);
-    }
+    grid_.ForEachTileInCircle(position, radius, [&](TileCoord tile) {
+      requests.push_back({tile, SquaredPlanarDistance(grid_.Center(tile), position), now, profiles});
+    });
+  std::sort(requests.begin(), requests.end(), [](const PendingRequest& a, const PendingRequest& b) {
+    return a.tile != b.tile ? a.tile < b.tile : a.priority < b.priority;
+  });
+  requests.erase(
+      std::unique(requests.begin(), requests.end(),
+                  [](const PendingRequest& a, const PendingRequest& b) { return a.tile == b.tile; }),
+      requests.end());
   if (!requests.empty()) Submit(std::move(requests));
   return Status::Ok();
 }

@@ -40,12 +40,7 @@ float TileGrid::SquaredDistance(TileCoord tile, const Vec3& position) const {
 
 std::vector<TileCoord> TileGrid::TilesInCircle(const Vec3& center, float radius) const {
   std::vector<TileCoord> tiles;
-  if (!IsFinite(center) || !std::isfinite(radius) || radius < 0.0f) return tiles;
-  const TileCoord low = TileAt(center - Vec3(radius, 0.0f, radius));
-  const TileCoord high = TileAt(center + Vec3(radius, 0.0f, radius));
-  for (int z = low.z; z <= high.z; ++z)
-    for (int x = low.x; x <= high.x; ++x)
-      if (SquaredDistance({x, z}, center) <= radius * radius) tiles.push_back({x, z});
+  ForEachTileInCircle(center, radius, [&](TileCoord tile) { tiles.push_back(tile); });
   return tiles;
 }
 

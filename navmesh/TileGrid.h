@@ -31,6 +31,16 @@ class TileGrid {
   float SquaredDistance(TileCoord tile, const Vec3& position) const;
   /// Tiles whose x-z square the circle (x-z plane) touches, in row order.
   std::vector<TileCoord> TilesInCircle(const Vec3& center, float radius) const;
+  /// Calls `visit(tile)` for each tile TilesInCircle lists, in its order, without building the list.
+  template <class Visit>
+  void ForEachTileInCircle(const Vec3& center, float radius, Visit&& visit) const {
+    if (!IsFinite(center) || !std::isfinite(radius) || radius < 0.0f) return;
+    const TileCoord low = TileAt(center - Vec3(radius, 0.0f, radius));
+    const TileCoord high = TileAt(center + Vec3(radius, 0.0f, radius));
+    for (int z = low.z; z <= high.z; ++z)
+      for (int x = low.x; x <= high.x; ++x)
+        if (SquaredDistance({x, z}, center) <= radius * radius) visit(TileCoord{x, z});
+  }
   /// How many tiles TilesInBox(box) lists, computed without listing them (0 for an invalid box), so a caller
   /// can refuse a box too large to list before anything is allocated.
   std::uint64_t TileCount(const AABB& box) const;

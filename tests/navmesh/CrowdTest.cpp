@@ -54,14 +54,18 @@ std::vector<int> AddRow(Crowd& crowd, float x, float first_z, int count, const V
   return agents;
 }
 
-TEST(Crowd, AgentsWalkToTargetsOnTilesNotBuiltWhenTheySetOut) {
+// Six agents to targets 55 m east, round a wall, on tiles built as they go; the corridor reaches `reach`
+// metres along the way at a time (the rest is a route of corners it moves along).
+void WalkRoundTheWallOnTilesNotBuilt(float reach) {
   auto world = MakeWorld();
   AddSlab(*world, 0.0f, 5 * 12.8f, 0.0f, 12.8f, 0.0f);
   AddSlab(*world, 30.0f, 31.0f, 0.0f, 9.0f, 3.0f);  // a wall to walk round
   auto service = MakeService(*world, PersonService(64));
   ASSERT_TRUE(service->RequestAround(Vec3(3, 0, 6), 4.0f).ok());
   ASSERT_TRUE(service->WaitUntilIdle(std::chrono::seconds(30)));
-  auto crowd = std::move(*Crowd::Create(*service, 0));
+  navmesh::CrowdConfig config;
+  config.corridor_reach = reach;
+  auto crowd = std::move(*Crowd::Create(*service, 0, config));
   const std::vector<int> agents = AddRow(*crowd, 3.0f, 2.0f, 6, Vec3(55.0f, 0.0f, 0.0f));
   ASSERT_EQ(agents.size(), 6u);
   EXPECT_TRUE(WalkUntilArrived(*crowd, agents, 60.0));
@@ -69,6 +73,14 @@ TEST(Crowd, AgentsWalkToTargetsOnTilesNotBuiltWhenTheySetOut) {
   EXPECT_EQ(crowd->stats().off_mesh, 0u);
   EXPECT_EQ(crowd->stats().stuck_agents, 0u);
   EXPECT_GE(service->navmesh(0).tile_count(), 5);  // asked for ahead of them
+}
+
+TEST(Crowd, AgentsWalkToTargetsOnTilesNotBuiltWhenTheySetOut) {
+  WalkRoundTheWallOnTilesNotBuilt(navmesh::CrowdConfig().corridor_reach);
+}
+
+TEST(Crowd, AShortCorridorFollowsTheRouteRoundCorners) {
+  WalkRoundTheWallOnTilesNotBuilt(5.0f);
 }
 
 TEST(Crowd, AnAgentWhoseTargetIsWalledOffIsStuckAndOneWaitingForTilesIsNot) {
@@ -96,6 +108,9 @@ TEST(Crowd, BadAgentsAndCallsAreRefused) {
   AddFloor(*world, 1);
   auto service = BuildArea(*world, TileArea(1), PersonService(16));
   EXPECT_FALSE(Crowd::Create(*service, 3).ok());
+  navmesh::CrowdConfig no_reach;
+  no_reach.corridor_reach = 0.0f;
+  EXPECT_FALSE(Crowd::Create(*service, 0, no_reach).ok());
   auto crowd = std::move(*Crowd::Create(*service, 0));
   EXPECT_FALSE(crowd->AddAgent(Vec3(100, 0, 100)).ok());  // off the built navmesh
   EXPECT_FALSE(crowd->AddAgent(Vec3(std::nanf(""), 0, 1)).ok());
