@@ -321,9 +321,21 @@ void Crowd::UpdateStates(float dt) {
       record.state = CrowdAgentState::kIdle;
       continue;
     }
+    // DetourCrowd drops a target whose polygon went with a replaced tile and cannot be found again near
+    // where it was; the agent would stand (or coast) there for ever. Plan it again from here.
+    if (record.goal_ref != 0 && record.state != CrowdAgentState::kArrived &&
+        (agent.targetState == DT_CROWDAGENT_TARGET_NONE ||
+         agent.targetState == DT_CROWDAGENT_TARGET_FAILED)) {
+      ++stats_.replans;
+      Retarget(i);
+    }
     const Vec3 at = navmesh_.ToWorld(Vec3(agent.npos[0], agent.npos[1], agent.npos[2]));
     const float distance = PlanarDistance(at, record.target);
-    if (distance <= config_.arrive_distance) {
+    // A target off the walkable ground (in a rock, on a wall) is reached at the navmesh point nearest it.
+    const bool at_nearest_ground =
+        record.target_on_mesh && record.goal_ref != 0 &&
+        PlanarDistance(FromDetour(agent.npos), record.goal) <= config_.arrive_distance;
+    if (distance <= config_.arrive_distance || at_nearest_ground) {
       record.state = CrowdAgentState::kArrived;
       continue;
     }

@@ -22,8 +22,10 @@ struct CrowdConfig {
   int max_agents = 1024;
   float lookahead = 40.0f;         ///< tiles are asked for along each agent's way this far ahead (m)
   int request_every_updates = 30;  ///< how often each agent asks for tiles (updates; a share of them each)
-  float arrive_distance = 0.5f;    ///< an agent this close to its target (x-z, m) has arrived
-  float stuck_seconds = 5.0f;      ///< an agent with a target that gains no ground for this long is stuck
+  /// An agent this close (x-z, m) to its target, or to the navmesh point nearest a target off the navmesh
+  /// (in a rock, on a wall), has arrived.
+  float arrive_distance = 0.5f;
+  float stuck_seconds = 5.0f;  ///< an agent with a target that gains no ground for this long is stuck
   /// How far along its way an agent's DetourCrowd corridor reaches (m). A farther target is planned as a
   /// route of corners; the corridor follows it, moved on as the agent walks. DetourCrowd walks an agent's
   /// whole corridor every frame, so corridors across a map cost every agent every frame.
@@ -83,7 +85,7 @@ class Crowd {
     bool active = false;
     bool has_target = false;
     Vec3 target = Vec3::Zero();
-    bool target_on_mesh = false;  ///< the requested target is the real one, not the nearest built point
+    bool target_on_mesh = false;  ///< its tile is built: the goal is the navmesh point nearest the target
     float best_distance = 0.0f;   ///< nearest it has come to its target (stuck detection)
     float since_progress = 0.0f;
     CrowdAgentState state = CrowdAgentState::kIdle;

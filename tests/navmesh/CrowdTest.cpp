@@ -83,6 +83,24 @@ TEST(Crowd, AShortCorridorFollowsTheRouteRoundCorners) {
   WalkRoundTheWallOnTilesNotBuilt(5.0f);
 }
 
+TEST(Crowd, ATargetInsideARockIsReachedAtTheGroundNearestIt) {
+  auto world = MakeWorld();
+  AddSlab(*world, 0.0f, 12.8f, 0.0f, 12.8f, 0.0f);
+  AddSlab(*world, 8.0f, 9.0f, 5.0f, 6.0f, 2.0f);  // a rock 1 m across: its middle is 0.9 m from any ground
+  auto service = BuildArea(*world, TileArea(1), PersonService(16));
+  auto crowd = std::move(*Crowd::Create(*service, 0));
+  const int agent = *crowd->AddAgent(Vec3(2, 0, 5.5f));
+  ASSERT_TRUE(crowd->SetTarget(agent, Vec3(8.5f, 0, 5.5f)).ok());
+  for (int frame = 0; frame < 30 * 6 && *crowd->state(agent) != CrowdAgentState::kArrived; ++frame)
+    ASSERT_TRUE(crowd->Update(1.0f / 30.0f).ok());
+  EXPECT_EQ(*crowd->state(agent), CrowdAgentState::kArrived);
+  // At the navmesh's edge by the rock's west face (its radius and a cell off the rock), within
+  // arrive_distance.
+  EXPECT_GT(crowd->position(agent)->x(), 6.8f);
+  EXPECT_LT(crowd->position(agent)->x(), 7.8f);
+  EXPECT_FALSE(*crowd->stuck(agent));
+}
+
 TEST(Crowd, AnAgentWhoseTargetIsWalledOffIsStuckAndOneWaitingForTilesIsNot) {
   auto world = MakeWorld();
   AddSlab(*world, 0.0f, 2 * 12.8f, 0.0f, 12.8f, 0.0f);
