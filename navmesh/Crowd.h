@@ -26,9 +26,10 @@ struct CrowdConfig {
   /// (in a rock, on a wall), has arrived.
   float arrive_distance = 0.5f;
   float stuck_seconds = 5.0f;  ///< an agent with a target that gains no ground for this long is stuck
-  /// How far along its way an agent's DetourCrowd corridor reaches (m). A farther target is planned as a
-  /// route of corners; the corridor follows it, moved on as the agent walks. DetourCrowd walks an agent's
-  /// whole corridor every frame, so corridors across a map cost every agent every frame.
+  /// How far along its way an agent's DetourCrowd corridor reaches (m; at least two seconds of its top
+  /// speed). A farther target is planned as a route of corners; the corridor follows it, moved on as the
+  /// agent walks. DetourCrowd walks an agent's whole corridor every frame, so corridors across a map cost
+  /// every agent every frame.
   float corridor_reach = 16.0f;
 };
 
@@ -97,6 +98,7 @@ class Crowd {
     std::size_t route_next = 0;  ///< the first corner not yet passed
     std::uint64_t route_version = 0;   ///< the navmesh's version when the route was planned
     Vec3 corridor_end = Vec3::Zero();  ///< where its DetourCrowd corridor ends now
+    float reach = 0.0f;                ///< its corridor_reach
   };
 
   Crowd(NavMeshService& service, int profile, const CrowdConfig& config);
