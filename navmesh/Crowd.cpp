@@ -147,9 +147,6 @@ Result<int> Crowd::AddAgent(const Vec3& position, const CrowdAgentParams& params
   Agent& agent = agents_[static_cast<std::size_t>(index)];
   agent = Agent{};
   agent.active = true;
-  // Two seconds of walking at least: each move of the corridor is a path request, and DetourCrowd's path
-  // queue searches only so many nodes a frame for all its agents.
-  agent.reach = std::max(config_.corridor_reach, 2.0f * params.max_speed);
   return index;
 }
 
@@ -207,6 +204,12 @@ void Crowd::Retarget(int agent) {
   Steer(agent, true);
 }
 
+float Crowd::Reach(int agent) const {
+  // Two seconds of walking at least: each move of the corridor is a path request, and DetourCrowd's path
+  // queue searches only so many nodes a frame for all its agents.
+  return std::max(config_.corridor_reach, 2.0f * crowd_->getAgent(agent)->params.maxSpeed);
+}
+
 void Crowd::PlanRoute(int agent) {
   Agent& record = agents_[static_cast<std::size_t>(agent)];
   record.route.clear();
@@ -215,7 +218,7 @@ void Crowd::PlanRoute(int agent) {
   const dtCrowdAgent& detour = *crowd_->getAgent(agent);
   const Vec3 at = FromDetour(detour.npos);
   const dtPolyRef start = detour.corridor.getFirstPoly();
-  if (start == 0 || PlanarDistance(at, record.goal) <= record.reach) return;
+  if (start == 0 || PlanarDistance(at, record.goal) <= Reach(agent)) return;
   int polys = 0;
   route_query_->findPath(start, record.goal_ref, at.data(), record.goal.data(), crowd_->getFilter(0),
                          route_polys_.data(), &polys, kMaxRoutePolys);
@@ -244,13 +247,13 @@ void Crowd::Steer(int agent, bool now) {
   const Vec3 at = FromDetour(crowd_->getAgent(agent)->npos);
   while (record.route_next + 1 < record.route.size() && CornerPassed(at, record.route, record.route_next))
     ++record.route_next;
-  if (!now && PlanarDistance(at, record.corridor_end) > 0.5f * record.reach) return;
+  if (!now && PlanarDistance(at, record.corridor_end) > 0.5f * Reach(agent)) return;
   if (!now && record.route_version != navmesh_.version()) {
     // Tiles ahead changed since the route was planned: plan it again before following it further.
     PlanRoute(agent);
     return Steer(agent, true);
   }
-  const auto [point, at_goal] = AlongRoute(at, record.route, record.route_next, record.reach);
+  const auto [point, at_goal] = AlongRoute(at, record.route, record.route_next, Reach(agent));
   dtPolyRef ref = 0;
   float nearest[3];
   const float extents[3] = {1.0f, 4.0f, 1.0f};

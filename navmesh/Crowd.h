@@ -98,15 +98,15 @@ class Crowd {
     std::size_t route_next = 0;  ///< the first corner not yet passed
     std::uint64_t route_version = 0;   ///< the navmesh's version when the route was planned
     Vec3 corridor_end = Vec3::Zero();  ///< where its DetourCrowd corridor ends now
-    float reach = 0.0f;                ///< its corridor_reach
   };
 
   Crowd(NavMeshService& service, int profile, const CrowdConfig& config);
   Status Check(int agent) const;
   Vec3 PositionOf(int agent) const;  // a live agent's
   void RequestTiles();
-  void Retarget(int agent);   // navmesh read lock held
-  void PlanRoute(int agent);  // navmesh read lock held
+  void Retarget(int agent);      // navmesh read lock held
+  void PlanRoute(int agent);     // navmesh read lock held
+  float Reach(int agent) const;  // how far its corridor reaches: corridor_reach, or farther for a fast agent
   /// Moves the agent's corridor on along its route once it has walked half of it (`now`: at once).
   void Steer(int agent, bool now);  // navmesh read lock held
   void ReplanStaleCorridors();      // navmesh read lock held

@@ -115,15 +115,21 @@ void DemoAgents::Join(std::size_t index, float time) {
   }
   agent.crowd_id = *id;
   agent.position = ground->point;
-  if (!agent.plan.target) {
+  if (agent.plan.target)
+    SetOff(index, *agent.plan.target);
+  else
     DrawTarget(index);
-    return;
-  }
-  agent.target = *agent.plan.target;
-  if (const Result<navmesh::PathResult> path = ground_query.FindPath(ground->point, agent.target); path)
+}
+
+void DemoAgents::SetOff(std::size_t index, const Vec3& target) {
+  DemoAgent& agent = agents_[index];
+  navmesh::NavMeshQuery& path_query = query(agent.plan.profile);
+  path_query.set_search_extents(Vec3(2.0f, 4.0f, 2.0f));
+  agent.target = target;
+  agent.planned_path.clear();
+  if (const Result<navmesh::PathResult> path = path_query.FindPath(agent.position, target); path)
     agent.planned_path = path->points;
-  if (Status sent =
-          crowds_[static_cast<std::size_t>(agent.plan.profile)]->SetTarget(agent.crowd_id, agent.target);
+  if (Status sent = crowds_[static_cast<std::size_t>(agent.plan.profile)]->SetTarget(agent.crowd_id, target);
       !sent)
     agent.problem = sent.message();
 }
@@ -140,14 +146,7 @@ void DemoAgents::DrawTarget(std::size_t index) {
     agent.problem = drawn.error().message;
     return;
   }
-  agent.target = *drawn;
-  agent.planned_path.clear();
-  if (const Result<navmesh::PathResult> path = target_query.FindPath(agent.position, agent.target); path)
-    agent.planned_path = path->points;
-  if (Status sent =
-          crowds_[static_cast<std::size_t>(agent.plan.profile)]->SetTarget(agent.crowd_id, agent.target);
-      !sent)
-    agent.problem = sent.message();
+  SetOff(index, *drawn);
 }
 
 void DemoAgents::RetargetCutOff() {

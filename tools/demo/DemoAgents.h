@@ -82,6 +82,8 @@ class DemoAgents {
   void Join(std::size_t index, float time);
   /// Draws a target for `agent` around where it stands and sends it there (the problem when none is found).
   void DrawTarget(std::size_t index);
+  /// Sends the agent to `target` through its crowd, with the path it sets off on.
+  void SetOff(std::size_t index, const Vec3& target);
   void RetargetCutOff();
   navmesh::NavMeshQuery& query(int profile);
   Status RequestSpawnTiles() const;
