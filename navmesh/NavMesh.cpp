@@ -424,39 +424,54 @@ double NavMesh::WalkableArea() const {
   });
 }
 
+namespace {
+
+/// Appends `tiles` as a set file holds them (each named by the reference it gets when the file is loaded into
+/// a fresh navmesh, with its runtime links cleared: Detour rebuilds them when it adds the tile), with a CRC
+/// of each.
+void AppendTiles(const dtNavMesh& mesh, const std::vector<const dtMeshTile*>& tiles, std::string& bytes,
+                 std::vector<std::uint32_t>& tile_crcs) {
+  tile_crcs.reserve(tile_crcs.size() + tiles.size());
+  for (std::size_t i = 0; i < tiles.size(); ++i) {
+    const dtMeshTile& tile = *tiles[i];
+    constexpr unsigned int kFreshSalt = 1;  // what dtNavMesh::init gives every tile slot
+    const SetTileHeader tile_header{mesh.encodePolyId(kFreshSalt, static_cast<unsigned int>(i), 0),
+                                    tile.dataSize};
+    const std::size_t tile_start = bytes.size();
+    bytes.append(reinterpret_cast<const char*>(&tile_header), sizeof(tile_header));
+    bytes.append(reinterpret_cast<const char*>(tile.data), static_cast<std::size_t>(tile.dataSize));
+    ClearRuntimeLinks(tile, bytes.data() + tile_start + sizeof(tile_header));
+    tile_crcs.push_back(Crc32(AsBytes(bytes).subspan(tile_start)));
+  }
+}
+
+}  // namespace
+
 Status NavMesh::Save(const std::filesystem::path& path, std::optional<SetCoverage> coverage) const {
   std::string bytes;
   std::vector<std::uint32_t> tile_crcs;
-  auto append = [&](const void* data, std::size_t size) {
-    bytes.append(static_cast<const char*>(data), size);
-  };
   Read([&](const dtNavMesh& mesh) {
     // The same navmesh gives the same file whatever order its tiles were published in (worker threads race
-    // for that): tiles go in coordinate order, each named by the reference it gets when the file is loaded
-    // into a fresh navmesh, with its runtime links cleared (Detour rebuilds them when it adds the tile).
+    // for that): tiles go in coordinate order.
     const std::vector<const dtMeshTile*> tiles = TilesInOrder(mesh);
     SetHeader header{kSetMagic, kSetVersion, static_cast<std::int32_t>(tiles.size()), *mesh.getParams()};
     // Detour's own origin stays zero (it works relative to ours); the file records ours there.
     for (int k = 0; k < 3; ++k) header.params.orig[k] = static_cast<float>(origin_[k]);
-    append(&header, sizeof(header));
-    tile_crcs.reserve(tiles.size());
-    for (std::size_t i = 0; i < tiles.size(); ++i) {
-      const dtMeshTile& tile = *tiles[i];
-      constexpr unsigned int kFreshSalt = 1;  // what dtNavMesh::init gives every tile slot
-      const SetTileHeader tile_header{mesh.encodePolyId(kFreshSalt, static_cast<unsigned int>(i), 0),
-                                      tile.dataSize};
-      const std::size_t tile_start = bytes.size();
-      append(&tile_header, sizeof(tile_header));
-      append(tile.data, static_cast<std::size_t>(tile.dataSize));
-      ClearRuntimeLinks(tile, bytes.data() + tile_start + sizeof(tile_header));
-      tile_crcs.push_back(Crc32(AsBytes(bytes).subspan(tile_start)));
-    }
+    bytes.append(reinterpret_cast<const char*>(&header), sizeof(header));
+    AppendTiles(mesh, tiles, bytes, tile_crcs);
   });
   const SetCoverage saved_coverage = coverage.value_or(coverage_);
   bytes += EncodeSetChecksums({HeaderCrc(AsBytes(bytes).first(sizeof(SetHeader)), saved_coverage, profile_),
                                saved_coverage, profile_, std::move(tile_crcs)});
   // Beside the target and renamed over it: a kill or a full disk never leaves half a navmesh there.
   return WriteOutputFile(path, bytes);
+}
+
+std::uint32_t NavMesh::TilesCrc() const {
+  std::string bytes;
+  std::vector<std::uint32_t> tile_crcs;
+  Read([&](const dtNavMesh& mesh) { AppendTiles(mesh, TilesInOrder(mesh), bytes, tile_crcs); });
+  return Crc32(AsBytes(bytes));
 }
 
 namespace {

@@ -82,6 +82,9 @@ class NavMesh {
   /// where RecastDemo reads the file as its own).
   /// `coverage`: which share of a level the file holds (coverage() when not given).
   Status Save(const std::filesystem::path& path, std::optional<SetCoverage> coverage = std::nullopt) const;
+  /// CRC-32 of the tiles' bytes as Save writes them, in coordinate order: navmeshes that hold the same tiles
+  /// give the same value, whatever order they were published in.
+  std::uint32_t TilesCrc() const;
   /// The share of a level this navmesh was loaded with (not known for one built here or a RecastDemo file).
   const SetCoverage& coverage() const { return coverage_; }
   /// The agent profile it was built for (AgentProfile::name), given at Create or read by Load; empty when

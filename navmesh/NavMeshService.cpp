@@ -75,6 +75,7 @@ NavMeshServiceStats& NavMeshServiceStats::operator+=(const NavMeshServiceStats& 
   builds += other.builds, rebuilds += other.rebuilds, failures += other.failures;
   queued += other.queued, building += other.building, ready += other.ready, stale += other.stale;
   evictions += other.evictions, tiles_holding_data += other.tiles_holding_data;
+  polygons_taken += other.polygons_taken;
   // Scans and gathers are the service's, not a profile's: every profile's copy holds the same count.
   scans = other.scans, gathers = other.gathers;
   return *this;
@@ -328,6 +329,7 @@ void NavMeshService::MirrorCounters() {
     NavMeshServiceStats& front = front_stats_[p];
     front.builds = profile.counters.builds;
     front.rebuilds = profile.counters.rebuilds;
+    front.polygons_taken = profile.counters.polygons_taken;
     front.failures = profile.counters.failures;
     front.evictions = profile.counters.evictions;
     front.tiles_holding_data = static_cast<std::size_t>(profile.tiles_holding_data);
@@ -482,14 +484,17 @@ void NavMeshService::BuildOne(TileCoord coord, const std::vector<int>& profiles)
   std::vector<NavMeshSettings> settings;
   for (const int p : profiles) settings.push_back(profiles_[static_cast<std::size_t>(p)].settings);
   std::vector<Result<BuiltTile>> built = BuildTileForProfiles(settings, coord, geometry);
+  for (Result<BuiltTile>& tile : built)
+    if (tile && tile->polygons_from >= 0)
+      tile->polygons_from = profiles[static_cast<std::size_t>(tile->polygons_from)];
   {
     // Publishing happens under the back-end lock, so making room (evicting) and taking the slot is one
     // decision however many workers finish at once. Game threads never take this lock.
     const std::lock_guard lock(mutex_);
     for (std::size_t i = 0; i < profiles.size(); ++i) {
       const TileBuildRecord record{
-          coord, profiles[i], 0,  geometry.bodies.size(), geometry.triangle_count(), 0, gather_ms,
-          0.0,   0.0,         0.0};
+          coord, profiles[i], 0, geometry.bodies.size(), geometry.triangle_count(), 0, gather_ms, 0.0,
+          0.0,   0.0,         -1};
       Publish({profiles[i], coord}, built[i], record, geometry.bodies);
       ForgetOldRecords(profiles[i]);
     }
@@ -506,6 +511,7 @@ void NavMeshService::Publish(ProfileTile tile, Result<BuiltTile>& built, TileBui
   if (built) {
     record.polygons = built->polygons;
     record.recast_ms = built->recast_ms;
+    record.polygons_from = built->polygons_from;
     const bool takes_slot = !built->data.empty() && !state.holds_data;
     if (takes_slot) published = MakeRoom(tile);
     if (published.ok()) {
@@ -538,6 +544,7 @@ void NavMeshService::Publish(ProfileTile tile, Result<BuiltTile>& built, TileBui
   record.build = ++state.builds;
   record.request_to_ready_ms = MillisecondsSince(state.requested);
   ++profile.counters.builds;
+  profile.counters.polygons_taken += record.polygons_from >= 0;
   profile.counters.rebuilds += record.build > 1;
   log_.push_back(record);
 }

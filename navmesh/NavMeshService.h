@@ -48,6 +48,7 @@ struct TileBuildRecord {
   double recast_ms = 0.0;            ///< this profile's Recast work, with its share of a shared rasterization
   double publish_ms = 0.0;           ///< time the NavMesh was held exclusively
   double request_to_ready_ms = 0.0;  ///< from the request (or going stale) to published
+  int polygons_from = -1;  ///< the profile whose polygons it took (their walkable cells were the same), or -1
 };
 
 /// Counters over the service's life (of one profile, or summed over them).
@@ -63,6 +64,7 @@ struct NavMeshServiceStats {
   std::size_t evictions = 0;  ///< published tiles dropped to make room within max_tiles
   std::size_t tiles_holding_data = 0;  ///< published tiles with polygons (at most max_tiles a profile)
   std::size_t gathers = 0;             ///< tile gathers (one per job, for all the profiles it builds)
+  std::size_t polygons_taken = 0;  ///< builds that took another profile's polygons (the same walkable cells)
 
   NavMeshServiceStats& operator+=(const NavMeshServiceStats& other);
 };

@@ -10,8 +10,10 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <map>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <tuple>
@@ -73,41 +75,20 @@ struct RecastMeshes {
   CompactHeightfield compact;
 };
 
-/// Recast rasterizes surfaces, so the floor under a closed crate looks like a room with a ceiling. Spans
-/// whose floor lies inside a convex body are solid; take them out before erosion so the agent radius is
-/// kept from the body's sides as from any wall.
-void RemoveSpansInsideSolids(const std::vector<SolidVolume>& solids, rcCompactHeightfield& compact) {
-  const float cell = compact.cs;
-  for (const SolidVolume& solid : solids) {
-    const int x0 = std::max(0, static_cast<int>(std::floor((solid.bounds.min.x() - compact.bmin[0]) / cell)));
-    const int z0 = std::max(0, static_cast<int>(std::floor((solid.bounds.min.z() - compact.bmin[2]) / cell)));
-    const int x1 = std::min(compact.width - 1,
-                            static_cast<int>(std::floor((solid.bounds.max.x() - compact.bmin[0]) / cell)));
-    const int z1 = std::min(compact.height - 1,
-                            static_cast<int>(std::floor((solid.bounds.max.z() - compact.bmin[2]) / cell)));
-    for (int z = z0; z <= z1; ++z) {
-      for (int x = x0; x <= x1; ++x) {
-        const rcCompactCell& column = compact.cells[x + z * compact.width];
-        for (unsigned i = column.index; i < column.index + static_cast<unsigned>(column.count); ++i) {
-          // Half a cell above the span's floor: inside the body only if the floor is buried in it.
-          const Vec3 point(compact.bmin[0] + (static_cast<float>(x) + 0.5f) * cell,
-                           compact.bmin[1] + (static_cast<float>(compact.spans[i].y) + 0.5f) * compact.ch,
-                           compact.bmin[2] + (static_cast<float>(z) + 0.5f) * cell);
-          if (solid.Contains(point, 0.0f)) compact.areas[i] = RC_NULL_AREA;
-        }
-      }
-    }
-  }
-}
-
 /// A tile's triangles rasterized once for every profile of a group. Each span's area is a walkability code:
 /// the number of the group's distinct slope limits its steepest-allowed triangle meets (0: none), so that
 /// Recast's merge (the larger area wins) keeps, for every limit at once, what a build for that limit alone
 /// would keep.
 struct SharedRaster {
+  /// A span whose floor lies inside a convex body: column, and the span's place in it counted from below.
+  struct BuriedSpan {
+    int column;
+    int height_index;
+  };
   Heightfield solid;
   std::vector<float> slope_limits;   ///< the group's distinct agent_max_slope values, ascending
   std::vector<unsigned char> codes;  ///< every span's code, column by column, bottom up
+  std::vector<BuriedSpan> buried;    ///< ascending, so a column's entries are together
 };
 
 template <class Visit>
@@ -116,12 +97,76 @@ void ForEachSpan(rcHeightfield& field, Visit visit) {
     for (rcSpan* span = field.spans[i]; span != nullptr; span = span->next) visit(*span);
 }
 
+/// Recast rasterizes surfaces, so the floor under a closed crate looks like a room with a ceiling. Finds the
+/// spans whose floor lies inside a convex body (tested half a cell above it), once for every profile: each
+/// takes them out before erosion, so its radius is kept from the body's sides as from any wall.
+std::vector<SharedRaster::BuriedSpan> FindBuriedSpans(const std::vector<SolidVolume>& solids,
+                                                      const rcHeightfield& field) {
+  std::vector<SharedRaster::BuriedSpan> buried;
+  const float cell = field.cs;
+  for (const SolidVolume& solid : solids) {
+    const int x0 = std::max(0, static_cast<int>(std::floor((solid.bounds.min.x() - field.bmin[0]) / cell)));
+    const int z0 = std::max(0, static_cast<int>(std::floor((solid.bounds.min.z() - field.bmin[2]) / cell)));
+    const int x1 = std::min(field.width - 1,
+                            static_cast<int>(std::floor((solid.bounds.max.x() - field.bmin[0]) / cell)));
+    const int z1 = std::min(field.height - 1,
+                            static_cast<int>(std::floor((solid.bounds.max.z() - field.bmin[2]) / cell)));
+    for (int z = z0; z <= z1; ++z) {
+      for (int x = x0; x <= x1; ++x) {
+        int height_index = 0;
+        for (const rcSpan* span = field.spans[x + z * field.width]; span != nullptr;
+             span = span->next, ++height_index) {
+          const Vec3 point(field.bmin[0] + (static_cast<float>(x) + 0.5f) * cell,
+                           field.bmin[1] + (static_cast<float>(span->smax) + 0.5f) * field.ch,
+                           field.bmin[2] + (static_cast<float>(z) + 0.5f) * cell);
+          if (solid.Contains(point, 0.0f)) buried.push_back({x + z * field.width, height_index});
+        }
+      }
+    }
+  }
+  std::sort(buried.begin(), buried.end(), [](const auto& a, const auto& b) {
+    return std::tie(a.column, a.height_index) < std::tie(b.column, b.height_index);
+  });
+  buried.erase(std::unique(buried.begin(), buried.end(),
+                           [](const auto& a, const auto& b) {
+                             return a.column == b.column && a.height_index == b.height_index;
+                           }),
+               buried.end());
+  return buried;
+}
+
+/// Takes the buried spans out of one profile's compact heightfield. Its spans are the raw spans the profile's
+/// filters left walkable, in the same order, so a buried span's place among them is the count of walkable
+/// spans below it in its column.
+void RemoveBuriedSpans(const std::vector<SharedRaster::BuriedSpan>& buried, const rcHeightfield& field,
+                       rcCompactHeightfield& compact) {
+  auto next = buried.begin();
+  while (next != buried.end()) {
+    const int column = next->column;
+    unsigned compact_index = compact.cells[column].index;
+    int height_index = 0;
+    for (const rcSpan* span = field.spans[column]; span != nullptr; span = span->next, ++height_index) {
+      if (next == buried.end() || next->column != column) break;
+      if (span->area == RC_NULL_AREA) {
+        if (next->height_index == height_index) ++next;  // buried, and not walkable for this profile anyway
+        continue;
+      }
+      if (next->height_index == height_index) {
+        compact.areas[compact_index] = RC_NULL_AREA;
+        ++next;
+      }
+      ++compact_index;
+    }
+    while (next != buried.end() && next->column == column) ++next;
+  }
+}
+
 Result<SharedRaster> Rasterize(const rcConfig& config, TileCoord tile, const TileGeometry& geometry,
                                std::vector<float> slope_limits) {
   rcContext context(false);
   const int vertex_count = static_cast<int>(geometry.vertices.size() / 3);
   const int triangle_count = static_cast<int>(geometry.triangle_count());
-  SharedRaster raster{Heightfield(rcAllocHeightfield()), std::move(slope_limits), {}};
+  SharedRaster raster{Heightfield(rcAllocHeightfield()), std::move(slope_limits), {}, {}};
   if (!raster.solid || !rcCreateHeightfield(&context, *raster.solid, config.width, config.height, config.bmin,
                                             config.bmax, config.cs, config.ch))
     return BuildError(tile, "heightfield");
@@ -138,6 +183,7 @@ Result<SharedRaster> Rasterize(const rcConfig& config, TileCoord tile, const Til
     return BuildError(tile, "rasterization");
   ForEachSpan(*raster.solid,
               [&](const rcSpan& span) { raster.codes.push_back(static_cast<unsigned char>(span.area)); });
+  raster.buried = FindBuriedSpans(geometry.solids, *raster.solid);
   return raster;
 }
 
@@ -152,18 +198,50 @@ void SetAreasForSlope(SharedRaster& raster, float limit) {
   });
 }
 
-Result<RecastMeshes> FinishRecast(const rcConfig& config, TileCoord tile, const TileGeometry& geometry,
-                                  rcHeightfield& solid) {
+/// One profile's walkable cells before erosion: its slope limit, ledge and headroom filters and the buried
+/// spans applied to the group's rasterization.
+Result<CompactHeightfield> WalkableCells(const rcConfig& config, float slope_limit, TileCoord tile,
+                                         SharedRaster& raster) {
+  SetAreasForSlope(raster, slope_limit);
+  rcHeightfield& solid = *raster.solid;
   rcContext context(false);
   rcFilterLowHangingWalkableObstacles(&context, config.walkableClimb, solid);
   rcFilterLedgeSpans(&context, config.walkableHeight, config.walkableClimb, solid);
   rcFilterWalkableLowHeightSpans(&context, config.walkableHeight, solid);
-
   CompactHeightfield compact(rcAllocCompactHeightfield());
   if (!compact ||
       !rcBuildCompactHeightfield(&context, config.walkableHeight, config.walkableClimb, solid, *compact))
     return BuildError(tile, "compact heightfield");
-  RemoveSpansInsideSolids(geometry.solids, *compact);
+  RemoveBuriedSpans(raster.buried, solid, *compact);
+  return compact;
+}
+
+/// Whether Recast makes the same polygons of two profiles' walkable cells: the cells, their spans, their
+/// links to neighbours and areas are the same, and so is every setting from erosion on. A walkable cell
+/// field remembers its agent's height and climb, but erosion, regions, contours and the meshes read neither;
+/// the height reaches the tile only as the top of its bounds, which CreateDetourData takes per profile.
+bool SamePolygonsFrom(const rcConfig& a, const rcCompactHeightfield& cells_a, const rcConfig& b,
+                      const rcCompactHeightfield& cells_b) {
+  const auto downstream = [](const rcConfig& c) {
+    return std::make_tuple(c.walkableRadius, c.borderSize, c.minRegionArea, c.mergeRegionArea,
+                           c.maxSimplificationError, c.maxEdgeLen, c.maxVertsPerPoly, c.detailSampleDist,
+                           c.detailSampleMaxError);
+  };
+  if (downstream(a) != downstream(b)) return false;
+  if (cells_a.width != cells_b.width || cells_a.height != cells_b.height ||
+      cells_a.spanCount != cells_b.spanCount)
+    return false;
+  const auto column_count =
+      static_cast<std::size_t>(cells_a.width) * static_cast<std::size_t>(cells_a.height);
+  const auto span_count = static_cast<std::size_t>(cells_a.spanCount);
+  return std::memcmp(cells_a.cells, cells_b.cells, column_count * sizeof(rcCompactCell)) == 0 &&
+         std::memcmp(cells_a.spans, cells_b.spans, span_count * sizeof(rcCompactSpan)) == 0 &&
+         std::memcmp(cells_a.areas, cells_b.areas, span_count) == 0;
+}
+
+/// Erosion to detail mesh, from one profile's walkable cells (eroded in place and kept for drop links).
+Result<RecastMeshes> BuildMeshes(const rcConfig& config, TileCoord tile, CompactHeightfield compact) {
+  rcContext context(false);
   if (!rcErodeWalkableArea(&context, config.walkableRadius, *compact)) return BuildError(tile, "erosion");
   if (!rcBuildDistanceField(&context, *compact)) return BuildError(tile, "distance field");
   if (!rcBuildRegions(&context, *compact, config.borderSize, config.minRegionArea, config.mergeRegionArea))
@@ -183,8 +261,9 @@ Result<RecastMeshes> FinishRecast(const rcConfig& config, TileCoord tile, const 
   return meshes;
 }
 
+/// `top` is the top of this profile's walkable cell field (its bmax.y), which the tile's bounds reach to.
 Result<TileData> CreateDetourData(const NavMeshSettings& settings, const rcConfig& config, TileCoord tile,
-                                  RecastMeshes& meshes, const std::vector<DropLink>& drops) {
+                                  RecastMeshes& meshes, float top, const std::vector<DropLink>& drops) {
   rcPolyMesh& poly = *meshes.poly;
   if (poly.nverts >= 0xffff) return BuildError(tile, "Detour data (too many vertices)");
   for (int i = 0; i < poly.npolys; ++i)
@@ -211,6 +290,7 @@ Result<TileData> CreateDetourData(const NavMeshSettings& settings, const rcConfi
   params.tileLayer = 0;
   rcVcopy(params.bmin, poly.bmin);
   rcVcopy(params.bmax, poly.bmax);
+  params.bmax[1] = top;
   params.cs = config.cs;
   params.ch = config.ch;
   params.buildBvTree = true;
@@ -299,6 +379,61 @@ auto RasterKey(const NavMeshSettings& settings) {
                          static_cast<int>(std::floor(settings.merge_climb() / settings.cell_height)));
 }
 
+double MillisecondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+/// One profile's part of a group's build.
+struct ProfileBuild {
+  rcConfig config{};
+  CompactHeightfield cells;  ///< its walkable cells, until its meshes are built from them
+  float top = 0.0f;          ///< the cells' bmax.y
+  std::size_t source = 0;    ///< the build whose meshes it takes (itself when it builds its own)
+  double ms = 0.0;           ///< its own Recast time
+  std::optional<Result<RecastMeshes>> meshes;
+};
+
+/// Each member's walkable cells. Where two members' cells and later settings agree (on open ground a person
+/// and a critter often do), the later one takes the earlier one's polygons instead of building them again.
+std::vector<ProfileBuild> FindWalkableCells(std::span<const NavMeshSettings> profiles,
+                                            const std::vector<std::size_t>& members, const AABB& box,
+                                            TileCoord tile, SharedRaster& raster) {
+  std::vector<ProfileBuild> group(members.size());
+  for (std::size_t i = 0; i < members.size(); ++i) {
+    const auto start = std::chrono::steady_clock::now();
+    ProfileBuild& build = group[i];
+    const NavMeshSettings& settings = profiles[members[i]];
+    build.source = i;
+    build.config = MakeConfig(settings, box);
+    Result<CompactHeightfield> cells = WalkableCells(build.config, settings.agent_max_slope, tile, raster);
+    if (!cells) {
+      build.meshes = cells.error();
+      continue;
+    }
+    build.top = (*cells)->bmax[1];
+    build.cells = std::move(*cells);
+    for (std::size_t j = 0; j < i; ++j) {
+      if (group[j].cells && SamePolygonsFrom(group[j].config, *group[j].cells, build.config, *build.cells)) {
+        build.source = j;
+        build.cells.reset();
+        break;
+      }
+    }
+    build.ms = MillisecondsSince(start);
+  }
+  return group;
+}
+
+/// Erosion to detail mesh for every build that takes no other's polygons.
+void BuildOwnMeshes(std::vector<ProfileBuild>& group, TileCoord tile) {
+  for (ProfileBuild& build : group) {
+    if (!build.cells) continue;
+    const auto start = std::chrono::steady_clock::now();
+    build.meshes = BuildMeshes(build.config, tile, std::move(build.cells));
+    build.ms += MillisecondsSince(start);
+  }
+}
+
 /// Builds the profiles `members` (indices into `profiles`, one raster key) from one rasterization.
 void BuildGroup(std::span<const NavMeshSettings> profiles, const std::vector<std::size_t>& members,
                 TileCoord tile, const TileGeometry& geometry, std::vector<Result<BuiltTile>>& out) {
@@ -307,10 +442,7 @@ void BuildGroup(std::span<const NavMeshSettings> profiles, const std::vector<std
   const auto fail_all = [&](const Error& error) {
     for (const std::size_t member : members) out[member] = error;
   };
-  const auto elapsed_ms = [&] {
-    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-  };
-  for (const std::size_t member : members) out[member] = BuiltTile{tile, {}, 0, 0.0};
+  for (const std::size_t member : members) out[member] = BuiltTile{tile, {}, 0, 0.0, -1};
   if (geometry.triangle_count() == 0) return;
   const std::string name = "tile (" + std::to_string(tile.x) + ", " + std::to_string(tile.z) + ")";
   if (Status reach = CheckReach(TileGatherBox(first, tile), first, name); !reach)
@@ -337,27 +469,27 @@ void BuildGroup(std::span<const NavMeshSettings> profiles, const std::vector<std
   raster_config.walkableClimb = std::get<6>(RasterKey(first));
   Result<SharedRaster> raster = Rasterize(raster_config, tile, local, std::move(slopes));
   if (!raster) return fail_all(raster.error());
-  const double raster_ms = elapsed_ms() / static_cast<double>(members.size());  // shared evenly
-  for (const std::size_t member : members) {
-    const auto profile_start = std::chrono::steady_clock::now();
-    const NavMeshSettings& settings = profiles[member];
-    SetAreasForSlope(*raster, settings.agent_max_slope);
-    const rcConfig config = MakeConfig(settings, box);
-    Result<RecastMeshes> meshes = FinishRecast(config, tile, local, *raster->solid);
-    BuiltTile& built = *out[member];
-    built.recast_ms =
-        raster_ms +
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - profile_start).count();
+  const double raster_ms = MillisecondsSince(start) / static_cast<double>(members.size());  // shared evenly
+
+  std::vector<ProfileBuild> group = FindWalkableCells(profiles, members, box, tile, *raster);
+  BuildOwnMeshes(group, tile);
+  for (std::size_t i = 0; i < members.size(); ++i) {
+    ProfileBuild& member = group[i];
+    const NavMeshSettings& settings = profiles[members[i]];
+    Result<RecastMeshes>& meshes = *group[member.source].meshes;
     if (!meshes) {
-      out[member] = meshes.error();
+      out[members[i]] = meshes.error();
       continue;
     }
+    BuiltTile& built = *out[members[i]];
+    built.recast_ms = raster_ms + member.ms;
+    if (member.source != i) built.polygons_from = static_cast<int>(members[member.source]);
     if (meshes->poly->npolys == 0) continue;
     const std::vector<DropLink> drops =
         FindDropLinks(settings, *meshes->poly, *raster->solid, *meshes->compact);
-    Result<TileData> data = CreateDetourData(settings, config, local_tile, *meshes, drops);
+    Result<TileData> data = CreateDetourData(settings, member.config, local_tile, *meshes, member.top, drops);
     if (!data) {
-      out[member] = data.error();
+      out[members[i]] = data.error();
       continue;
     }
     built.polygons = meshes->poly->npolys;
@@ -371,7 +503,7 @@ std::vector<Result<BuiltTile>> BuildTileForProfiles(std::span<const NavMeshSetti
                                                     const TileGeometry& geometry) {
   std::vector<Result<BuiltTile>> out;
   out.reserve(profiles.size());
-  for (std::size_t i = 0; i < profiles.size(); ++i) out.emplace_back(BuiltTile{tile, {}, 0, 0.0});
+  for (std::size_t i = 0; i < profiles.size(); ++i) out.emplace_back(BuiltTile{tile, {}, 0, 0.0, -1});
   std::map<decltype(RasterKey(profiles[0])), std::vector<std::size_t>> groups;
   for (std::size_t i = 0; i < profiles.size(); ++i) groups[RasterKey(profiles[i])].push_back(i);
   for (const auto& [key, members] : groups) BuildGroup(profiles, members, tile, geometry, out);

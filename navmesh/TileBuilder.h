@@ -21,6 +21,9 @@ struct BuiltTile {
   TileData data;  ///< empty when nothing in the tile is walkable
   int polygons = 0;
   double recast_ms = 0.0;
+  /// The profile (index among those built together) whose polygons this one took, because their walkable
+  /// cells came out the same; -1 when it built its own. The tile is the same bytes either way.
+  int polygons_from = -1;
 };
 
 /// Ok when `box` (world) lies within settings.max_coordinate() of the navmesh origin on every axis;
@@ -37,7 +40,8 @@ Result<BuiltTile> BuildTile(const NavMeshSettings& settings, TileCoord tile, con
 
 /// Builds tile `tile` from one gather for several agent profiles, one result each, in order. Profiles that
 /// agree on the cell sizes, tile, border, origin and merge climb share one rasterization (each then filters,
-/// erodes and builds its own polygons); every profile's tile is the bytes BuildTile gives it alone.
+/// erodes and builds its own polygons, or takes those of an earlier profile whose walkable cells came out the
+/// same); every profile's tile is the bytes BuildTile gives it alone.
 std::vector<Result<BuiltTile>> BuildTileForProfiles(std::span<const NavMeshSettings> profiles, TileCoord tile,
                                                     const TileGeometry& geometry);
 

@@ -71,6 +71,38 @@ TEST(AgentProfiles, EachProfilesTilesAreTheBytesOfAServiceForItAlone) {
   for (const navmesh::TileBuildRecord& record : shared->build_log()) EXPECT_GT(record.triangles, 0u);
 }
 
+TEST(AgentProfiles, AProfileWhoseWalkableCellsMatchAnEarlierOnesTakesItsPolygonsAndKeepsItsOwnBytes) {
+  // Open floor, where a person and a critter (both two cells of radius) have the same walkable cells, and in
+  // the far tile a shelf 1 m up that a critter walks under and a person does not.
+  auto world = MakeWorld();
+  AddFloor(*world, 2);
+  AddSlab(*world, 18.0f, 22.0f, 18.0f, 22.0f, 1.2f, 0.2f);
+  const auto shared = BuildArea(*world, TileArea(2), ThreeProfiles(2));
+  std::size_t records = 0;
+  for (const navmesh::TileBuildRecord& record : shared->build_log()) {
+    ++records;
+    const bool shelf_tile = record.coord == navmesh::TileCoord{1, 1};
+    // Only the critter takes, from the person, and not where the shelf makes their cells differ.
+    const int expected = record.profile == 2 && !shelf_tile ? 0 : -1;
+    EXPECT_EQ(record.polygons_from, expected)
+        << "profile " << record.profile << " tile " << record.coord.x << ", " << record.coord.z;
+  }
+  EXPECT_EQ(records, 12u);
+  EXPECT_EQ(shared->stats().polygons_taken, 3u);
+  for (int p = 0; p < shared->profile_count(); ++p) {
+    navmesh::NavMeshServiceConfig alone = FastServiceConfig();
+    alone.settings = shared->profile_settings(p);
+    alone.profiles = {shared->profile(p)};
+    const auto single = BuildArea(*world, TileArea(2), alone);
+    EXPECT_EQ(single->stats().polygons_taken, 0u);
+    EXPECT_EQ(Bytes(shared->navmesh(p), "shared"), Bytes(single->navmesh(), "alone"))
+        << shared->profile(p).name;
+    EXPECT_EQ(shared->navmesh(p).TilesCrc(), single->navmesh().TilesCrc());
+  }
+  // Taken polygons, yet each profile's own tiles: the critter's bytes are not the person's.
+  EXPECT_NE(shared->navmesh(0).TilesCrc(), shared->navmesh(2).TilesCrc());
+}
+
 TEST(AgentProfiles, APassageWideEnoughForAPersonIsClosedToAMachine) {
   auto world = MakeWorld();
   AddFloor(*world, 4);

@@ -22,7 +22,8 @@ double ProcessCpuMs() {
 struct Built {
   double ms = 0.0;
   double cpu_ms = 0.0;
-  std::vector<std::pair<int, double>> navmeshes;  ///< per profile: polygons, walkable area
+  std::vector<std::uint32_t> navmeshes;  ///< per profile: the CRC of its tiles
+  std::size_t polygons_taken = 0;        ///< profile tiles that took another profile's polygons
 };
 
 Result<Built> BuildBlock(const PhysicsSystem& world, const navmesh::NavMeshServiceConfig& config,
@@ -39,8 +40,8 @@ Result<Built> BuildBlock(const PhysicsSystem& world, const navmesh::NavMeshServi
   built.ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
   built.cpu_ms = ProcessCpuMs() - cpu_start;
   for (int p = 0; p < (*service)->profile_count(); ++p)
-    built.navmeshes.emplace_back((*service)->navmesh(p).polygon_count(),
-                                 (*service)->navmesh(p).WalkableArea());
+    built.navmeshes.push_back((*service)->navmesh(p).TilesCrc());
+  built.polygons_taken = (*service)->stats().polygons_taken;
   return built;
 }
 
@@ -60,7 +61,8 @@ nlohmann::json ProfileCostFigures::ToJson() const {
           {"shared_cpu_ms", shared_cpu_ms},
           {"separate_cpu_ms", separate_cpu_ms},
           {"cpu_ratio", cpu_ratio()},
-          {"same_tiles", same_tiles}};
+          {"same_tiles", same_tiles},
+          {"polygons_taken", polygons_taken}};
 }
 
 Result<ProfileCostFigures> MeasureProfileCost(const PhysicsSystem& world,
@@ -101,6 +103,7 @@ Result<ProfileCostFigures> MeasureProfileCost(const PhysicsSystem& world,
     if (!together) return together.error();
     shared_runs.push_back(together->ms);
     shared_cpu_runs.push_back(together->cpu_ms);
+    figures.polygons_taken = together->polygons_taken;
     double apart_ms = 0.0, apart_cpu_ms = 0.0;
     for (std::size_t p = 0; p < separate.size(); ++p) {
       Result<Built> apart = BuildBlock(world, separate[p], block);

@@ -18,7 +18,9 @@ struct ProfileCostFigures {
   /// compares each ready tile with the world (wall time on two cores hides a scanner on the other core).
   double shared_cpu_ms = 0.0;
   double separate_cpu_ms = 0.0;
-  bool same_tiles = false;  ///< every profile's navmesh had the same polygons and area both ways
+  bool same_tiles = false;  ///< every profile's navmesh had the same tile bytes both ways (NavMesh::TilesCrc)
+  /// Profile tiles of the shared service that took an earlier profile's polygons (the same walkable cells).
+  std::size_t polygons_taken = 0;
   double ratio() const { return separate_ms > 0.0 ? shared_ms / separate_ms : 0.0; }
   double cpu_ratio() const { return separate_cpu_ms > 0.0 ? shared_cpu_ms / separate_cpu_ms : 0.0; }
   nlohmann::json ToJson() const;
