@@ -40,6 +40,9 @@ Status PhysicsSettings::Validate() const {
   if (!NonNegative(time_before_sleep)) return Bad("time_before_sleep", "must be >= 0");
   if (!NonNegative(sleep_linear_velocity) || !NonNegative(sleep_angular_velocity))
     return Bad("sleep velocities", "must be >= 0");
+  if (!NonNegative(sleep_point_velocity)) return Bad("sleep_point_velocity", "must be >= 0");
+  if (sleep_rule != SleepRule::kVelocity && sleep_rule != SleepRule::kPointMovement)
+    return Bad("sleep_rule", "must be kVelocity or kPointMovement");
   return Status::Ok();
 }
 

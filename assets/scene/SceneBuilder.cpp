@@ -90,6 +90,8 @@ PhysicsSettings ToPhysicsSettings(const SceneDescription& scene) {
   settings.exact_small_islands = scene.exact_small_islands;
   settings.gyroscopic_torque = scene.gyroscopic_torque;
   settings.allow_sleeping = scene.sleeping;
+  settings.sleep_rule = scene.sleep_rule;
+  settings.sleep_point_velocity = scene.sleep_point_velocity;
   settings.min_velocity_for_restitution = scene.min_velocity_for_restitution;
   return settings;
 }

@@ -121,6 +121,8 @@ struct SceneDescription {
   bool exact_small_islands = PhysicsSettings().exact_small_islands;
   bool gyroscopic_torque = PhysicsSettings().gyroscopic_torque;
   bool sleeping = false;
+  SleepRule sleep_rule = PhysicsSettings().sleep_rule;
+  float sleep_point_velocity = PhysicsSettings().sleep_point_velocity;  ///< m/s, for kPointMovement
   /// Approaches slower than this (m/s) do not bounce, in every engine (Strata's default).
   float min_velocity_for_restitution = PhysicsSettings().min_velocity_for_restitution;
 };

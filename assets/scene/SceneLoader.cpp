@@ -343,7 +343,7 @@ Status ParseSettings(const Reader& reader, const Json& json, SceneDescription& s
   STRATA_TRY(reader.OnlyKeys(
       json, {"gravity", "dt", "substeps", "velocity_iterations", "relax_iterations", "restitution_iterations",
              "contact_hertz", "contact_damping_ratio", "contact_push_max_velocity", "exact_small_islands",
-             "gyroscopic_torque", "sleeping"}));
+             "gyroscopic_torque", "sleeping", "sleep_rule", "sleep_point_velocity"}));
   STRATA_TRY(reader.Vector(json, "gravity", scene.gravity));
   STRATA_TRY(reader.Number(json, "dt", scene.dt));
   if (!(scene.dt > 0.0f) || scene.dt > 1.0f) return reader.Fail("dt", "must be in (0, 1] seconds");
@@ -357,6 +357,12 @@ Status ParseSettings(const Reader& reader, const Json& json, SceneDescription& s
   STRATA_TRY(reader.Boolean(json, "exact_small_islands", scene.exact_small_islands));
   STRATA_TRY(reader.Boolean(json, "gyroscopic_torque", scene.gyroscopic_torque));
   STRATA_TRY(reader.Boolean(json, "sleeping", scene.sleeping));
+  std::string rule = scene.sleep_rule == SleepRule::kPointMovement ? "point_movement" : "velocity";
+  STRATA_TRY(reader.String(json, "sleep_rule", rule));
+  if (rule != "velocity" && rule != "point_movement")
+    return reader.Fail("sleep_rule", "must be velocity or point_movement (got '" + rule + "')");
+  scene.sleep_rule = rule == "velocity" ? SleepRule::kVelocity : SleepRule::kPointMovement;
+  STRATA_TRY(reader.Number(json, "sleep_point_velocity", scene.sleep_point_velocity));
   if (Status valid = ToPhysicsSettings(scene).Validate(); !valid) return reader.Fail("", valid.message());
   return Status::Ok();
 }

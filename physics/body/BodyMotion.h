@@ -11,6 +11,7 @@
 #include "physics/PhysicsSettings.h"
 #include "physics/body/Body.h"
 #include "physics/body/GyroscopicTorque.h"
+#include "physics/body/SleepSpheres.h"
 #include "physics/body/SolverBody.h"
 
 namespace strata {
@@ -104,10 +105,22 @@ inline void MoveKinematic(SolverBody& body, SolverPose& pose, float dt) {
   TurnBy(pose.rotation, body.angular_velocity * dt);
 }
 
+/// Whether the body rested this step by settings.sleep_rule; `spheres` is its record for kPointMovement.
+inline bool Rested(const Body& body, const PhysicsSettings& settings, SleepSpheres* spheres) {
+  if (settings.sleep_rule == SleepRule::kPointMovement && spheres != nullptr)
+    return spheres->StayedWithin(SleepSpheres::TestPoints(body),
+                                 settings.sleep_point_velocity * settings.time_before_sleep);
+  const float sleep_speed = settings.sleep_linear_velocity, sleep_spin = settings.sleep_angular_velocity;
+  return body.linear_velocity().squaredNorm() < sleep_speed * sleep_speed &&
+         body.angular_velocity().squaredNorm() < sleep_spin * sleep_spin;
+}
+
 /// The end of the step: the solved velocities (limited again: the substeps after the first added forces)
 /// and pose written back, and the sleep timer advanced. Returns whether the body is ready to sleep.
+/// `spheres`: the body's movement record, for SleepRule::kPointMovement.
 inline bool EndStepMotion(Body& body, const SolverBody& solved, const SolverPose& pose,
-                          const PhysicsSettings& settings, float dt, MotionClamps& clamps) {
+                          const PhysicsSettings& settings, float dt, MotionClamps& clamps,
+                          SleepSpheres* spheres = nullptr) {
   const Vec3 linear =
       ClampedVelocity(ToVec3(solved.linear_velocity), body.max_linear_velocity(), clamps.linear);
   const Vec3 angular =
@@ -122,10 +135,7 @@ inline bool EndStepMotion(Body& body, const SolverBody& solved, const SolverPose
   body.SetRotationInternal(pose.rotation);
   body.AddToPositionInternal(ToVec3(solved.delta_position) + turned_offset);
   body.UpdateWorldBoundsInternal();
-  const float sleep_speed = settings.sleep_linear_velocity, sleep_spin = settings.sleep_angular_velocity;
-  const bool resting =
-      linear.squaredNorm() < sleep_speed * sleep_speed && angular.squaredNorm() < sleep_spin * sleep_spin;
-  body.SetSleepTimerInternal(resting ? body.sleep_timer() + dt : 0.0f);
+  body.SetSleepTimerInternal(Rested(body, settings, spheres) ? body.sleep_timer() + dt : 0.0f);
   return settings.allow_sleeping && body.allow_sleeping() && body.sleep_timer() >= settings.time_before_sleep;
 }
 

@@ -230,6 +230,10 @@ Status PhysicsSystem::Step(float dt) {
   stats_ = {};
   profile_.stage_count = 0;
   step_dt_ = dt;
+  if (settings_.sleep_rule == SleepRule::kPointMovement)
+    sleep_spheres_.resize(body_manager_.capacity());
+  else
+    std::vector<SleepSpheres>().swap(sleep_spheres_);
   auto run = [&](JobGraph& graph) {
     if (!graph.timed()) {
       graph.Run(*jobs_);
@@ -518,9 +522,12 @@ void PhysicsSystem::FinishIslands(std::uint32_t job, std::uint32_t width) {
   ForEachChunkItem(next_chunk_, islands_.island_count(), kIslandChunk, width, [&](std::uint32_t island) {
     const std::span<const std::uint32_t> members = islands_.bodies(island);
     bool awake = false;
-    for (const std::uint32_t i : members)
-      awake |= !EndStepMotion(body_manager_.BodyAt(active_[i].index), constraint_solver_.bodies()[i + 1],
-                              constraint_solver_.poses()[i + 1], settings_, dt, counters.clamps);
+    for (const std::uint32_t i : members) {
+      const std::uint32_t index = active_[i].index;
+      SleepSpheres* spheres = sleep_spheres_.empty() ? nullptr : &sleep_spheres_[index];
+      awake |= !EndStepMotion(body_manager_.BodyAt(index), constraint_solver_.bodies()[i + 1],
+                              constraint_solver_.poses()[i + 1], settings_, dt, counters.clamps, spheres);
+    }
     for (const std::uint32_t i : members) {
       Body& body = body_manager_.BodyAt(active_[i].index);
       if (!awake) {

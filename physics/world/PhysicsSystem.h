@@ -212,6 +212,7 @@ class PhysicsSystem {
   std::vector<std::uint32_t> wake_keys_;
   std::vector<BodyID> active_;
   std::vector<std::uint8_t> active_flags_;   // by body index
+  std::vector<SleepSpheres> sleep_spheres_;  // by body index, only while SleepRule::kPointMovement is in use
   std::vector<std::uint32_t> solver_index_;  // by body index: active index + 1, 0 = not active
   std::vector<ContactConstraint*> contacts_;
   std::vector<Constraint*> step_joints_;          // the joints this step solves, in slot order

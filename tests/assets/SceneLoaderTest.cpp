@@ -106,7 +106,7 @@ TEST(SceneLoader, FieldsAreRead) {
   Result<Scene> scene =
       ParseScene(R"({"settings": {"gravity": [0, -5, 0], "dt": 0.01, "velocity_iterations": 7,
       "substeps": 6, "relax_iterations": 3, "restitution_iterations": 2, "gyroscopic_torque": false, "sleeping": false,
-      "exact_small_islands": false},
+      "exact_small_islands": false, "sleep_rule": "point_movement", "sleep_point_velocity": 0.02},
       "bodies": [{"name": "a", "shape": {"type": "capsule", "radius": 0.5, "half_height": 1},
                   "position": [1, 2, 3], "rotation": [0, 0, 1, 0], "motion": "kinematic", "friction": 0.9,
                   "restitution": 0.3, "linear_velocity": [1, 0, 0], "max_linear_velocity": 40,
@@ -128,6 +128,8 @@ TEST(SceneLoader, FieldsAreRead) {
   EXPECT_FALSE(physics.gyroscopic_torque);
   EXPECT_FALSE(physics.allow_sleeping);
   EXPECT_FALSE(physics.exact_small_islands);
+  EXPECT_EQ(physics.sleep_rule, SleepRule::kPointMovement);
+  EXPECT_FLOAT_EQ(physics.sleep_point_velocity, 0.02f);
   ASSERT_EQ(scene->description.bodies.size(), 4u);
   ASSERT_EQ(scene->shapes.size(), 4u);
   const BodyCreationSettings a = Built(*scene, 0);
@@ -192,6 +194,14 @@ TEST(SceneLoader, ErrorsNameTheFileAndJsonPath) {
           .find("missing.obj: file not found"),
       std::string::npos);
   EXPECT_NE(ParseError(R"({"settings": {"dt": 0}, "bodies": []})").find("/settings/dt"), std::string::npos);
+  EXPECT_NE(ParseError(R"({"settings": {"sleep_rule": "nap"}, "bodies": []})")
+                .find("/settings/sleep_rule: must be velocity or point_movement (got 'nap')"),
+            std::string::npos);
+  EXPECT_NE(ParseError(R"({"settings": {"sleep_rule": 1}, "bodies": []})").find("/settings/sleep_rule"),
+            std::string::npos);
+  EXPECT_NE(
+      ParseError(R"({"settings": {"sleep_point_velocity": -1}, "bodies": []})").find("sleep_point_velocity"),
+      std::string::npos);
   EXPECT_NE(ParseError(R"({"bodies": [{"shape": {"type": "cone"}}]})").find("/bodies/0/shape/type"),
             std::string::npos);
   EXPECT_NE(ParseError(R"({"bodies": [{"name": "x", "shape": {"type": "sphere", "radius": 1}},

@@ -15,6 +15,57 @@ TEST(Sleep, RestingBoxSleepsAfterHalfASecondNotBefore) {
   EXPECT_EQ(world->last_step_stats().active_bodies, 0u);
 }
 
+// A 4 m bar turning slowly in place, with no gravity: its centre stays put, its ends move 8 cm/s.
+BodyID AddTurningBar(PhysicsSystem& world) {
+  BodyCreationSettings bar = Dynamic(Box(2.0f, 0.1f, 0.1f), Vec3(0, 5, 0));
+  bar.gravity_factor = 0.0f;
+  bar.angular_damping = 0.0f;
+  const BodyID id = Add(world, bar);
+  EXPECT_TRUE(world.bodies().SetAngularVelocity(id, Vec3(0, 0.04f, 0)).ok());
+  return id;
+}
+
+TEST(Sleep, ThePointMovementRuleWatchesABodysEndsAsJoltDoes) {
+  // By speeds, 0.04 rad/s is under the 0.05 rad/s limit: the bar sleeps turning. By its points' movement
+  // (Jolt's rule), its ends leave a 1.5 cm sphere within 0.2 s: it stays awake.
+  auto by_speed = MakeWorld();
+  const BodyID turning_by_speed = AddTurningBar(*by_speed);
+  StepFor(*by_speed, 60);
+  EXPECT_FALSE(*by_speed->bodies().IsActive(turning_by_speed));
+
+  PhysicsSettings settings;
+  settings.sleep_rule = SleepRule::kPointMovement;
+  auto by_points = MakeWorld(settings);
+  const BodyID turning_by_points = AddTurningBar(*by_points);
+  StepFor(*by_points, 120);
+  EXPECT_TRUE(*by_points->bodies().IsActive(turning_by_points));
+
+  // A box resting on the floor still sleeps by the point rule, after the same half second.
+  Add(*by_points, Static(Box(10, 1, 10), Vec3(0, -1, 0)));
+  const BodyID box = Add(*by_points, Dynamic(Box(0.5f, 0.5f, 0.5f), Vec3(8, 0.5f, 0)));
+  StepFor(*by_points, 20);
+  EXPECT_TRUE(*by_points->bodies().IsActive(box));
+  StepFor(*by_points, 40);
+  EXPECT_FALSE(*by_points->bodies().IsActive(box));
+  EXPECT_TRUE(*by_points->bodies().IsActive(turning_by_points));
+}
+
+TEST(Sleep, SleepSpheresGrowToHoldEveryPlaceAndStartAgainWhenTooWide) {
+  SleepSpheres record;
+  const std::array<Vec3, 3> start{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 0, 1)};
+  EXPECT_FALSE(record.StayedWithin(start, 0.01f));  // no record yet: it starts one
+  std::array<Vec3, 3> moved = start;
+  moved[1].x() += 0.015f;  // 1.5 cm out: the smallest sphere holding both places has a radius of 0.75 cm
+  EXPECT_TRUE(record.StayedWithin(moved, 0.01f));
+  EXPECT_NEAR(record.spheres[1].radius, 0.0075f, 1e-6f);
+  EXPECT_NEAR(record.spheres[1].center.x(), 1.0075f, 1e-6f);
+  EXPECT_TRUE(record.StayedWithin(start, 0.01f));  // back inside: jitter within the sphere is rest
+  moved[1].x() = 0.98f;                            // 2.75 cm from the far side: a radius of 1.375 cm
+  EXPECT_FALSE(record.StayedWithin(moved, 0.01f));
+  EXPECT_EQ(record.spheres[1].radius, 0.0f);  // started again from where the points are now
+  EXPECT_EQ(record.spheres[1].center, moved[1]);
+}
+
 TEST(Sleep, BodiesThatMayNotSleepStayAwake) {
   PhysicsSettings settings;
   settings.allow_sleeping = false;

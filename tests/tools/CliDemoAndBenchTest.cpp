@@ -91,8 +91,8 @@ std::vector<AgentRow> AgentRows(const std::string& output) {
   std::string line;
   std::getline(lines, line);
   std::getline(lines, line);  // the header
-  // "index profile (from) (to) set-off arrived walked-m reached  note": the reached column is right-aligned in
-  // seven characters and followed by two spaces.
+  // "index profile (from) (to) set-off arrived walked-m reached  note": the reached column is right-aligned
+  // in seven characters and followed by two spaces.
   while (std::getline(lines, line) && !line.empty() && std::isdigit(static_cast<unsigned char>(line[0]))) {
     std::istringstream fields(line);
     std::string index;
@@ -239,7 +239,21 @@ TEST(Cli, BenchSweepsThreadCountsAndWritesJson) {
   EXPECT_NE(output.find("where a step goes"), std::string::npos);
   EXPECT_NE(output.find("serial stages"), std::string::npos);
   const nlohmann::json document = ReadJson(json);
-  ASSERT_EQ(document["scenes"].size(), 4u);  // pyramid, convex_vs_mesh, ragdolls, chains
+  ASSERT_TRUE(document["instruction_set"].is_string());  // "x86-64 SSE2" for the portable build
+  EXPECT_FALSE(document["instruction_set"].get<std::string>().empty());
+  // pyramid, convex_vs_mesh, ragdolls, chains, each at Strata's default passes and at Jolt's.
+  ASSERT_EQ(document["scenes"].size(), 8u);
+  for (std::size_t i = 0; i < document["scenes"].size(); ++i) {
+    const std::string solver = document["scenes"][i]["solver"];
+    EXPECT_EQ(
+        solver.rfind(i % 2 == 0 ? "strata: 4 substeps x (1 velocity + 1 relax" : "jolt: 1 substep x (", 0),
+        0u)
+        << solver;
+  }
+  EXPECT_NE(document["scenes"][1]["solver"].get<std::string>().find("(10 velocity + 2 relax passes)"),
+            std::string::npos);  // the pyramid at Jolt's 10 velocity and 2 position steps
+  EXPECT_NE(document["scenes"][3]["solver"].get<std::string>().find("(4 velocity + 1 relax passes)"),
+            std::string::npos);  // convex_vs_mesh at Jolt's 4 and 1
   for (const auto& scene : document["scenes"]) {
     const auto& runs = scene["strata"];
     ASSERT_EQ(runs.size(), 2u);
@@ -262,6 +276,7 @@ TEST(Cli, BenchSweepsThreadCountsAndWritesJson) {
   EXPECT_EQ(RunCli("bench --steps 2 --threads 0"), 2);
   EXPECT_EQ(RunCli("bench --steps 2 --threads 1,x"), 2);
   EXPECT_EQ(RunCli("bench --steps 2 --job-system fibers"), 2);
+  EXPECT_EQ(RunCli("bench --steps 2 --solver bullet"), 2);
   EXPECT_EQ(RunCli("bench --steps 2 --json " + (TempFile("no-such-dir") / "bench.json").string()), 2);
 }
 

@@ -26,18 +26,20 @@ BodyDescription Box(const Vec3& half_extents, const Vec3& position, SceneMotion 
 BenchScene MakePyramid() {
   BenchScene scene;
   scene.name = "pyramid";
-  scene.bodies.push_back(Box(Vec3(50, 1, 50), Vec3(0, -1, 0), SceneMotion::kStatic, 0.5f, 0.0f));
+  // Jolt's pyramid leaves friction and restitution at its defaults (0.2 and 0) on the floor and the boxes.
+  constexpr float kFriction = 0.2f;
+  scene.bodies.push_back(Box(Vec3(50, 1, 50), Vec3(0, -1, 0), SceneMotion::kStatic, kFriction, 0.0f));
   constexpr int kLevels = 15;
   for (int i = 0; i < kLevels; ++i) {
     const float offset = (i % 2 == 1) ? 1.0f : 0.0f;
     for (int j = i / 2; j < kLevels - (i + 1) / 2; ++j) {
       for (int k = i / 2; k < kLevels - (i + 1) / 2; ++k) {
         const Vec3 position(-15.0f + 2.0f * j + offset, 1.0f + 2.5f * i, -15.0f + 2.0f * k + offset);
-        scene.bodies.push_back(Box(Vec3(1, 1, 1), position, SceneMotion::kDynamic, 0.5f, 0.0f));
+        scene.bodies.push_back(Box(Vec3(1, 1, 1), position, SceneMotion::kDynamic, kFriction, 0.0f));
       }
     }
   }
-  scene.sleeping = false;  // the world's default substeps and iterations
+  scene.sleeping = false;
   return scene;
 }
 
@@ -84,11 +86,13 @@ BenchScene MakeConvexVsMesh() {
       }
     }
   }
-  // A cheap setting for many small bodies: one substep of four velocity passes and one relax pass.
-  scene.substeps = 1;
-  scene.velocity_iterations = 4;
-  scene.relax_iterations = 1;
+  // Jolt lowers its passes for this scene, which has no joints.
+  scene.jolt_velocity_steps = 4;
+  scene.jolt_position_steps = 1;
+  // Jolt's sleep rule and threshold, which decide much of this scene's cost.
   scene.sleeping = true;
+  scene.sleep_rule = SleepRule::kPointMovement;
+  scene.sleep_point_velocity = 0.03f;
   return scene;
 }
 
@@ -200,6 +204,20 @@ BenchScene MakeChains() {
   }
   scene.sleeping = false;
   return scene;
+}
+
+BenchScene WithSolverBudget(BenchScene scene, SolverBudget budget) {
+  const PhysicsSettings defaults;
+  const bool jolt = budget == SolverBudget::kJolt;
+  scene.substeps = jolt ? 1 : defaults.substeps;
+  scene.velocity_iterations = jolt ? scene.jolt_velocity_steps : defaults.velocity_iterations;
+  scene.relax_iterations = jolt ? scene.jolt_position_steps : defaults.relax_iterations;
+  scene.restitution_iterations = jolt ? 1 : defaults.restitution_iterations;
+  return scene;
+}
+
+const char* ToString(SolverBudget budget) {
+  return budget == SolverBudget::kJolt ? "jolt" : "strata";
 }
 
 BenchScene MakeBenchScene(const std::string& name) {

@@ -22,11 +22,27 @@ struct BenchScene : SceneDescription {
   float pair_cache_max_angle = 2.0f;
   /// Every dynamic body reports contact events (what they cost: `strata bench-gameplay`).
   bool report_contacts = false;
+  /// The solver passes Jolt's PerformanceTest runs this scene with (its PhysicsSettings' mNumVelocitySteps
+  /// and mNumPositionSteps, in one collision step), for the budget of that name.
+  int jolt_velocity_steps = 10;
+  int jolt_position_steps = 2;
 };
 
-/// 1240 boxes in a stepped pyramid on a floor (sleeping off; the world's default substeps and iterations).
+/// Which solver passes a bench scene runs with: Strata's defaults (PhysicsSettings: substeps of a velocity
+/// and a relax pass), or Jolt's own counts for the scene (one substep of Jolt's velocity steps, its position
+/// steps as relax passes, one restitution pass), so both engines spend the same number of passes.
+enum class SolverBudget { kStrata, kJolt };
+
+/// `scene` with `budget`'s passes.
+BenchScene WithSolverBudget(BenchScene scene, SolverBudget budget);
+/// "strata" or "jolt".
+const char* ToString(SolverBudget budget);
+
+/// 1240 boxes in a stepped pyramid on a floor (sleeping off), Jolt's PerformanceTest pyramid: sharp boxes,
+/// Jolt's default friction 0.2, no restitution; Jolt runs it at 10 velocity and 2 position steps.
 BenchScene MakePyramid();
-/// 1764 mixed convex bodies dropped on a 100 x 100 cell wavy triangle mesh (4/1 iterations).
+/// 1764 mixed convex bodies dropped on a 100 x 100 cell wavy triangle mesh, Jolt's PerformanceTest
+/// ConvexVsMesh (friction 0.5, restitution 0.6; Jolt runs it at 4 velocity and 1 position steps).
 BenchScene MakeConvexVsMesh();
 /// 100 ragdolls of 12 parts (swing-twist and hinge joints) dropped in a heap on a height field.
 BenchScene MakeRagdolls();

@@ -1,8 +1,9 @@
 // `strata bench [--scene pyramid|convex_vs_mesh|all] [--steps N] [--threads 1,2,4,8,16] [--json FILE]
-// [--job-system default|pool] [--pair-cache-mm MM] [--pair-cache-degrees DEG] [--no-bullet]`: runs the
-// benchmark scenes in Strata at each thread count and, when built with Bullet, in Bullet (one thread) in the
-// same run, each run in its own child process. Prints one table per scene with a speedup column, then where a
-// step's time goes, stage by stage.
+// [--solver strata|jolt|both] [--job-system default|pool] [--pair-cache-mm MM] [--pair-cache-degrees DEG]
+// [--no-bullet]`: runs the benchmark scenes in Strata at each thread count and, when built with Bullet, in
+// Bullet (one thread) in the same run, each run in its own child process, at Strata's default solver passes
+// and at Jolt's. Prints one table per scene and solver budget with a speedup column, then where a step's time
+// goes, stage by stage.
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
@@ -14,6 +15,7 @@
 
 #include "physics/core/OutputFile.h"
 #include "tools/bench/BenchRunner.h"
+#include "tools/bench/InstructionSet.h"
 #include "tools/bench/JsonReport.h"
 #include "tools/bench/Progress.h"
 #include "tools/cli/Commands.h"
@@ -29,6 +31,7 @@ struct BenchOptions {
   std::vector<int> threads;
   std::string json;
   std::string job_system = "default";
+  std::string solver = "both";
   bool bullet = true;
   std::optional<float> pair_cache_distance_mm;  // unset: the scene's own
   std::optional<float> pair_cache_angle;
@@ -125,7 +128,7 @@ class RunProgress {
     return result;
   }
   void Finish(std::size_t scenes) {
-    progress_.Finish(std::to_string(done_) + " runs of " + std::to_string(scenes) + " scene(s)");
+    progress_.Finish(std::to_string(done_) + " runs of " + std::to_string(scenes) + " scene run(s)");
   }
 
  private:
@@ -134,13 +137,21 @@ class RunProgress {
   std::size_t done_ = 0;
 };
 
-void PrintSceneHeader(const std::string& name, const bench::BenchScene& scene) {
-  std::printf(
-      "%s: %zu bodies, %d steps of %.4f s, %d substeps x (%d velocity + %d relax passes), sleeping %s, "
-      "pair cache %.2f mm / %.1f deg\n",
-      name.c_str(), scene.bodies.size(), scene.steps, scene.dt, scene.substeps, scene.velocity_iterations,
-      scene.relax_iterations, scene.sleeping ? "on" : "off", scene.pair_cache_max_distance * 1000.0f,
-      scene.pair_cache_max_angle);
+// "jolt: 1 substep x (10 velocity + 2 relax passes), 1 restitution pass"
+std::string SolverText(const bench::BenchScene& scene, bench::SolverBudget budget) {
+  char text[160];
+  std::snprintf(
+      text, sizeof(text), "%s: %d substep%s x (%d velocity + %d relax passes), %d restitution pass%s",
+      bench::ToString(budget), scene.substeps, scene.substeps == 1 ? "" : "s", scene.velocity_iterations,
+      scene.relax_iterations, scene.restitution_iterations, scene.restitution_iterations == 1 ? "" : "es");
+  return text;
+}
+
+void PrintSceneHeader(const bench::BenchScene& scene, const std::string& solver) {
+  std::printf("%s: %zu bodies, %d steps of %.4f s, solver %s, sleeping %s, pair cache %.2f mm / %.1f deg\n",
+              scene.name.c_str(), scene.bodies.size(), scene.steps, scene.dt, solver.c_str(),
+              scene.sleeping ? "on" : "off", scene.pair_cache_max_distance * 1000.0f,
+              scene.pair_cache_max_angle);
   std::printf("  %-7s %7s %9s %10s %9s %9s %9s %6s %-12s %s\n", "engine", "threads", "steps/s", "ms median",
               "ms max", "MiB peak", "speedup", "bodies", "", "state hash");
 }
@@ -166,11 +177,12 @@ void RunBulletBeside(const bench::BenchScene& scene, const std::vector<bench::En
 }
 
 // One scene at every thread count (and Bullet beside it); false if a run failed.
-bool RunScene(const bench::BenchScene& scene, const BenchOptions& options, bench::JobSystemKind job_system,
-              RunProgress& run, nlohmann::json& document) {
-  PrintSceneHeader(scene.name, scene);
+bool RunScene(const bench::BenchScene& scene, const std::string& solver, const BenchOptions& options,
+              bench::JobSystemKind job_system, RunProgress& run, nlohmann::json& document) {
+  PrintSceneHeader(scene, solver);
   std::vector<bench::EngineResult> runs;
   nlohmann::json scene_json = {{"name", scene.name},
+                               {"solver", solver},
                                {"bodies", scene.bodies.size()},
                                {"steps", scene.steps},
                                {"pair_cache_mm", scene.pair_cache_max_distance * 1000.0f},
@@ -200,6 +212,13 @@ int RunBench(BenchOptions options) {
     std::cerr << "strata bench: --job-system must be 'default' or 'pool'\n";
     return 2;
   }
+  std::vector<bench::SolverBudget> budgets;
+  if (options.solver == "strata" || options.solver == "both") budgets.push_back(bench::SolverBudget::kStrata);
+  if (options.solver == "jolt" || options.solver == "both") budgets.push_back(bench::SolverBudget::kJolt);
+  if (budgets.empty()) {
+    std::cerr << "strata bench: --solver must be 'strata', 'jolt' or 'both'\n";
+    return 2;
+  }
   if (!options.json.empty() && !bench::JsonDestinationExists(options.json)) {
     std::cerr << "strata bench: --json " << options.json << ": no such directory\n";
     return 2;
@@ -208,13 +227,15 @@ int RunBench(BenchOptions options) {
   const bench::JobSystemKind job_system =
       options.job_system == "pool" ? bench::JobSystemKind::kThreadPool : bench::JobSystemKind::kDefault;
   nlohmann::json document = {{"hardware_threads", std::thread::hardware_concurrency()},
+                             {"instruction_set", bench::InstructionSet()},
                              {"job_system", options.job_system},
                              {"scenes", nlohmann::json::array()}};
   bool with_bullet = false;
 #ifdef STRATA_HAVE_BULLET
   with_bullet = options.bullet;
 #endif
-  RunProgress run(names.size() * (options.threads.size() + (with_bullet ? 1 : 0)));
+  std::printf("strata bench: built for %s\n", bench::InstructionSet().c_str());
+  RunProgress run(names.size() * budgets.size() * (options.threads.size() + (with_bullet ? 1 : 0)));
   for (const std::string& name : names) {
     bench::BenchScene scene = bench::MakeBenchScene(name);
     if (scene.bodies.empty()) {
@@ -226,13 +247,16 @@ int RunBench(BenchOptions options) {
     if (options.pair_cache_distance_mm)
       scene.pair_cache_max_distance = *options.pair_cache_distance_mm / 1000.0f;
     if (options.pair_cache_angle) scene.pair_cache_max_angle = *options.pair_cache_angle;
-    if (!RunScene(scene, options, job_system, run, document)) return 1;
+    for (const bench::SolverBudget budget : budgets) {
+      const bench::BenchScene budgeted = bench::WithSolverBudget(scene, budget);
+      if (!RunScene(budgeted, SolverText(budgeted, budget), options, job_system, run, document)) return 1;
+    }
   }
   if (!options.json.empty() && !bench::WriteJsonReport(options.json, document).ok()) {
     std::cerr << "strata bench: cannot write " << options.json << "\n";
     return 1;
   }
-  run.Finish(names.size());
+  run.Finish(names.size() * budgets.size());
   return 0;
 }
 
@@ -252,6 +276,9 @@ std::function<int()> AddBenchCommand(CLI::App& app) {
       ->delimiter(',')
       ->check(CountIn(1, kMaxThreads, "--threads"));
   command->add_option("--json", options->json, "Also write the figures to this JSON file");
+  command->add_option(
+      "--solver", options->solver,
+      "strata (Strata's default passes), jolt (Jolt's passes for the scene) or both (default)");
   command->add_option("--job-system", options->job_system,
                       "default (oneTBB when built with it) or pool (Strata's std::thread pool)");
   command
