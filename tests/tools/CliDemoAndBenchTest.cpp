@@ -262,6 +262,10 @@ TEST(Cli, BenchSweepsThreadCountsAndWritesJson) {
     // The same inputs give the same result whatever the thread count.
     EXPECT_EQ(runs[0]["state_hash"], runs[1]["state_hash"]) << scene["name"];
     EXPECT_DOUBLE_EQ(runs[0]["speedup"].get<double>(), 1.0);
+    // Joints hold their anchors together: a chain's links stay within a millimetre of each other.
+    const double gap = runs[0]["max_joint_gap_mm"].get<double>();
+    const double bound = scene["name"] == "chains" ? 1.0 : scene["name"] == "pyramid" ? 0.0 : 1e9;
+    EXPECT_LE(gap, bound) << scene["name"] << ", " << scene["solver"];  // the pyramid has no joints
     ASSERT_GE(runs[0]["stages"].size(), 6u);
     std::set<std::string> names;
     for (const auto& stage : runs[0]["stages"]) {

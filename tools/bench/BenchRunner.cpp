@@ -49,7 +49,40 @@ float BenchMass(const BenchScene& scene, const BodyDescription& body) {
   return (*MakeShape(scene, body))->ComputeMassProperties(BodyCreationSettings().density).mass;
 }
 
+namespace {
+
+// Each joint's anchor, carried along by body a and by body b (a static body or the world keeps it in place),
+// and how far apart the two ends up.
+void SummarizeJointGaps(const BenchScene& scene, const std::vector<FinalPose>& poses, EngineResult& result) {
+  std::vector<int> dynamic_index(scene.bodies.size(), -1);
+  int next = 0;
+  for (std::size_t i = 0; i < scene.bodies.size(); ++i)
+    if (scene.bodies[i].IsDynamic()) dynamic_index[i] = next++;
+  const auto carried = [&](int body, const Vec3& anchor) {
+    if (body < 0 || dynamic_index[static_cast<std::size_t>(body)] < 0) return anchor;
+    const BodyDescription& start = scene.bodies[static_cast<std::size_t>(body)];
+    const FinalPose& end = poses[static_cast<std::size_t>(dynamic_index[static_cast<std::size_t>(body)])];
+    return Vec3(end.rotation * (start.rotation.conjugate() * (anchor - start.position)) + end.position);
+  };
+  double sum = 0.0;
+  result.max_joint_gap_mm = 0.0;
+  for (const JointDescription& joint : scene.joints) {
+    const double gap =
+        1000.0 * static_cast<double>(
+                     (carried(joint.body_a, joint.anchor) - carried(joint.body_b, joint.anchor)).norm());
+    result.max_joint_gap_mm = std::max(result.max_joint_gap_mm, gap);
+    sum += gap;
+  }
+  result.mean_joint_gap_mm = scene.joints.empty() ? 0.0 : sum / static_cast<double>(scene.joints.size());
+}
+
+}  // namespace
+
 void Summarize(const BenchScene& scene, const std::vector<FinalPose>& poses, EngineResult& result) {
+  if (poses.size() ==
+      static_cast<std::size_t>(std::count_if(scene.bodies.begin(), scene.bodies.end(),
+                                             [](const BodyDescription& b) { return b.IsDynamic(); })))
+    SummarizeJointGaps(scene, poses, result);
   result.state_hash = 1469598103934665603ull;
   result.bodies_in_footprint = 0;
   for (const FinalPose& pose : poses) {

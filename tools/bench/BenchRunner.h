@@ -40,6 +40,10 @@ struct EngineResult {
   StageFigures stages[kMaxStages];
   double replayed_pair_share = 0.0;      ///< Strata: pairs that reused last step's manifolds / all pairs
   double contact_events_per_step = 0.0;  ///< Strata: contact begin + persist + end events, mean
+  /// How far apart each joint's anchor is, seen from its two bodies, after the last step (mm): how much a
+  /// chain stretched. 0 for a scene without joints.
+  double max_joint_gap_mm = 0.0;
+  double mean_joint_gap_mm = 0.0;
 
   double StepsPerSecond() const { return total_seconds > 0.0 ? steps / total_seconds : 0.0; }
 };
@@ -50,7 +54,8 @@ struct FinalPose {
   Quat rotation;
 };
 
-/// Fills the footprint count and hash of `result` from the final dynamic poses.
+/// Fills the footprint count, hash and joint gaps of `result` from the final dynamic poses (in the scene's
+/// order of its dynamic bodies).
 void Summarize(const BenchScene& scene, const std::vector<FinalPose>& poses, EngineResult& result);
 /// Median and max of per-step times (seconds) into `result`.
 void SummarizeTimes(std::vector<double> step_seconds, EngineResult& result);
