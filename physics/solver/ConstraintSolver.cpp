@@ -14,9 +14,12 @@ namespace strata {
 
 namespace {
 
-// Items of a split claimed at once: a kind's item is a bundle of contacts (two make about sixteen) or a
-// whole sequential split.
+// Items of a split claimed at once, at least: a kind's item is a bundle of contacts (two make about sixteen)
+// or a whole sequential split.
 constexpr std::uint32_t kConstraintBatch = 2;
+// Claims a job makes of a round, about: every claim is a locked operation on a line all the jobs share, and a
+// round ends at a barrier, so few jobs take larger batches and many take smaller ones to share the work out.
+constexpr std::uint32_t kClaimsPerJob = 2;
 constexpr std::uint32_t kBodyBatch = 64;
 // Idle laps (a pause each, about a microsecond in all) before a waiting job yields its core.
 constexpr std::uint32_t kSpinsBeforeYield = 64;
@@ -383,7 +386,7 @@ void ConstraintSolver::RunRoundsInOrder(Group& group, JobState& job, std::uint32
 }
 
 ConstraintSolver::BatchResult ConstraintSolver::TryRunBatch(Group& group, JobState& job,
-                                                            std::uint32_t job_index) {
+                                                            std::uint32_t job_index, std::uint32_t width) {
   if (group.one_job) return TryRunWholeGroup(group, job, job_index);
   std::uint64_t status = group.status.load(std::memory_order_acquire);
   while (true) {
@@ -403,7 +406,8 @@ ConstraintSolver::BatchResult ConstraintSolver::TryRunBatch(Group& group, JobSta
     }
     if (item >= items) return BatchResult::kWaiting;  // every batch of this round is taken
     const bool per_body = round.kind == RoundKind::kIntegrate || round.kind == RoundKind::kAddForces;
-    const std::uint32_t batch = per_body ? kBodyBatch : kConstraintBatch;
+    const std::uint32_t batch =
+        per_body ? kBodyBatch : std::max(kConstraintBatch, items / (kClaimsPerJob * width));
     const std::uint32_t take = std::min(batch, items - item);
     if (!group.status.compare_exchange_weak(status, status + take, std::memory_order_acquire,
                                             std::memory_order_acquire))
@@ -441,7 +445,7 @@ void ConstraintSolver::SolveJob(std::uint32_t job_index, std::uint32_t width) {
   std::uint32_t idle_visits = 0;
   std::uint32_t idle_laps = 0;
   while (groups_finished_.load(std::memory_order_acquire) < group_count_) {
-    const BatchResult result = TryRunBatch(groups_[cursor], job, job_index);
+    const BatchResult result = TryRunBatch(groups_[cursor], job, job_index, width);
     if (result == BatchResult::kRan) {
       idle_visits = idle_laps = 0;
       continue;

@@ -109,7 +109,7 @@ class ConstraintSolver {
 
   void FormGroups();
   void AddGroup(std::uint32_t first_island, std::uint32_t end_island, bool exact);
-  BatchResult TryRunBatch(Group& group, JobState& job, std::uint32_t job_index);
+  BatchResult TryRunBatch(Group& group, JobState& job, std::uint32_t job_index, std::uint32_t width);
   BatchResult TryRunWholeGroup(Group& group, JobState& job, std::uint32_t job_index);
   // Every round of a group one job runs whole, in order.
   void RunRoundsInOrder(Group& group, JobState& job, std::uint32_t job_index);
