@@ -42,15 +42,6 @@ void AddProfile(const StepProfile& profile, EngineResult& result) {
   }
 }
 
-}  // namespace
-
-float BenchMass(const BenchScene& scene, const BodyDescription& body) {
-  if (body.mass > 0.0f) return body.mass;
-  return (*MakeShape(scene, body))->ComputeMassProperties(BodyCreationSettings().density).mass;
-}
-
-namespace {
-
 // Each joint's anchor, carried along by body a and by body b (a static body or the world keeps it in place),
 // and how far apart the two ends up.
 void SummarizeJointGaps(const BenchScene& scene, const std::vector<FinalPose>& poses, EngineResult& result) {
@@ -78,11 +69,13 @@ void SummarizeJointGaps(const BenchScene& scene, const std::vector<FinalPose>& p
 
 }  // namespace
 
+float BenchMass(const BenchScene& scene, const BodyDescription& body) {
+  if (body.mass > 0.0f) return body.mass;
+  return (*MakeShape(scene, body))->ComputeMassProperties(BodyCreationSettings().density).mass;
+}
+
 void Summarize(const BenchScene& scene, const std::vector<FinalPose>& poses, EngineResult& result) {
-  if (poses.size() ==
-      static_cast<std::size_t>(std::count_if(scene.bodies.begin(), scene.bodies.end(),
-                                             [](const BodyDescription& b) { return b.IsDynamic(); })))
-    SummarizeJointGaps(scene, poses, result);
+  SummarizeJointGaps(scene, poses, result);
   result.state_hash = 1469598103934665603ull;
   result.bodies_in_footprint = 0;
   for (const FinalPose& pose : poses) {
