@@ -111,7 +111,7 @@ void AddBody(const CountedBody& body, const AABB& box, TileGeometry& geometry,
     if (shape.IsConvex()) geometry.solids.push_back(MakeSolid(shape, body.snapshot.pose, body.bounds));
     shape.GetTrianglesInBox(box, body.snapshot.pose, triangles);
   } else {
-    const BoxShape obstacle(body.bounds.HalfExtents().cwiseMax(kMinHalfExtent));
+    const BoxShape obstacle(body.bounds.HalfExtents().cwiseMax(kMinHalfExtent), 0.0f);
     const Pose at_center{body.bounds.Center(), Quat::Identity()};
     geometry.solids.push_back(MakeSolid(obstacle, at_center, body.bounds));
     obstacle.GetTrianglesInBox(box, at_center, triangles);

@@ -1,6 +1,7 @@
 #include "assets/scene/SceneBuilder.h"
 
 #include <map>
+#include <tuple>
 #include <utility>
 
 #include "physics/shapes/BoxShape.h"
@@ -99,6 +100,7 @@ PhysicsSettings ToPhysicsSettings(const SceneDescription& scene) {
 Result<ShapeRef> MakeShape(const SceneDescription& scene, const BodyDescription& body) {
   switch (body.shape) {
     case SceneShape::kBox:
+      if (body.convex_radius) return BoxShape::Create(body.half_extents, *body.convex_radius);
       return BoxShape::Create(body.half_extents);
     case SceneShape::kSphere:
       return SphereShape::Create(body.radius);
@@ -107,6 +109,7 @@ Result<ShapeRef> MakeShape(const SceneDescription& scene, const BodyDescription&
     case SceneShape::kHull: {
       Result<const HullGeometry*> hull = GeometryAt(scene.hulls, body.geometry, "hull");
       if (!hull) return hull.error();
+      if (body.convex_radius) return ConvexHullShape::Create((*hull)->points, *body.convex_radius);
       return ConvexHullShape::Create((*hull)->points);
     }
     case SceneShape::kMesh: {
@@ -126,12 +129,13 @@ Result<ShapeRef> MakeShape(const SceneDescription& scene, const BodyDescription&
 }
 
 Result<std::vector<ShapeRef>> MakeShapes(const SceneDescription& scene) {
-  std::map<std::pair<SceneShape, std::uint32_t>, ShapeRef> made;
+  // Bodies share a shape made from the same geometry with the same rounding (-1: the default's).
+  std::map<std::tuple<SceneShape, std::uint32_t, float>, ShapeRef> made;
   std::vector<ShapeRef> shapes;
   shapes.reserve(scene.bodies.size());
   for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
     const BodyDescription& body = scene.bodies[i];
-    const auto key = std::make_pair(body.shape, body.geometry);
+    const auto key = std::make_tuple(body.shape, body.geometry, body.convex_radius.value_or(-1.0f));
     if (UsesGeometry(body.shape) && made.count(key)) {
       shapes.push_back(made[key]);
       continue;

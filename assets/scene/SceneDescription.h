@@ -45,6 +45,9 @@ struct BodyDescription {
   Vec3 half_extents = Vec3::Constant(0.5f);  ///< box
   float radius = 0.5f;                       ///< sphere, capsule
   float half_height = 0.5f;                  ///< capsule: half the length of its core
+  /// Box, hull: how far its edges and corners are rounded, inside its extents (m; 0: sharp). Unset: the
+  /// engine's default (Strata: 0.05, less for a small shape; BoxShape::DefaultConvexRadius).
+  std::optional<float> convex_radius;
   /// Hull, mesh and height-field bodies: which of the scene's hulls, meshes or height fields.
   std::uint32_t geometry = 0;
   Vec3 position = Vec3::Zero();  ///< a height field's is its sample (0, 0)

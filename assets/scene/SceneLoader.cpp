@@ -159,11 +159,22 @@ Status ParseHeightField(const Reader& reader, const Json& shape, const std::file
   return Status::Ok();
 }
 
+// "convex_radius" of a box or hull, when given.
+Status ParseConvexRadius(const Reader& reader, const Json& shape, BodyDescription& body) {
+  if (!shape.contains("convex_radius")) return Status::Ok();
+  float radius = 0.0f;
+  STRATA_TRY(reader.Number(shape, "convex_radius", radius));
+  if (radius < 0.0f) return reader.Fail("convex_radius", "must be >= 0 (0: sharp edges)");
+  body.convex_radius = radius;
+  return Status::Ok();
+}
+
 // The geometry-backed shapes: their data goes to the scene's lists, the body names its entry.
 Status ParseGeometryShape(const Reader& reader, const Json& shape, const std::filesystem::path& base,
                           const std::string& type, SceneDescription& scene, BodyDescription& body) {
   if (type == "convex_hull") {
-    STRATA_TRY(reader.OnlyKeys(shape, {"type", "points"}));
+    STRATA_TRY(reader.OnlyKeys(shape, {"type", "points", "convex_radius"}));
+    STRATA_TRY(ParseConvexRadius(reader, shape, body));
     Result<std::vector<Vec3>> points = ParsePoints(reader, shape, "points");
     if (!points) return points.error();
     body.shape = SceneShape::kHull, body.geometry = static_cast<std::uint32_t>(scene.hulls.size());
@@ -207,8 +218,9 @@ Result<ShapeRef> ParseShape(const Reader& reader, const Json& shape, const std::
     STRATA_TRY(reader.Number(shape, "radius", body.radius));
     body.shape = SceneShape::kSphere;
   } else if (source.type == "box") {
-    STRATA_TRY(reader.OnlyKeys(shape, {"type", "half_extents"}));
+    STRATA_TRY(reader.OnlyKeys(shape, {"type", "half_extents", "convex_radius"}));
     STRATA_TRY(reader.Vector(shape, "half_extents", body.half_extents));
+    STRATA_TRY(ParseConvexRadius(reader, shape, body));
     body.shape = SceneShape::kBox;
   } else if (source.type == "capsule") {
     STRATA_TRY(reader.OnlyKeys(shape, {"type", "radius", "half_height"}));
@@ -219,7 +231,12 @@ Result<ShapeRef> ParseShape(const Reader& reader, const Json& shape, const std::
     STRATA_TRY(ParseGeometryShape(reader, shape, base, source.type, scene, body));
   }
   Result<ShapeRef> made = MakeShape(scene, body);
-  if (!made) return reader.Fail(source.ErrorKey(), made.error().message);
+  if (!made) {
+    // A radius too large for the shape is the radius's fault; anything else, the geometry's.
+    const bool radius_fault =
+        body.convex_radius && made.error().message.find("convex radius") != std::string::npos;
+    return reader.Fail(radius_fault ? "convex_radius" : source.ErrorKey(), made.error().message);
+  }
   return made;
 }
 

@@ -10,6 +10,7 @@ void Body::ResetInternal(const BodyCreationSettings& settings, BodyID id) {
   shape_ = settings.shape;
   local_bounds_ = shape_->LocalBounds();
   bounds_turn_ = shape_->BoundsTurnWithBody();
+  bounds_rounding_ = shape_->BoundsRounding();
   pose_ = {settings.position, settings.rotation.normalized()};
   motion_type_ = settings.motion_type;
   motion_quality_ = settings.motion_quality;

@@ -121,7 +121,7 @@ class Body {
     torque_.setZero();
   }
   void UpdateWorldBoundsInternal() {
-    world_bounds_ = Shape::WorldBoundsOf(local_bounds_, bounds_turn_, pose_);
+    world_bounds_ = Shape::WorldBoundsOf(local_bounds_, bounds_turn_, bounds_rounding_, pose_);
   }
   /// Moves the shape origin by `motion` (small) without rounding it away where position() is large. Inline:
   /// the step's write-back passes `motion` in registers, not through a just-stored temporary.
@@ -148,8 +148,9 @@ class Body {
   Mat3 inverse_inertia_local_ = Mat3::Zero();
   Mat3 inertia_local_ = Mat3::Zero();
   AABB world_bounds_;
-  AABB local_bounds_;        // the shape's, kept here so that moving a body does not read its shape
-  bool bounds_turn_ = true;  // the shape's BoundsTurnWithBody()
+  AABB local_bounds_;             // the shape's, kept here so that moving a body does not read its shape
+  bool bounds_turn_ = true;       // the shape's BoundsTurnWithBody()
+  float bounds_rounding_ = 0.0f;  // the shape's BoundsRounding()
   float inverse_mass_ = 0.0f;
   float friction_ = 0.2f;
   float restitution_ = 0.0f;

@@ -20,12 +20,11 @@ namespace {
 
 // Normal (A to B) and deepest point pair of two convex supports. The cores carry radii; exact supports
 // are only used when the cores overlap.
+// `corner_slack`: how far the rounded cores may fall short of sharp exact shapes (CornerSlack).
 bool FindContact(const ConvexSupport& core_a, const ConvexSupport& exact_a, float radius_a,
                  const ConvexSupport& core_b, const ConvexSupport& exact_b, float radius_b,
-                 float max_separation, Vec3& normal, ContactPoint& deepest, EpaScratch& scratch) {
-  // The rounded core sits inside the exact shape but cuts its corners (by up to (sqrt(3) - 1) r on a box),
-  // so the core only supplies the direction; the gap along it is measured on the exact shapes.
-  const float corner_slack = 0.75f * (radius_a + radius_b);
+                 float corner_slack, float max_separation, Vec3& normal, ContactPoint& deepest,
+                 EpaScratch& scratch) {
   const float core_reach = max_separation + radius_a + radius_b + corner_slack;
   const GjkResult core = GjkClosestPoints(core_a, core_b, core_reach);
   if (!core.overlapping && core.distance > core_reach) return false;
@@ -57,6 +56,43 @@ bool FindContact(const ConvexSupport& core_a, const ConvexSupport& exact_a, floa
   normal = penetration.normal;
   deepest = {penetration.point_a, penetration.point_b, -penetration.depth};
   return true;
+}
+
+// A sharp shape's rounded core cuts its corners (by up to (sqrt(3) - 1) r on a box), so there the core only
+// supplies the direction and the gap along it is measured on the exact shape; a shape that is its rounded
+// core exactly has no corners to miss.
+float CornerSlack(const ConvexShape& shape) {
+  return shape.CoreIsExact() ? 0.0f : 0.75f * shape.core_radius();
+}
+
+// A box or hull rounded by a convex radius: separating axes and closed forms, which take it sharp, pass it to
+// GJK on its core. (Spheres and capsules are their cores plus a radius too, and keep their closed forms.)
+bool Rounded(const ConvexShape& shape) {
+  return shape.CoreIsExact() && shape.type() != ShapeType::kSphere && shape.type() != ShapeType::kCapsule;
+}
+
+// Two rounded polyhedra resting face on face meet along their flat faces, but GJK on their cores finds one
+// closest pair, which beside an edge of either core tilts towards it by the overhang over the gap between the
+// cores (a millimetre over 10 cm is 10 mrad) and pushes the upper body off sideways, further as it goes.
+// Where a supporting face's normal separates the shapes within this much of the closest pair's separation,
+// that face is the contact, as separating axes would find it.
+constexpr float kFaceNormalTolerance = 5e-4f;
+
+void PreferFaceNormal(const ConvexSupport& exact_a, const ConvexSupport& exact_b,
+                      const SupportingFace& face_a, const SupportingFace& face_b, Vec3& normal,
+                      ContactPoint& deepest) {
+  float best = -kLargeFloat;
+  Vec3 best_normal = normal;
+  ContactPoint best_point = deepest;
+  for (const Vec3& axis : {face_a.normal, Vec3(-face_b.normal)}) {
+    if (axis.squaredNorm() < 0.5f) continue;  // a face without a known normal
+    const Vec3 on_a = exact_a.Support(axis), on_b = exact_b.Support(-axis);
+    const float separation = (on_b - on_a).dot(axis);
+    if (separation > best) best = separation, best_normal = axis, best_point = {on_a, on_b, separation};
+  }
+  if (best < deepest.separation - kFaceNormalTolerance) return;
+  normal = best_normal;
+  deepest = best_point;
 }
 
 void WorldFace(const ConvexShape& shape, const Pose& pose, const Vec3& world_direction,
@@ -236,18 +272,26 @@ bool CollideByGjk(const ConvexShape& a, const Pose& pose_a, const ConvexShape& b
       found = true;
     }
   }
+  SupportingFace face_a, face_b;
   if (!found) {
     const PosedConvex core_a(a, pose_a, true), exact_a(a, pose_a, false);
     const PosedConvex core_b(b, pose_b, true), exact_b(b, pose_b, false);
-    if (!FindContact(core_a, exact_a, a.core_radius(), core_b, exact_b, b.core_radius(), max_separation,
-                     normal, deepest, scratch.epa))
+    if (!FindContact(core_a, exact_a, a.core_radius(), core_b, exact_b, b.core_radius(),
+                     CornerSlack(a) + CornerSlack(b), max_separation, normal, deepest, scratch.epa))
       return false;
+    WorldFace(a, pose_a, normal, face_a);
+    WorldFace(b, pose_b, -normal, face_b);
+    if (Rounded(a) || Rounded(b)) PreferFaceNormal(exact_a, exact_b, face_a, face_b, normal, deepest);
+  } else {
+    WorldFace(a, pose_a, normal, face_a);
+    WorldFace(b, pose_b, -normal, face_b);
   }
-  SupportingFace face_a, face_b;
-  WorldFace(a, pose_a, normal, face_a);
-  WorldFace(b, pose_b, -normal, face_b);
   manifold.normal = normal;
   BuildManifold(face_a, face_b, deepest, max_separation, manifold);
+  // The deepest point is never shallower than the shapes' deepest overlap (exact on two exact cores, else the
+  // lesser of the cores' gap and the gap along the normal): no point clipped from a rounded shape's face to
+  // its sharp corner may lie deeper.
+  if (Rounded(a) || Rounded(b)) KeepNoDeeperThan(deepest, manifold);
   return manifold.count > 0;
 }
 
@@ -262,7 +306,7 @@ class ConvexInMesh {
         rotation_(pose.rotation.toRotationMatrix()),
         core_(shape, pose_, true),
         exact_(shape, pose_, false) {
-    use_sat_ = IsPolyhedron(shape) && MakePolyhedron(shape, pose_, polyhedron_);
+    use_sat_ = IsPolyhedron(shape) && !shape.CoreIsExact() && MakePolyhedron(shape, pose_, polyhedron_);
     if (shape.type() != ShapeType::kCapsule) return;
     const Vec3 half_axis = rotation_.col(1) * static_cast<const CapsuleShape&>(shape).half_height();
     capsule_core_[0] = pose_.position - half_axis;
@@ -291,8 +335,8 @@ class ConvexInMesh {
         CapsuleTriangleContact(capsule_core_[0], capsule_core_[1], shape_.core_radius(), corners,
                                max_separation, within, normal, deepest))
       return within;
-    return FindContact(core_, exact_, shape_.core_radius(), triangle, triangle, 0.0f, max_separation, normal,
-                       deepest, epa);
+    return FindContact(core_, exact_, shape_.core_radius(), triangle, triangle, 0.0f, CornerSlack(shape_),
+                       max_separation, normal, deepest, epa);
   }
   /// The convex's face most aligned with `normal`, in the mesh's frame.
   void Face(const Vec3& normal, SupportingFace& face) const {
@@ -400,6 +444,7 @@ void CollideConvexTriangles(const ConvexShape& a, const Pose& pose_a, const Tria
     convex.Face(normal, face_a);
     TriangleFace(triangle, face_normal, -normal, face_b);
     BuildManifold(face_a, face_b, deepest, max_separation, manifold);
+    if (Rounded(a)) KeepNoDeeperThan(deepest, manifold);
     if (manifold.count > 0) MergeManifold(manifold, first, out);
   }
   ManifoldsToWorld(pose_mesh, first, out);
@@ -437,13 +482,21 @@ void CollideSpherePair(const Shape& a, const Pose& pose_a, const Shape& b, const
 
 void CollideSphereWithBox(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b,
                           float max_separation, const ContactManifold& prototype,
-                          std::vector<ContactManifold>& out, CollisionScratch& /*scratch*/) {
+                          std::vector<ContactManifold>& out, CollisionScratch& scratch) {
+  if (AsConvex(b).CoreIsExact()) {
+    CollideConvexByGjk(a, pose_a, b, pose_b, max_separation, prototype, out, scratch);
+    return;
+  }
   AppendPair<SphereShape, BoxShape, CollideSphereBox>(a, pose_a, b, pose_b, max_separation, prototype, out);
 }
 
 void CollideBoxPair(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b,
                     float max_separation, const ContactManifold& prototype, std::vector<ContactManifold>& out,
-                    CollisionScratch& /*scratch*/) {
+                    CollisionScratch& scratch) {
+  if (Rounded(AsConvex(a)) || Rounded(AsConvex(b))) {
+    CollideConvexByGjk(a, pose_a, b, pose_b, max_separation, prototype, out, scratch);
+    return;
+  }
   AppendPair<BoxShape, BoxShape, CollideBoxes>(a, pose_a, b, pose_b, max_separation, prototype, out);
 }
 
@@ -451,7 +504,7 @@ void CollidePolyhedronPair(const Shape& a, const Pose& pose_a, const Shape& b, c
                            float max_separation, const ContactManifold& prototype,
                            std::vector<ContactManifold>& out, CollisionScratch& scratch) {
   thread_local Polyhedron polyhedron_a, polyhedron_b;
-  if (!MakePolyhedron(AsConvex(a), pose_a, polyhedron_a) ||
+  if (Rounded(AsConvex(a)) || Rounded(AsConvex(b)) || !MakePolyhedron(AsConvex(a), pose_a, polyhedron_a) ||
       !MakePolyhedron(AsConvex(b), pose_b, polyhedron_b)) {
     CollideConvexByGjk(a, pose_a, b, pose_b, max_separation, prototype, out, scratch);
     return;

@@ -41,6 +41,17 @@ struct MeasuredConvex {
   float radius;
 };
 
+/// A single point as a support mapping.
+class PointSupport final : public ConvexSupport {
+ public:
+  explicit PointSupport(const Vec3& point) : point_(point) {}
+  Vec3 Support(const Vec3&) const override { return point_; }
+  Vec3 Center() const override { return point_; }
+
+ private:
+  Vec3 point_;
+};
+
 /// One triangle in world space.
 class TriangleSupport final : public ConvexSupport {
  public:

@@ -167,4 +167,15 @@ void BuildManifold(const SupportingFace& face_a, const SupportingFace& face_b, c
   }
 }
 
+void KeepNoDeeperThan(const ContactPoint& deepest, ContactManifold& manifold) {
+  for (int i = 0; i < manifold.count; ++i) {
+    ContactPoint& point = manifold.points[i];
+    const float excess = deepest.separation - point.separation;
+    if (excess <= 0.0f) continue;
+    point.position_a -= (0.5f * excess) * manifold.normal;
+    point.position_b += (0.5f * excess) * manifold.normal;
+    point.separation = deepest.separation;
+  }
+}
+
 }  // namespace strata

@@ -13,6 +13,11 @@ namespace strata {
 void BuildManifold(const SupportingFace& face_a, const SupportingFace& face_b, const ContactPoint& deepest,
                    float max_separation, ContactManifold& manifold);
 
+/// Raises every point of `manifold` deeper than `deepest` to its depth, both ends moved half the difference
+/// along the normal. Where `deepest` is exact (rounded shapes, measured on their cores), a point clipped from
+/// a face to its sharp corner lies past the rounding, deeper than the shapes overlap.
+void KeepNoDeeperThan(const ContactPoint& deepest, ContactManifold& manifold);
+
 /// A clipped incident point and where it meets the reference face along `normal` (A to B), as a contact
 /// point with A's side first; appended to `points` when it is within `max_separation`.
 void AppendFacePoint(const Vec3& incident, const Vec3& on_reference, bool reference_is_a, const Vec3& normal,

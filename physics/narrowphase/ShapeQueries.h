@@ -37,15 +37,4 @@ struct ClosestPoints {
 std::optional<ClosestPoints> ClosestPointsTo(const DistanceQuery& query, const Shape& shape, const Pose& pose,
                                              float max_distance, std::vector<Triangle>& triangles);
 
-/// A single point as a support mapping.
-class PointSupport final : public ConvexSupport {
- public:
-  explicit PointSupport(const Vec3& point) : point_(point) {}
-  Vec3 Support(const Vec3&) const override { return point_; }
-  Vec3 Center() const override { return point_; }
-
- private:
-  Vec3 point_;
-};
-
 }  // namespace strata

@@ -1,12 +1,14 @@
 #include "physics/shapes/BoxShape.h"
 
+#include <cmath>
 #include <string>
 
 namespace strata {
 
 namespace {
-float BoxCoreRadius(const Vec3& half_extents) {
-  return std::min(0.05f, 0.25f * half_extents.minCoeff());
+// A sharp box still gives GJK a core this much smaller, so touching boxes keep their cores apart.
+float SharpCoreRadius(const Vec3& half_extents) {
+  return BoxShape::DefaultConvexRadius(half_extents);
 }
 
 Vec3 SignedCorner(const Vec3& half, const Vec3& direction) {
@@ -15,16 +17,33 @@ Vec3 SignedCorner(const Vec3& half, const Vec3& direction) {
 }
 }  // namespace
 
+float BoxShape::DefaultConvexRadius(const Vec3& half_extents) {
+  return std::min(kDefaultConvexRadius, kMaxDefaultRadiusShare * half_extents.minCoeff());
+}
+
 Result<ShapeRef> BoxShape::Create(const Vec3& half_extents) {
   if (!IsFinite(half_extents) || half_extents.minCoeff() <= 0.0f)
     return MakeError(ErrorCode::kDegenerateShape, "box half extents must be positive finite numbers");
-  return ShapeRef(std::make_shared<BoxShape>(half_extents));
+  return ShapeRef(std::make_shared<BoxShape>(half_extents, DefaultConvexRadius(half_extents)));
 }
 
-BoxShape::BoxShape(const Vec3& half_extents)
-    : ConvexShape(ShapeType::kBox, BoxCoreRadius(half_extents)),
+Result<ShapeRef> BoxShape::Create(const Vec3& half_extents, float convex_radius) {
+  if (!IsFinite(half_extents) || half_extents.minCoeff() <= 0.0f)
+    return MakeError(ErrorCode::kDegenerateShape, "box half extents must be positive finite numbers");
+  if (!std::isfinite(convex_radius) || convex_radius < 0.0f)
+    return MakeError(ErrorCode::kInvalidArgument, "box convex radius must be a finite number >= 0");
+  if (convex_radius > half_extents.minCoeff())
+    return MakeError(ErrorCode::kInvalidArgument, "box convex radius " + std::to_string(convex_radius) +
+                                                      " is over its smallest half extent " +
+                                                      std::to_string(half_extents.minCoeff()));
+  return ShapeRef(std::make_shared<BoxShape>(half_extents, convex_radius));
+}
+
+BoxShape::BoxShape(const Vec3& half_extents, float convex_radius)
+    : ConvexShape(ShapeType::kBox, convex_radius > 0.0f ? convex_radius : SharpCoreRadius(half_extents),
+                  convex_radius > 0.0f),
       half_extents_(half_extents),
-      core_half_extents_(half_extents.array() - BoxCoreRadius(half_extents)) {}
+      core_half_extents_(half_extents.array() - core_radius()) {}
 
 MassProperties BoxShape::ComputeMassProperties(float density) const {
   MassProperties properties;
@@ -38,6 +57,17 @@ MassProperties BoxShape::ComputeMassProperties(float density) const {
 
 bool BoxShape::CastRay(const Vec3& origin, const Vec3& direction, float max_fraction,
                        ShapeRayHit& hit) const {
+  if (!CastRaySharp(origin, direction, max_fraction, hit)) return false;
+  if (!CoreIsExact()) return true;
+  const ShapeRayHit sharp = hit;
+  const auto closest_on_core = [this](const Vec3& point) {
+    return Vec3(point.cwiseMax(-core_half_extents_).cwiseMin(core_half_extents_));
+  };
+  return CastRayRounded(origin, direction, max_fraction, sharp, closest_on_core, hit);
+}
+
+bool BoxShape::CastRaySharp(const Vec3& origin, const Vec3& direction, float max_fraction,
+                            ShapeRayHit& hit) const {
   const AABB box = LocalBounds();
   const float fraction = box.RayEntry(origin, SafeInverse(direction), max_fraction);
   if (fraction < 0.0f) return false;
@@ -58,7 +88,10 @@ bool BoxShape::CastRay(const Vec3& origin, const Vec3& direction, float max_frac
 }
 
 Vec3 BoxShape::Support(const Vec3& direction) const {
-  return SignedCorner(half_extents_, direction);
+  if (!CoreIsExact()) return SignedCorner(half_extents_, direction);
+  const float length = direction.norm();
+  const Vec3 corner = SignedCorner(core_half_extents_, direction);
+  return length > 0.0f ? Vec3(corner + (core_radius() / length) * direction) : corner;
 }
 Vec3 BoxShape::CoreSupport(const Vec3& direction) const {
   return SignedCorner(core_half_extents_, direction);

@@ -6,13 +6,20 @@
 
 namespace strata {
 
-/// Box with `half_extents` (m) along the local axes. The core used by GJK is the box shrunk by a small
-/// internal radius; contact points and depths still come from the exact faces.
+/// Box with `half_extents` (m) along the local axes, its edges and corners rounded by a convex radius that
+/// stays inside those extents (Jolt's convention): the faces stay where the half extents put them. GJK runs
+/// on the core, the box shrunk by the radius. A sharp box (radius 0) keeps a small core radius inside for GJK
+/// and has its contacts from the separating-axis test instead.
 class BoxShape final : public ConvexShape {
  public:
-  /// Fails for non-finite or non-positive half extents.
+  /// Fails for non-finite or non-positive half extents. The box is rounded by DefaultConvexRadius.
   static Result<ShapeRef> Create(const Vec3& half_extents);
-  explicit BoxShape(const Vec3& half_extents);
+  /// Fails as above, and for a convex radius that is negative, not finite, or over the smallest half extent.
+  static Result<ShapeRef> Create(const Vec3& half_extents, float convex_radius);
+  /// kDefaultConvexRadius, or a quarter of the smallest half extent where that is less.
+  static float DefaultConvexRadius(const Vec3& half_extents);
+  /// Unchecked: the Create forms say what they need.
+  BoxShape(const Vec3& half_extents, float convex_radius);
 
   /// Corner c of the box has the signs of its coordinates in its bits (bit 0: x, bit 1: y, bit 2: z); face f
   /// (-x, +x, -y, +y, -z, +z) lists its corners counter-clockwise seen from outside.
@@ -27,12 +34,15 @@ class BoxShape final : public ConvexShape {
                ShapeRayHit& hit) const override;
   Vec3 Support(const Vec3& direction) const override;
   Vec3 CoreSupport(const Vec3& direction) const override;
+  /// The face of the box, flat part and rounding together, as Jolt takes it for clipping manifolds.
   void GetSupportingFace(const Vec3& direction, SupportingFace& face) const override;
 
  protected:
   void CollectLocalTriangles(const AABB& local_box, std::vector<Triangle>& out) const override;
 
  private:
+  bool CastRaySharp(const Vec3& origin, const Vec3& direction, float max_fraction, ShapeRayHit& hit) const;
+
   Vec3 half_extents_;
   Vec3 core_half_extents_;
 };

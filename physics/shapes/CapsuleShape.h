@@ -12,7 +12,7 @@ class CapsuleShape final : public ConvexShape {
   /// Fails for non-finite values, a non-positive radius or a negative half height.
   static Result<ShapeRef> Create(float half_height, float radius);
   CapsuleShape(float half_height, float radius)
-      : ConvexShape(ShapeType::kCapsule, radius), half_height_(half_height), radius_(radius) {}
+      : ConvexShape(ShapeType::kCapsule, radius, true), half_height_(half_height), radius_(radius) {}
 
   float half_height() const { return half_height_; }
   float radius() const { return radius_; }
@@ -29,7 +29,6 @@ class CapsuleShape final : public ConvexShape {
     return {0.0f, direction.y() < 0 ? -half_height_ : half_height_, 0.0f};
   }
   void GetSupportingFace(const Vec3& direction, SupportingFace& face) const override;
-  bool CoreIsExact() const override { return true; }
 
  protected:
   void CollectLocalTriangles(const AABB& local_box, std::vector<Triangle>& out) const override;

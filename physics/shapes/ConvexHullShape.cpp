@@ -1,33 +1,92 @@
 #include "physics/shapes/ConvexHullShape.h"
 
 #include <algorithm>
+#include <cmath>
 #include <map>
+#include <optional>
+#include <string>
 
 namespace strata {
 
-Result<ShapeRef> ConvexHullShape::Create(std::span<const Vec3> points) {
+namespace {
+
+// A sharp hull's core keeps every face at least this share of the interior's depth in.
+constexpr float kSharpCoreShare = 0.2f;
+
+// The hull with every face plane moved in by `radius`: the intersection of the moved half-spaces, found as
+// the dual of the hull of the planes' dual points (each plane n . (x - c) = e maps to n / e; each face of
+// their hull, m . q = k, to the vertex c + m / k where its planes meet), with its own faces. No vertices when
+// either hull cannot be built.
+HullData MovedInCore(const HullData& hull, const Vec3& interior, float radius) {
+  std::vector<Vec3> dual;
+  dual.reserve(hull.faces.size());
+  for (const HullFace& face : hull.faces)
+    dual.push_back(face.normal / (face.offset - face.normal.dot(interior) - radius));
+  const Result<HullData> dual_hull = BuildConvexHull(dual);
+  if (!dual_hull) return {};
+  std::vector<Vec3> corners;
+  corners.reserve(dual_hull->faces.size());
+  for (const HullFace& face : dual_hull->faces) {
+    if (!(face.offset > 0.0f)) return {};
+    corners.push_back(interior + face.normal / face.offset);
+  }
+  Result<HullData> core = BuildConvexHull(corners);
+  return core ? std::move(*core) : HullData{};
+}
+
+// The hull of `points`, rounded by `convex_radius` or, unset, by the default for its size.
+Result<ShapeRef> MakeHull(std::span<const Vec3> points, std::optional<float> convex_radius) {
+  if (convex_radius && (!std::isfinite(*convex_radius) || *convex_radius < 0.0f))
+    return MakeError(ErrorCode::kInvalidArgument, "hull convex radius must be a finite number >= 0");
   auto hull = BuildConvexHull(points);
   if (!hull) return hull.error();
   Vec3 interior = Vec3::Zero();
   for (const Vec3& v : hull->vertices) interior += v;
   interior /= static_cast<float>(hull->vertices.size());
-  float min_face_distance = kLargeFloat;
-  for (const HullFace& face : hull->faces)
-    min_face_distance = std::min(min_face_distance, face.offset - face.normal.dot(interior));
-  if (!(min_face_distance > 1e-6f))
+  float depth = kLargeFloat;  // from the interior point to the nearest face
+  for (const HullFace& face : hull->faces) depth = std::min(depth, face.offset - face.normal.dot(interior));
+  if (!(depth > 1e-6f))
     return MakeError(ErrorCode::kDegenerateShape, "convex hull is too thin to have an interior");
-  const float core_radius = std::min(0.05f, 0.2f * min_face_distance);
-  const float core_scale = 1.0f - core_radius / min_face_distance;
-  return ShapeRef(std::make_shared<ConvexHullShape>(std::move(*hull), interior, core_radius, core_scale));
+  const float radius =
+      convex_radius.value_or(std::min(kDefaultConvexRadius, ConvexShape::kMaxDefaultRadiusShare * depth));
+  if (radius > 0.5f * depth)
+    return MakeError(ErrorCode::kInvalidArgument, "hull convex radius " + std::to_string(radius) +
+                                                      " is over half the depth of its interior " +
+                                                      std::to_string(depth));
+  HullData core;
+  if (radius > 0.0f) core = MovedInCore(*hull, interior, radius);
+  // Without a moved-in core (radius 0, or planes too ill-conditioned to meet) the core is the scaled hull.
+  const float core_radius =
+      core.vertices.empty() ? std::min(kDefaultConvexRadius, kSharpCoreShare * depth) : radius;
+  const float core_scale = 1.0f - core_radius / depth;
+  return ShapeRef(std::make_shared<ConvexHullShape>(std::move(*hull), interior, core_radius, core_scale,
+                                                    std::move(core)));
+}
+
+}  // namespace
+
+Result<ShapeRef> ConvexHullShape::Create(std::span<const Vec3> points) {
+  return MakeHull(points, std::nullopt);
+}
+
+Result<ShapeRef> ConvexHullShape::Create(std::span<const Vec3> points, float convex_radius) {
+  return MakeHull(points, convex_radius);
 }
 
 ConvexHullShape::ConvexHullShape(HullData hull, const Vec3& interior_point, float core_radius,
-                                 float core_scale)
-    : ConvexShape(ShapeType::kConvexHull, core_radius),
+                                 float core_scale, HullData rounded_core)
+    : ConvexShape(ShapeType::kConvexHull, core_radius, !rounded_core.vertices.empty()),
       hull_(std::move(hull)),
       interior_point_(interior_point),
-      core_scale_(core_scale) {
-  for (const Vec3& v : hull_.vertices) bounds_.Encapsulate(v);
+      core_scale_(core_scale),
+      core_(std::move(rounded_core)) {
+  if (CoreIsExact()) {
+    // The rounded shape reaches the radius past its core, short of a sharp corner that sticks out further.
+    for (const Vec3& v : core_.vertices) bounds_.Encapsulate(v);
+    bounds_ = bounds_.Expanded(core_radius);
+  } else {
+    for (const Vec3& v : hull_.vertices) bounds_.Encapsulate(v);
+  }
   // Each directed edge belongs to exactly one face's loop; its reverse to the face across the edge.
   std::map<std::pair<int, int>, int> face_of_directed_edge;
   for (std::size_t f = 0; f < hull_.faces.size(); ++f) {
@@ -86,6 +145,15 @@ MassProperties ConvexHullShape::ComputeMassProperties(float density) const {
 
 bool ConvexHullShape::CastRay(const Vec3& origin, const Vec3& direction, float max_fraction,
                               ShapeRayHit& hit) const {
+  if (!CastRaySharp(origin, direction, max_fraction, hit)) return false;
+  if (!CoreIsExact()) return true;
+  const ShapeRayHit sharp = hit;
+  const auto closest_on_core = [this](const Vec3& point) { return ClosestOnCore(point); };
+  return CastRayRounded(origin, direction, max_fraction, sharp, closest_on_core, hit);
+}
+
+bool ConvexHullShape::CastRaySharp(const Vec3& origin, const Vec3& direction, float max_fraction,
+                                   ShapeRayHit& hit) const {
   float enter = 0.0f, leave = max_fraction;
   Vec3 normal = -direction.normalized();
   for (const HullFace& face : hull_.faces) {
@@ -109,14 +177,59 @@ bool ConvexHullShape::CastRay(const Vec3& origin, const Vec3& direction, float m
   return true;
 }
 
-Vec3 ConvexHullShape::Support(const Vec3& direction) const {
-  const Vec3* best = &hull_.vertices[0];
+Vec3 ConvexHullShape::Farthest(const std::vector<Vec3>& points, const Vec3& direction) {
+  const Vec3* best = &points[0];
   float best_dot = best->dot(direction);
-  for (const Vec3& v : hull_.vertices) {
+  for (const Vec3& v : points) {
     const float d = v.dot(direction);
     if (d > best_dot) best_dot = d, best = &v;
   }
   return *best;
+}
+
+Vec3 ConvexHullShape::ClosestOnCore(const Vec3& point) const {
+  // Outside a convex polyhedron, the nearest point lies on a face the point is in front of: the nearest of
+  // those faces' nearest points. A point in front of none is inside.
+  Vec3 closest = point;
+  float closest_distance = kLargeFloat;
+  for (const HullFace& face : core_.faces) {
+    const float height = face.normal.dot(point) - face.offset;
+    if (height <= 0.0f) continue;
+    Vec3 on_face = point - height * face.normal;
+    const std::size_t count = face.vertices.size();
+    bool inside = true;
+    for (std::size_t i = 0; i < count && inside; ++i) {
+      const Vec3& from = core_.vertices[face.vertices[i]];
+      const Vec3& to = core_.vertices[face.vertices[(i + 1) % count]];
+      inside = (to - from).cross(face.normal).dot(on_face - from) <= 0.0f;
+    }
+    if (!inside) {
+      float best = kLargeFloat;
+      for (std::size_t i = 0; i < count; ++i) {
+        const Vec3& from = core_.vertices[face.vertices[i]];
+        const Vec3 edge = core_.vertices[face.vertices[(i + 1) % count]] - from;
+        const float t = std::clamp(edge.dot(point - from) / std::max(edge.squaredNorm(), 1e-20f), 0.0f, 1.0f);
+        const Vec3 on_edge = from + t * edge;
+        const float distance = (point - on_edge).squaredNorm();
+        if (distance < best) best = distance, on_face = on_edge;
+      }
+    }
+    const float distance = (point - on_face).squaredNorm();
+    if (distance < closest_distance) closest_distance = distance, closest = on_face;
+  }
+  return closest;
+}
+
+Vec3 ConvexHullShape::Support(const Vec3& direction) const {
+  if (!CoreIsExact()) return Farthest(hull_.vertices, direction);
+  const float length = direction.norm();
+  const Vec3 core = Farthest(core_.vertices, direction);
+  return length > 0.0f ? Vec3(core + (core_radius() / length) * direction) : core;
+}
+
+Vec3 ConvexHullShape::CoreSupport(const Vec3& direction) const {
+  if (CoreIsExact()) return Farthest(core_.vertices, direction);
+  return interior_point_ + core_scale_ * (Farthest(hull_.vertices, direction) - interior_point_);
 }
 
 void ConvexHullShape::GetSupportingFace(const Vec3& direction, SupportingFace& face) const {

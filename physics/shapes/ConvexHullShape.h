@@ -9,13 +9,22 @@
 
 namespace strata {
 
-/// Convex polyhedron. The GJK core is the hull scaled towards its interior point so that every face
-/// moves in by at least the core radius.
+/// Convex polyhedron, its edges and corners rounded by a convex radius inside its faces (Jolt's convention):
+/// the core is the hull with every face plane moved in by the radius, and the shape is that core plus the
+/// radius, so the faces stay where the points put them. A sharp hull (radius 0) keeps a core scaled towards
+/// its interior point, every face at least a small core radius in, for GJK's sake.
 class ConvexHullShape final : public ConvexShape {
  public:
   /// Fails for fewer than 4 points, NaN/Inf, or points without volume (coincident, collinear, coplanar).
+  /// The hull is rounded by kDefaultConvexRadius, or a quarter of its interior's depth (the distance from
+  /// the vertices' centroid to the nearest face) where that is less.
   static Result<ShapeRef> Create(std::span<const Vec3> points);
-  ConvexHullShape(HullData hull, const Vec3& interior_point, float core_radius, float core_scale);
+  /// Fails as above, and for a convex radius that is negative, not finite, or over half the interior's depth.
+  static Result<ShapeRef> Create(std::span<const Vec3> points, float convex_radius);
+  /// Unchecked: the Create forms say what they need. `rounded_core` is the core of a rounded hull (no
+  /// vertices for a sharp one, whose core is the hull scaled by `core_scale` towards `interior_point`).
+  ConvexHullShape(HullData hull, const Vec3& interior_point, float core_radius, float core_scale,
+                  HullData rounded_core);
 
   const std::vector<Vec3>& vertices() const { return hull_.vertices; }
   const std::vector<HullFace>& faces() const { return hull_.faces; }
@@ -31,15 +40,19 @@ class ConvexHullShape final : public ConvexShape {
   bool CastRay(const Vec3& origin, const Vec3& direction, float max_fraction,
                ShapeRayHit& hit) const override;
   Vec3 Support(const Vec3& direction) const override;
-  Vec3 CoreSupport(const Vec3& direction) const override {
-    return interior_point_ + core_scale_ * (Support(direction) - interior_point_);
-  }
+  Vec3 CoreSupport(const Vec3& direction) const override;
+  /// The hull's own face, to its sharp edges: manifolds clip these (Jolt does the same).
   void GetSupportingFace(const Vec3& direction, SupportingFace& face) const override;
 
  protected:
   void CollectLocalTriangles(const AABB& local_box, std::vector<Triangle>& out) const override;
 
  private:
+  bool CastRaySharp(const Vec3& origin, const Vec3& direction, float max_fraction, ShapeRayHit& hit) const;
+  static Vec3 Farthest(const std::vector<Vec3>& points, const Vec3& direction);
+  /// The rounded core's point nearest to `point` (the point itself inside).
+  Vec3 ClosestOnCore(const Vec3& point) const;
+
   HullData hull_;
   std::vector<std::array<int, 2>> edges_;
   std::vector<Vec3> edge_directions_;
@@ -47,6 +60,7 @@ class ConvexHullShape final : public ConvexShape {
   AABB bounds_;
   Vec3 interior_point_;
   float core_scale_;
+  HullData core_;
 };
 
 }  // namespace strata

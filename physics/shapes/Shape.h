@@ -48,14 +48,20 @@ class Shape {
   /// Whether the world bounds turn with the body (a box's do); a shape that looks the same from every side
   /// (a sphere) says no, and its world bounds are its local bounds moved, which is tighter.
   virtual bool BoundsTurnWithBody() const { return true; }
+  /// How far the shape's edges and corners are rounded (its convex radius; 0 for sharp shapes): a rounded
+  /// shape's world bounds are its local bounds shrunk by this, turned, and grown by it again, which fits a
+  /// turned rounded box or capsule exactly where the turned local box would stick out at the corners.
+  virtual float BoundsRounding() const { return 0.0f; }
   /// Bounds in world space for a body at `pose`.
   AABB WorldBounds(const Pose& pose) const {
-    return WorldBoundsOf(LocalBounds(), BoundsTurnWithBody(), pose);
+    return WorldBoundsOf(LocalBounds(), BoundsTurnWithBody(), BoundsRounding(), pose);
   }
-  /// The same from the two facts alone: bodies keep them, so that moving a body reads no shape.
-  static AABB WorldBoundsOf(const AABB& local, bool turns_with_body, const Pose& pose) {
+  /// The same from the three facts alone: bodies keep them, so that moving a body reads no shape.
+  static AABB WorldBoundsOf(const AABB& local, bool turns_with_body, float rounding, const Pose& pose) {
     if (!turns_with_body) return {pose.position + local.min, pose.position + local.max};
-    return local.Transformed(pose);
+    if (rounding == 0.0f) return local.Transformed(pose);
+    const AABB core{local.min.array() + rounding, local.max.array() - rounding};
+    return core.Transformed(pose).Expanded(rounding);
   }
 
   /// Mass, inertia about the centre of mass and centre of mass for uniform `density` (kg/m^3).

@@ -11,7 +11,7 @@ class SphereShape final : public ConvexShape {
  public:
   /// Fails for a non-finite or non-positive radius.
   static Result<ShapeRef> Create(float radius);
-  explicit SphereShape(float radius) : ConvexShape(ShapeType::kSphere, radius), radius_(radius) {}
+  explicit SphereShape(float radius) : ConvexShape(ShapeType::kSphere, radius, true), radius_(radius) {}
 
   float radius() const { return radius_; }
 
@@ -23,7 +23,6 @@ class SphereShape final : public ConvexShape {
   Vec3 Support(const Vec3& direction) const override;
   Vec3 CoreSupport(const Vec3&) const override { return Vec3::Zero(); }
   void GetSupportingFace(const Vec3& direction, SupportingFace& face) const override;
-  bool CoreIsExact() const override { return true; }
 
  protected:
   void CollectLocalTriangles(const AABB& local_box, std::vector<Triangle>& out) const override;

@@ -8,6 +8,7 @@
 #include "assets/scene/SceneLoader.h"
 #include "physics/body/BodyInterface.h"
 #include "physics/constraints/ConstraintManager.h"
+#include "physics/shapes/ConvexShape.h"
 #include "physics/shapes/HeightFieldShape.h"
 #include "physics/shapes/TriangleMeshShape.h"
 
@@ -382,6 +383,41 @@ TEST(SceneLoader, HeightFieldsComeFromArraysPicturesAndRawFiles) {
   EXPECT_NE(
       error(R"("columns": 2, "rows": 2, "heights": [0, 0, 0, 0], "spacing": 1)").find("spacing: unknown key"),
       std::string::npos);
+}
+
+TEST(SceneLoader, BoxesAndHullsTakeAConvexRadiusAndRefuseOneThatDoesNotFit) {
+  const std::string hull = R"("points": [[0,1,0],[1,0,0],[-1,0,0],[0,0,1],[0,0,-1]])";
+  Result<Scene> scene = ParseScene(R"({"bodies": [
+      {"shape": {"type": "box", "half_extents": [1, 1, 1]}},
+      {"shape": {"type": "box", "half_extents": [1, 1, 1], "convex_radius": 0}},
+      {"shape": {"type": "box", "half_extents": [1, 1, 1], "convex_radius": 0.2}},
+      {"shape": {"type": "convex_hull", )" +
+                                       hull + R"(, "convex_radius": 0.08}},
+      {"shape": {"type": "convex_hull", )" +
+                                       hull + R"(}}]})",
+                                   "test.json", kScenes);
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  const auto radius = [&](std::size_t i) {
+    return static_cast<const ConvexShape&>(*scene->shapes[i]).convex_radius();
+  };
+  EXPECT_FLOAT_EQ(radius(0), kDefaultConvexRadius);
+  EXPECT_FLOAT_EQ(radius(1), 0.0f);
+  EXPECT_FLOAT_EQ(radius(2), 0.2f);
+  EXPECT_FLOAT_EQ(radius(3), 0.08f);
+  EXPECT_FLOAT_EQ(radius(4), kDefaultConvexRadius);
+  for (const char* bad : {R"(-0.1)", R"("round")", R"(1.5)", R"(null)"}) {
+    const std::string error = ParseError(
+        std::string(R"({"bodies": [{"shape": {"type": "box", "half_extents": [1, 1, 1], "convex_radius": )") +
+        bad + "}}]}");
+    EXPECT_NE(error.find("convex_radius"), std::string::npos) << bad << ": " << error;
+  }
+  EXPECT_NE(
+      ParseError(R"({"bodies": [{"shape": {"type": "convex_hull", )" + hull + R"(, "convex_radius": 0.5}}]})")
+          .find("convex_radius"),
+      std::string::npos);
+  EXPECT_NE(ParseError(R"({"bodies": [{"shape": {"type": "sphere", "radius": 1, "convex_radius": 0.1}}]})")
+                .find("convex_radius"),
+            std::string::npos);
 }
 
 }  // namespace

@@ -27,7 +27,7 @@ PosedPair RandomPair(std::mt19937& random) {
   // Centres about as far apart as the boxes are big, so that about half the pairs touch.
   const float reach = 0.8f * (half_a.norm() + half_b.norm());
   const Vec3 offset = reach * Vec3(unit(random), unit(random), unit(random));
-  return {BoxShape(half_a), BoxShape(half_b), Pose{Vec3(10, -3, 7), RandomRotation(random)},
+  return {BoxShape(half_a, 0.0f), BoxShape(half_b, 0.0f), Pose{Vec3(10, -3, 7), RandomRotation(random)},
           Pose{Vec3(10, -3, 7) + offset, RandomRotation(random)}};
 }
 
@@ -73,7 +73,7 @@ TEST(BoxBoxCollider, AgreesWithThePolyhedronColliderOnRandomPairs) {
 TEST(BoxBoxCollider, BoxRestingOnAFloorTouchesAtItsFourBottomCornersInEitherOrder) {
   // The faces are parallel (to rounding, when the box is tipped by a hair), so either could be the reference:
   // the floor's is, whichever body comes first, and the box's bottom face needs no clipping.
-  const BoxShape floor(Vec3(50, 1, 50)), box(Vec3(0.5f, 0.25f, 0.5f));
+  const BoxShape floor(Vec3(50, 1, 50), 0.0f), box(Vec3(0.5f, 0.25f, 0.5f), 0.0f);
   const Pose floor_pose{Vec3(0, -1, 0), Quat::Identity()};
   for (const float tip : {0.0f, 2e-5f}) {
     const Quat turn(Eigen::AngleAxisf(0.3f, Vec3::UnitY()) * Eigen::AngleAxisf(tip, Vec3::UnitX()));
@@ -104,7 +104,7 @@ TEST(BoxBoxCollider, BoxRestingOnAFloorTouchesAtItsFourBottomCornersInEitherOrde
 TEST(BoxBoxCollider, EqualBoxesStackedCornerToCornerTouchAtTheirFourCorners) {
   // A tower's boxes: each one's bottom face meets the top face of the one below along all four edges, within
   // rounding (turned a hair, shifted a hair). The manifold is the four corners, not near-copies of some.
-  const BoxShape cube(Vec3::Constant(0.5f));
+  const BoxShape cube(Vec3::Constant(0.5f), 0.0f);
   for (const float shift : {0.0f, 1e-7f, -3e-7f, 2e-6f})
     for (const float turn : {0.0f, 1e-6f, -4e-6f}) {
       const Pose lower{Vec3(3, 0.5f, -7), Quat::Identity()};
@@ -124,7 +124,7 @@ TEST(BoxBoxCollider, EqualBoxesStackedCornerToCornerTouchAtTheirFourCorners) {
 TEST(BoxBoxCollider, CrossedEdgesTouchAtOnePointBetweenThem) {
   // Two unit cubes each turned 45 degrees, one about z and one about x, stacked so that their ridge edges
   // cross: the upper one's lowest edge runs along z, the lower one's highest along x.
-  const BoxShape cube(Vec3::Constant(0.5f));
+  const BoxShape cube(Vec3::Constant(0.5f), 0.0f);
   const float ridge = 0.5f * std::sqrt(2.0f);
   const Pose lower{Vec3::Zero(), Quat(Eigen::AngleAxisf(kPi / 4, Vec3::UnitX()))};
   const Pose upper{Vec3(0, 2 * ridge - 0.01f, 0), Quat(Eigen::AngleAxisf(kPi / 4, Vec3::UnitZ()))};
@@ -138,7 +138,7 @@ TEST(BoxBoxCollider, CrossedEdgesTouchAtOnePointBetweenThem) {
 }
 
 TEST(BoxBoxCollider, AGapWiderThanTheMarginIsNoContactAndANarrowerOneIsSpeculative) {
-  const BoxShape cube(Vec3::Constant(0.5f));
+  const BoxShape cube(Vec3::Constant(0.5f), 0.0f);
   const Pose a{Vec3::Zero(), Quat::Identity()};
   ContactManifold manifold;
   EXPECT_FALSE(CollideBoxes(cube, a, cube, Pose{Vec3(1.03f, 0.2f, 0), Quat::Identity()}, 0.02f, manifold));

@@ -90,7 +90,7 @@ TEST(CollisionDispatch, EveryBuiltInPairCollidesExceptTwoMeshesAndEveryTargetHas
 void Place(const Shape& a, const Shape& b, Pose& pose_a, Pose& pose_b) {
   if (a.IsConvex() && b.IsConvex()) {
     pose_a = {Vec3(0.05f, 0.0f, -0.03f), Quat(Eigen::AngleAxisf(0.2f, Vec3::UnitY()))};
-    pose_b = {Vec3(0.0f, 0.85f, 0.0f), Quat(Eigen::AngleAxisf(0.1f, Vec3::UnitZ()))};
+    pose_b = {Vec3(0.0f, 0.8f, 0.0f), Quat(Eigen::AngleAxisf(0.1f, Vec3::UnitZ()))};
     return;
   }
   const Shape& convex = a.IsConvex() ? a : b;

@@ -60,7 +60,7 @@ TEST(Collision, DeepBoxOverlapGivesFourPointManifold) {
 }
 
 TEST(Collision, RotatedBoxCornerGivesOnePoint) {
-  const ShapeRef box = Box(1, 1, 1);
+  const ShapeRef box = SharpBox(1, 1, 1);
   const Quat corner_down = Quat::FromTwoVectors(Vec3(1, 1, 1).normalized(), Vec3(0, -1, 0));
   const float corner = std::sqrt(3.0f);
   ContactManifold manifold;

@@ -50,7 +50,7 @@ void ExpectFraction(const std::optional<SweepContact>& hit, float exact, float l
 }
 
 TEST(ShapeCast, SphereAtABoxFaceAndEdge) {
-  const ShapeRef box = Box(1, 1, 1), sphere = Sphere(0.5f);
+  const ShapeRef box = SharpBox(1, 1, 1), sphere = Sphere(0.5f);
   const auto face = Sweep(sphere, Pose{{-5, 0, 0}, Quat::Identity()}, {10, 0, 0}, box, Pose{});
   ExpectFraction(face, 0.35f, 10.0f);
   EXPECT_NEAR(face->normal.x(), -1.0f, 1e-4f);
@@ -73,7 +73,7 @@ TEST(ShapeCast, SphereAtABoxFaceAndEdge) {
 // box tilts the contact normal there and reads an overlap, yet the shapes never touch sliding over the face,
 // and moving down they meet where the capsule's cap reaches the edge.
 TEST(ShapeCast, CapsuleJustClearOfABoxEdgeIsNoStartContact) {
-  const ShapeRef capsule = Capsule(0.6f, 0.3f), box = Box(2, 1, 0.7f);
+  const ShapeRef capsule = Capsule(0.6f, 0.3f), box = SharpBox(2, 1, 0.7f);
   const Pose box_pose{{1.0f, -1.9004f, 0.7084f}, Quat::Identity()};
   const Pose start{Vec3::Zero(), Quat::Identity()};
   EXPECT_FALSE(Sweep(capsule, start, {0, 0, 1}, box, box_pose).has_value());
@@ -89,7 +89,7 @@ TEST(ShapeCast, CapsuleJustClearOfABoxEdgeIsNoStartContact) {
 }
 
 TEST(ShapeCast, BoxAtABoxStraightAndTurned) {
-  const ShapeRef target = Box(1, 1, 1), box = Box(0.5f, 0.5f, 0.5f);
+  const ShapeRef target = SharpBox(1, 1, 1), box = SharpBox(0.5f, 0.5f, 0.5f);
   ExpectFraction(Sweep(box, Pose{{-5, 0, 0}, Quat::Identity()}, {10, 0, 0}, target, Pose{}), 0.35f, 10.0f);
   // Turned 45 degrees about y it reaches sqrt(2) / 2 ahead of its centre, corner first onto the face.
   const Quat turned(Eigen::AngleAxisf(kPi / 4, Vec3::UnitY()));

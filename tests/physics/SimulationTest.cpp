@@ -14,6 +14,11 @@ BodyID Floor(PhysicsSystem& world, float friction = 0.5f, const Quat& rotation =
   return Add(world, floor);
 }
 
+// Sharp boxes meet face to face by separating axes, whose face contacts the pair cache can slide.
+BodyID SharpFloor(PhysicsSystem& world) {
+  return Add(world, Static(SharpBox(50, 1, 50), Vec3(0, -1, 0)));
+}
+
 TEST(Simulation, StageTimingsCanBeLeftOutWithoutChangingTheStep) {
   Vec3 positions[2];
   for (const bool timed : {true, false}) {
@@ -292,8 +297,8 @@ TEST(Simulation, RestingPairsReplayTheirManifoldsAndMovedPairsAreTestedAgain) {
   PhysicsSettings settings;
   settings.allow_sleeping = false;
   auto world = MakeWorld(settings);
-  Floor(*world);
-  const BodyID box = Add(*world, Dynamic(Box(0.5f, 0.5f, 0.5f), Vec3(0, 0.5f, 0)));
+  SharpFloor(*world);
+  const BodyID box = Add(*world, Dynamic(SharpBox(0.5f, 0.5f, 0.5f), Vec3(0, 0.5f, 0)));
   StepFor(*world, 60);
   EXPECT_EQ(world->last_step_stats().pairs, 1u);
   EXPECT_EQ(world->last_step_stats().pairs_replayed, 1u);  // at rest: last step's manifold moved along
@@ -320,11 +325,11 @@ std::vector<float> SlideOffAnEdge(bool slides, float yaw, float speed, int& slid
   settings.allow_sleeping = false;
   settings.body_pair_cache_slides = slides;
   auto world = MakeWorld(settings);
-  BodyCreationSettings floor = Static(Box(4, 1, 4), Vec3(0, -1, 0));
+  BodyCreationSettings floor = Static(SharpBox(4, 1, 4), Vec3(0, -1, 0));
   floor.friction = 0.0f;
   Add(*world, floor);
   BodyCreationSettings box =
-      Dynamic(Box(0.5f, 0.3f, 0.4f), Vec3(0, 0.3f, 0), Quat(Eigen::AngleAxisf(yaw, Vec3::UnitY())));
+      Dynamic(SharpBox(0.5f, 0.3f, 0.4f), Vec3(0, 0.3f, 0), Quat(Eigen::AngleAxisf(yaw, Vec3::UnitY())));
   box.friction = 0.0f;
   const BodyID id = Add(*world, box);
   StepFor(*world, 30);  // settle

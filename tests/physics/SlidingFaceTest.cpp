@@ -29,7 +29,7 @@ Placed RandomBoxOnFloor(std::mt19937& random) {
   const Vec3 across(0.9f * floor_half.x() * unit(random), 0, 0.9f * floor_half.z() * unit(random));
   const Vec3 box_centre =
       floor_centre + floor_turn * (across + Vec3(0, floor_half.y() + box_half.y() - depth(random), 0));
-  return {BoxShape(floor_half), BoxShape(box_half), Pose{floor_centre, floor_turn},
+  return {BoxShape(floor_half, 0.0f), BoxShape(box_half, 0.0f), Pose{floor_centre, floor_turn},
           Pose{box_centre, box_turn}};
 }
 
@@ -124,7 +124,7 @@ TEST(SlidingFace, CarriedCornersAreTheContactsAFreshTestFindsWhereverTheCarryHol
 }
 
 TEST(SlidingFace, ACornerOffTheFaceOrPressedDeepIsLeftToTheShapeTest) {
-  const BoxShape floor(Vec3(5, 1, 5)), box(Vec3(0.5f, 0.5f, 0.5f));
+  const BoxShape floor(Vec3(5, 1, 5), 0.0f), box(Vec3(0.5f, 0.5f, 0.5f), 0.0f);
   const Pose floor_pose{Vec3(0, -1, 0), Quat::Identity()};
   const Pose box_pose{Vec3(0, 0.49f, 0), Quat::Identity()};
   ContactManifold before;

@@ -18,8 +18,13 @@
 
 namespace strata::test {
 
+/// A box rounded by the default convex radius, as BoxShape::Create makes it.
 inline ShapeRef Box(float x, float y, float z) {
   return *BoxShape::Create({x, y, z});
+}
+/// A box with sharp edges (convex radius 0): separating axes, and face contacts the pair cache can slide.
+inline ShapeRef SharpBox(float x, float y, float z) {
+  return *BoxShape::Create({x, y, z}, 0.0f);
 }
 inline ShapeRef Sphere(float r) {
   return *SphereShape::Create(r);

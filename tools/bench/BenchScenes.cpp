@@ -39,6 +39,8 @@ BenchScene MakePyramid() {
       }
     }
   }
+  // Jolt builds these boxes, floor too, with no convex radius ("to force more collisions").
+  for (BodyDescription& body : scene.bodies) body.convex_radius = 0.0f;
   scene.sleeping = false;
   return scene;
 }
@@ -62,6 +64,8 @@ BenchScene MakeConvexVsMesh() {
     }
   }
   scene.bodies.push_back(Body(SceneShape::kMesh, Vec3(0, 5, 0), SceneMotion::kStatic, 0.5f, 0.6f));
+  // Jolt's box and hull here take its default convex radius (cDefaultConvexRadius), rounded edges.
+  constexpr float kJoltConvexRadius = 0.05f;
   scene.hulls.push_back({{Vec3(0, 1, 0), Vec3(1, 0, 0), Vec3(-1, 0, 0), Vec3(0, 0, 1), Vec3(0, 0, -1)}});
   for (int x = -10; x <= 10; ++x) {
     for (int y = 0; y < 4; ++y) {
@@ -71,6 +75,7 @@ BenchScene MakeConvexVsMesh() {
         switch (y) {
           case 0:
             body.shape = SceneShape::kBox, body.half_extents = Vec3(0.5f, 0.75f, 1.0f);
+            body.convex_radius = kJoltConvexRadius;
             break;
           case 1:
             body.shape = SceneShape::kSphere, body.radius = 0.5f;
@@ -80,6 +85,7 @@ BenchScene MakeConvexVsMesh() {
             break;
           default:
             body.shape = SceneShape::kHull;
+            body.convex_radius = kJoltConvexRadius;
             break;
         }
         scene.bodies.push_back(body);

@@ -41,7 +41,8 @@ std::unique_ptr<PhysicsSystem> BoxWorld(const OpenWorld& open) {
   std::vector<BodyID> ids;
   for (std::size_t i = 0; i < open.bounds.size(); ++i) {
     BodyCreationSettings box;
-    box.shape = *BoxShape::Create(open.bounds[i].HalfExtents());
+    // Sharp: the casts' exact answers are measured on sharp boxes.
+    box.shape = *BoxShape::Create(open.bounds[i].HalfExtents(), 0.0f);
     box.position = open.bounds[i].Center();
     box.motion_type = MotionType::kStatic;
     box.object_layer = open.layers[i];

@@ -131,10 +131,19 @@ void CollidePair(benchmark::State& state, MakeA make_a, MakeB make_b, const Pose
 
 void BM_CollideBoxOnBox(benchmark::State& state) {
   CollidePair(
-      state, [] { return *BoxShape::Create(Vec3(1, 1, 1)); }, [] { return *BoxShape::Create(Vec3(1, 1, 1)); },
+      state, [] { return *BoxShape::Create(Vec3(1, 1, 1), 0.0f); },
+      [] { return *BoxShape::Create(Vec3(1, 1, 1), 0.0f); },
       Pose{Vec3(0.2f, 1.99f, 0.1f), Quat(Eigen::AngleAxisf(0.1f, Vec3::UnitY()))});
 }
 BENCHMARK(BM_CollideBoxOnBox);
+
+// The same pair rounded by the default convex radius: GJK on the cores instead of separating axes.
+void BM_CollideRoundedBoxOnBox(benchmark::State& state) {
+  CollidePair(
+      state, [] { return *BoxShape::Create(Vec3(1, 1, 1)); }, [] { return *BoxShape::Create(Vec3(1, 1, 1)); },
+      Pose{Vec3(0.2f, 1.99f, 0.1f), Quat(Eigen::AngleAxisf(0.1f, Vec3::UnitY()))});
+}
+BENCHMARK(BM_CollideRoundedBoxOnBox);
 
 void BM_CollideCapsuleOnBox(benchmark::State& state) {
   CollidePair(

@@ -1,0 +1,241 @@
+// Rounded boxes and hulls (convex radius): their size and errors, contacts measured against closed-form
+// distances, resting heights, rays on the rounded corners, and runs that match bit for bit on any thread
+// count.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "physics/core/ThreadPoolJobSystem.h"
+#include "physics/narrowphase/CollideShapes.h"
+#include "tests/physics/TestWorld.h"
+
+namespace strata::test {
+namespace {
+
+const ConvexShape& Convex(const ShapeRef& shape) {
+  return static_cast<const ConvexShape&>(*shape);
+}
+
+// Square pyramid, apex up: Jolt's PerformanceTest hull.
+ShapeRef Pyramid(std::optional<float> convex_radius = std::nullopt) {
+  const std::vector<Vec3> points = {Vec3(0, 1, 0), Vec3(1, 0, 0), Vec3(-1, 0, 0), Vec3(0, 0, 1),
+                                    Vec3(0, 0, -1)};
+  return convex_radius ? *ConvexHullShape::Create(points, *convex_radius) : *ConvexHullShape::Create(points);
+}
+
+// The contact of `a` at `pose_a` with `b` at `pose_b`, looking `reach` apart.
+ContactManifold Contact(const ShapeRef& a, const Pose& pose_a, const ShapeRef& b, const Pose& pose_b,
+                        float reach = 1.0f) {
+  ContactManifold manifold;
+  EXPECT_TRUE(CollideConvexConvex(Convex(a), pose_a, Convex(b), pose_b, reach, manifold));
+  return manifold;
+}
+
+// A sphere's distance to a rounded box: to the core box, less both radii.
+float SphereToRoundedBox(const Vec3& centre, const Vec3& core_half, float convex_radius,
+                         float sphere_radius) {
+  const Vec3 nearest = centre.cwiseMax(-core_half).cwiseMin(core_half);
+  return (centre - nearest).norm() - convex_radius - sphere_radius;
+}
+
+TEST(RoundedShape, TheDefaultRadiusIsJoltsShrunkForSmallShapesAndBadRadiiAreRefused) {
+  EXPECT_FLOAT_EQ(Convex(Box(1, 2, 3)).convex_radius(), kDefaultConvexRadius);
+  EXPECT_FLOAT_EQ(Convex(Box(0.1f, 2, 3)).convex_radius(), 0.025f);  // a quarter of the thinnest side
+  EXPECT_FLOAT_EQ(Convex(SharpBox(1, 1, 1)).convex_radius(), 0.0f);
+  EXPECT_FALSE(Convex(SharpBox(1, 1, 1)).CoreIsExact());
+  EXPECT_FLOAT_EQ(Convex(*BoxShape::Create(Vec3(1, 1, 1), 0.3f)).convex_radius(), 0.3f);
+  EXPECT_FLOAT_EQ(Convex(Pyramid()).convex_radius(), kDefaultConvexRadius);
+  EXPECT_FLOAT_EQ(Convex(Pyramid(0.0f)).convex_radius(), 0.0f);
+  // A rounded box keeps its extents: the rounding is inside them.
+  EXPECT_EQ(Box(1, 2, 3)->LocalBounds().max, Vec3(1, 2, 3));
+  for (const float bad : {-0.01f, 1.5f, std::nanf(""), INFINITY}) {
+    const Result<ShapeRef> box = BoxShape::Create(Vec3(1, 2, 3), bad);
+    ASSERT_FALSE(box.ok()) << bad;
+    EXPECT_NE(box.error().message.find("convex radius"), std::string::npos) << box.error().message;
+  }
+  // The pyramid's interior is 0.2 m deep below its centroid: half of that at most.
+  const std::vector<Vec3> points = {Vec3(0, 1, 0), Vec3(1, 0, 0), Vec3(-1, 0, 0), Vec3(0, 0, 1),
+                                    Vec3(0, 0, -1)};
+  EXPECT_TRUE(ConvexHullShape::Create(points, 0.1f).ok());
+  EXPECT_FALSE(ConvexHullShape::Create(points, 0.11f).ok());
+  EXPECT_FALSE(ConvexHullShape::Create(points, -1.0f).ok());
+}
+
+TEST(RoundedShape, ContactsWithASphereMatchTheDistanceToTheCoreAtFacesEdgesAndCorners) {
+  const Vec3 half(1.0f, 0.5f, 0.75f);
+  const float radius = 0.1f;
+  const ShapeRef box = *BoxShape::Create(half, radius), sphere = Sphere(0.3f);
+  const Vec3 core = half.array() - radius;
+  const Pose box_pose{Vec3(40, -3, 12), Quat(Eigen::AngleAxisf(0.4f, Vec3(1, 2, 3).normalized()))};
+  // Before a face, an edge and a corner, apart and overlapping.
+  const std::vector<Vec3> local_centres = {
+      Vec3(0.2f, 0.9f, 0.1f),  Vec3(0.3f, 0.75f, 0.1f),  Vec3(1.2f, 0.7f, 0.2f),   Vec3(1.15f, 0.68f, 0.1f),
+      Vec3(1.2f, 0.7f, 0.95f), Vec3(1.05f, 0.6f, 0.85f), Vec3(-1.3f, -0.8f, 1.0f), Vec3(0.0f, -0.55f, -0.9f)};
+  for (const Vec3& local : local_centres) {
+    const Vec3 centre = box_pose.ToWorld(local);
+    const ContactManifold manifold = Contact(box, box_pose, sphere, Pose{centre, Quat::Identity()});
+    ASSERT_EQ(manifold.count, 1);
+    const float expected = SphereToRoundedBox(local, core, radius, 0.3f);
+    EXPECT_NEAR(manifold.points[0].separation, expected, 2e-4f) << local.transpose();
+    // The normal runs from the core's nearest point to the centre.
+    const Vec3 nearest = local.cwiseMax(-core).cwiseMin(core);
+    const Vec3 normal = box_pose.DirectionToWorld((local - nearest).normalized());
+    EXPECT_GT(manifold.normal.dot(normal), 0.9999f) << local.transpose();
+  }
+}
+
+TEST(RoundedShape, TwoRoundedBoxesMeetEdgeOnEdgeAtTheCoresDistanceLessBothRadii) {
+  // Two unit cubes, one turned 45 degrees about z and the other 45 degrees about x, edges crossed above
+  // each other: the cores' edges are sqrt(2) (1 - r) from each centre.
+  const float radius = 0.05f;
+  const ShapeRef cube = *BoxShape::Create(Vec3::Constant(1.0f), radius);
+  const Pose lower{Vec3(3, 1, -2), Quat(Eigen::AngleAxisf(0.25f * kPi, Vec3::UnitZ()))};
+  for (const float gap : {0.02f, 0.0f, -0.03f}) {
+    const float reach = std::sqrt(2.0f) * (1.0f - radius) + radius;
+    const Pose upper{lower.position + Vec3(0, 2 * reach + gap, 0),
+                     Quat(Eigen::AngleAxisf(0.25f * kPi, Vec3::UnitX()))};
+    const ContactManifold manifold = Contact(cube, lower, cube, upper);
+    ASSERT_GE(manifold.count, 1);
+    EXPECT_NEAR(manifold.MinSeparation(), gap, 2e-4f);
+    EXPECT_GT(manifold.normal.y(), 0.9999f);
+  }
+}
+
+TEST(RoundedShape, ARoundedBoxOnItsEdgeTouchesAtTheRoundingNotTheSharpEdge) {
+  const float radius = 0.05f;
+  const ShapeRef cube = *BoxShape::Create(Vec3::Constant(0.5f), radius);
+  const ShapeRef floor = SharpBox(5, 1, 5);
+  const float rounded_reach = std::sqrt(2.0f) * (0.5f - radius) + radius;  // below the centre
+  const Pose on_edge{Vec3(0, rounded_reach - 0.002f, 0), Quat(Eigen::AngleAxisf(0.25f * kPi, Vec3::UnitZ()))};
+  const ContactManifold manifold =
+      Contact(floor, Pose{Vec3(0, -1, 0), Quat::Identity()}, cube, on_edge, 0.02f);
+  ASSERT_GE(manifold.count, 1);
+  EXPECT_GT(manifold.normal.y(), 0.9999f);
+  // 2 mm in, not the 2 cm more the sharp edge would be.
+  for (int i = 0; i < manifold.count; ++i) EXPECT_NEAR(manifold.points[i].separation, -0.002f, 2e-4f);
+  // The sharp box is in by (sqrt(2) - 1) r more there.
+  const ContactManifold sharp =
+      Contact(floor, Pose{Vec3(0, -1, 0), Quat::Identity()}, SharpBox(0.5f, 0.5f, 0.5f), on_edge, 0.02f);
+  EXPECT_NEAR(sharp.MinSeparation(), -0.002f - (std::sqrt(2.0f) - 1.0f) * radius, 5e-4f);
+}
+
+TEST(RoundedShape, ARoundedHullsApexIsItsCorePointPlusTheRadius) {
+  // The pyramid's four slanted faces, moved in by r, meet below its apex; its flat bottom stays put.
+  const ShapeRef rounded = Pyramid(0.05f), sharp = Pyramid(0.0f), ball = Sphere(0.25f);
+  // The faces are (1, 1, 1)-like planes x + y + z = 1: moved in by r they meet on the axis at y = 1 - sqrt(3)
+  // r.
+  const float core_apex = 1.0f - std::sqrt(3.0f) * 0.05f;
+  const Pose hull_pose{Vec3(-7, 2, 5), Quat::Identity()};
+  const Pose above{hull_pose.position + Vec3(0, 1.4f, 0), Quat::Identity()};
+  const ContactManifold round = Contact(rounded, hull_pose, ball, above);
+  EXPECT_NEAR(round.points[0].separation, 1.4f - core_apex - 0.05f - 0.25f, 2e-4f);
+  EXPECT_NEAR(Contact(sharp, hull_pose, ball, above).points[0].separation, 1.4f - 1.0f - 0.25f, 2e-4f);
+  // Its flat bottom stays where the points put it.
+  const Pose below{hull_pose.position + Vec3(0.1f, -0.3f, 0.05f), Quat::Identity()};
+  EXPECT_NEAR(Contact(rounded, hull_pose, ball, below).points[0].separation, 0.3f - 0.25f, 2e-4f);
+}
+
+TEST(RoundedShape, RaysHitTheRoundedCornerAndPassWhereOnlyTheSharpCornerWouldBe) {
+  const float radius = 0.1f;
+  const ShapeRef box = *BoxShape::Create(Vec3::Constant(1.0f), radius);
+  const Vec3 diagonal = Vec3(1, 1, 1).normalized();
+  ShapeRayHit hit;
+  // Straight at the corner along the diagonal: it meets the corner sphere around the core's corner.
+  ASSERT_TRUE(box->CastRay(Vec3::Constant(3.0f), -diagonal * 10.0f, 1.0f, hit));
+  const Vec3 expected = Vec3::Constant(1.0f - radius) + radius * diagonal;
+  EXPECT_NEAR(hit.fraction * 10.0f, (Vec3::Constant(3.0f) - expected).norm(), 1e-4f);
+  EXPECT_GT(hit.normal.dot(diagonal), 0.9999f);
+  // Past the rounded edge along x, 5 mm inside the sharp box's two faces: only the sharp box is hit.
+  const Vec3 grazing(-3, 1.0f - 0.005f, 1.0f - 0.005f);
+  EXPECT_FALSE(box->CastRay(grazing, Vec3(6, 0, 0), 1.0f, hit));
+  EXPECT_TRUE(SharpBox(1, 1, 1)->CastRay(grazing, Vec3(6, 0, 0), 1.0f, hit));
+  // A face is where it always was, with its own normal.
+  ASSERT_TRUE(box->CastRay(Vec3(0.3f, 5, -0.2f), Vec3(0, -10, 0), 1.0f, hit));
+  EXPECT_FLOAT_EQ(hit.fraction, 0.4f);
+  EXPECT_EQ(hit.normal, Vec3::UnitY());
+  // From inside: at once.
+  ASSERT_TRUE(box->CastRay(Vec3::Zero(), Vec3(0, 0, 5), 1.0f, hit));
+  EXPECT_EQ(hit.fraction, 0.0f);
+  // The rounded hull's apex, from above.
+  ASSERT_TRUE(Pyramid(0.05f)->CastRay(Vec3(0, 3, 0), Vec3(0, -3, 0), 1.0f, hit));
+  EXPECT_NEAR(3.0f - 3.0f * hit.fraction, 1.0f - std::sqrt(3.0f) * 0.05f + 0.05f, 1e-4f);
+  EXPECT_GT(hit.normal.y(), 0.9999f);
+}
+
+TEST(RoundedShape, TurnedBoundsFitTheRoundedShape) {
+  const ShapeRef box = *BoxShape::Create(Vec3(1, 0.5f, 0.25f), 0.2f);
+  const Pose turned{Vec3(100, 0, -50), Quat(Eigen::AngleAxisf(0.7f, Vec3(1, 1, 0).normalized()))};
+  const AABB bounds = box->WorldBounds(turned);
+  for (int axis = 0; axis < 3; ++axis) {
+    const Vec3 along = Vec3::Unit(axis);
+    const float reach = turned.ToWorld(Convex(box).Support(turned.DirectionToLocal(along)))[axis];
+    EXPECT_NEAR(bounds.max[axis], reach, 1e-4f);
+    EXPECT_GT(SharpBox(1, 0.5f, 0.25f)->WorldBounds(turned).max[axis], bounds.max[axis] + 0.01f);
+  }
+}
+
+// Rounded boxes and pyramids dropped on a wavy mesh: where every body is after `steps`, bit for bit.
+std::vector<float> DropOnMesh(std::shared_ptr<JobSystem> jobs, int steps) {
+  PhysicsSystemConfig config;
+  config.max_bodies = 64;
+  config.job_system = std::move(jobs);
+  auto world = std::move(*PhysicsSystem::Create(config, PhysicsSettings{}));
+  std::vector<Vec3> vertices;
+  std::vector<TriangleMeshShape::Indices> triangles;
+  for (int z = 0; z <= 8; ++z)
+    for (int x = 0; x <= 8; ++x)
+      vertices.emplace_back(2.0f * x - 8.0f, 0.5f * std::sin(1.3f * x) * std::cos(0.9f * z), 2.0f * z - 8.0f);
+  for (std::uint32_t z = 0; z < 8; ++z)
+    for (std::uint32_t x = 0; x < 8; ++x) {
+      const std::uint32_t i = z * 9 + x;
+      triangles.push_back({i, i + 9, i + 1});
+      triangles.push_back({i + 1, i + 9, i + 10});
+    }
+  Add(*world, Static(*TriangleMeshShape::Create(vertices, triangles), Vec3::Zero()));
+  std::vector<BodyID> ids;
+  for (int i = 0; i < 24; ++i) {
+    const ShapeRef shape = i % 2 == 0 ? Box(0.4f, 0.3f, 0.5f) : Pyramid();
+    const Vec3 at(-5.0f + 2.2f * (i % 5), 2.0f + 1.1f * (i / 5), -4.0f + 1.7f * (i % 4));
+    ids.push_back(
+        Add(*world, Dynamic(shape, at, Quat(Eigen::AngleAxisf(0.3f * i, Vec3(1, 2, 3).normalized())))));
+  }
+  StepFor(*world, steps);
+  std::vector<float> state;
+  for (const BodyID id : ids) {
+    const Vec3 p = Position(*world, id);
+    state.insert(state.end(), {p.x(), p.y(), p.z()});
+  }
+  return state;
+}
+
+TEST(RoundedShape, PilesOnAMeshSettleAboveItAndMatchBitForBitOnEveryThreadCount) {
+  const std::vector<float> serial = DropOnMesh(std::make_shared<SerialJobSystem>(), 180);
+  EXPECT_EQ(DropOnMesh(std::make_shared<ThreadPoolJobSystem>(2), 180), serial);
+  EXPECT_EQ(DropOnMesh(std::make_shared<ThreadPoolJobSystem>(4), 180), serial);
+  for (std::size_t i = 1; i < serial.size(); i += 3) EXPECT_GT(serial[i], -0.6f);  // none fell through
+}
+
+TEST(RoundedShape, ARoundedBoxRestsOnAMeshAndOnABoxAtItsHalfHeight) {
+  for (const bool on_mesh : {true, false}) {
+    PhysicsSettings settings;
+    settings.allow_sleeping = false;
+    auto world = MakeWorld(settings);
+    if (on_mesh) {
+      const std::vector<Vec3> vertices = {{-5, 0, -5}, {5, 0, -5}, {5, 0, 5}, {-5, 0, 5}};
+      const std::vector<TriangleMeshShape::Indices> triangles = {{0, 2, 1}, {0, 3, 2}};
+      Add(*world, Static(*TriangleMeshShape::Create(vertices, triangles), Vec3::Zero()));
+    } else {
+      Add(*world, Static(Box(5, 1, 5), Vec3(0, -1, 0)));
+    }
+    const BodyID box = Add(*world, Dynamic(Box(0.6f, 0.35f, 0.45f), Vec3(0.3f, 0.5f, -0.2f),
+                                           Quat(Eigen::AngleAxisf(0.5f, Vec3::UnitY()))));
+    StepFor(*world, 180);
+    // Within the contact slop of touching, flat: the rounding does not lower a face.
+    EXPECT_NEAR(Position(*world, box).y(), 0.35f, 2e-3f) << (on_mesh ? "mesh" : "box");
+    const Vec3 up = *world->bodies().GetRotation(box) * Vec3::UnitY();
+    EXPECT_GT(up.y(), 0.9999f);
+  }
+}
+
+}  // namespace
+}  // namespace strata::test
