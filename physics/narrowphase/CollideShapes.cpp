@@ -319,6 +319,13 @@ class ConvexInMesh {
   /// Whether the convex's deepest point below the triangle's plane comes within `max_separation` of it: if
   /// not, no feature of the triangle can come closer.
   bool Reaches(const Vec3& face_normal, const Vec3& corner, float max_separation) const {
+    // A shape that is its core plus a radius reaches the radius past its core's lowest point (no square root
+    // for the rounded support's direction).
+    if (shape_.CoreIsExact()) {
+      const Vec3 lowest =
+          pose_.position + rotation_ * shape_.CoreSupport(rotation_.transpose() * -face_normal);
+      return face_normal.dot(lowest - corner) - shape_.core_radius() <= max_separation;
+    }
     const Vec3 lowest = pose_.position + rotation_ * shape_.Support(rotation_.transpose() * -face_normal);
     return face_normal.dot(lowest - corner) <= max_separation;
   }

@@ -169,8 +169,15 @@ void BM_CollideConvexOnMesh(benchmark::State& state) {
     case 2:
       convex = *CapsuleShape::Create(0.75f, 0.5f), state.SetLabel("capsule");
       break;
-    default:
+    case 3:
       convex = *ConvexHullShape::Create(scene.hulls[0].points), state.SetLabel("hull");
+      break;
+    // The same box and hull with sharp edges: separating axes instead of GJK on the rounded cores.
+    case 4:
+      convex = *BoxShape::Create(Vec3(0.5f, 0.75f, 1.0f), 0.0f), state.SetLabel("sharp box");
+      break;
+    default:
+      convex = *ConvexHullShape::Create(scene.hulls[0].points, 0.0f), state.SetLabel("sharp hull");
       break;
   }
   const auto& shape = static_cast<const ConvexShape&>(*convex);
@@ -200,7 +207,7 @@ void BM_CollideConvexOnMesh(benchmark::State& state) {
   state.counters["manifolds_per_body"] =
       static_cast<double>(manifolds) / static_cast<double>(state.iterations() * poses.size());
 }
-BENCHMARK(BM_CollideConvexOnMesh)->DenseRange(0, 3);
+BENCHMARK(BM_CollideConvexOnMesh)->DenseRange(0, 5);
 
 // The pyramid benchmark's contact graph: boxes whose centres are closer than 3 m touch (side neighbours at
 // 2 m, the four below at 2.9 m), linked in the order the narrow phase finds them (by the lower body).
