@@ -12,6 +12,8 @@ namespace {
 
 // A sharp hull's core keeps every face at least this share of the interior's depth in.
 constexpr float kSharpCoreShare = 0.2f;
+// How far past a moved-in face plane a core corner may lie (m): float rounding, not a fold.
+constexpr float kCoreTolerance = 1e-5f;
 
 // The hull with every face plane moved in by `radius`: the intersection of the moved half-spaces, found as
 // the dual of the hull of the planes' dual points (each plane n . (x - c) = e maps to n / e; each face of
@@ -30,6 +32,21 @@ HullData MovedInCore(const HullData& hull, const Vec3& interior, float radius) {
     if (!(face.offset > 0.0f)) return {};
     corners.push_back(interior + face.normal / face.offset);
   }
+  // Nearly parallel faces put their dual points close together, where the dual hull can come out folded:
+  // a corner outside a moved-in plane means it did.
+  for (const Vec3& corner : corners)
+    for (const HullFace& face : hull.faces)
+      if (face.normal.dot(corner) > face.offset - radius + kCoreTolerance) return {};
+  Result<HullData> core = BuildConvexHull(corners);
+  return core ? std::move(*core) : HullData{};
+}
+
+// The hull scaled towards `interior` until every face is at least `radius` in: inside the moved-in core, so
+// the rounded shape stays inside the hull, a little smaller where faces lie farther from the interior point.
+HullData ScaledCore(const HullData& hull, const Vec3& interior, float scale) {
+  std::vector<Vec3> corners;
+  corners.reserve(hull.vertices.size());
+  for (const Vec3& v : hull.vertices) corners.push_back(interior + scale * (v - interior));
   Result<HullData> core = BuildConvexHull(corners);
   return core ? std::move(*core) : HullData{};
 }
@@ -55,7 +72,8 @@ Result<ShapeRef> MakeHull(std::span<const Vec3> points, std::optional<float> con
                                                       std::to_string(depth));
   HullData core;
   if (radius > 0.0f) core = MovedInCore(*hull, interior, radius);
-  // Without a moved-in core (radius 0, or planes too ill-conditioned to meet) the core is the scaled hull.
+  if (radius > 0.0f && core.vertices.empty()) core = ScaledCore(*hull, interior, 1.0f - radius / depth);
+  // A sharp hull (or, were the scaled hull to fail too, one that cannot be rounded) scales its core.
   const float core_radius =
       core.vertices.empty() ? std::min(kDefaultConvexRadius, kSharpCoreShare * depth) : radius;
   const float core_scale = 1.0f - core_radius / depth;

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
 
 #include "physics/core/ThreadPoolJobSystem.h"
 #include "physics/narrowphase/CollideShapes.h"
@@ -171,6 +172,43 @@ TEST(RoundedShape, TurnedBoundsFitTheRoundedShape) {
     const float reach = turned.ToWorld(Convex(box).Support(turned.DirectionToLocal(along)))[axis];
     EXPECT_NEAR(bounds.max[axis], reach, 1e-4f);
     EXPECT_GT(SharpBox(1, 0.5f, 0.25f)->WorldBounds(turned).max[axis], bounds.max[axis] + 0.01f);
+  }
+}
+
+TEST(RoundedShape, RoundedHullsOfRandomCloudsStayInsideTheirPointsHullAndKeepTheirFaces) {
+  std::mt19937 random(42);
+  std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
+  for (int cloud = 0; cloud < 20; ++cloud) {
+    std::vector<Vec3> points;
+    const int count = 6 + 20 * (cloud % 5);
+    const Vec3 stretch(1.0f + unit(random) * 0.5f, 1.0f + unit(random) * 0.8f, 0.5f + unit(random) * 0.3f);
+    for (int i = 0; i < count; ++i)
+      points.push_back(stretch.cwiseProduct(Vec3(unit(random), unit(random), unit(random)).normalized()));
+    const Result<ShapeRef> made = ConvexHullShape::Create(points);
+    ASSERT_TRUE(made.ok()) << made.error().message;
+    const auto& hull = static_cast<const ConvexHullShape&>(**made);
+    ASSERT_TRUE(hull.CoreIsExact());
+    const float radius = hull.convex_radius();
+    // Every support of the rounded shape lies on or inside every face plane of the points' hull.
+    for (int d = 0; d < 200; ++d) {
+      const Vec3 direction(unit(random), unit(random), unit(random));
+      const Vec3 reach = hull.Support(direction);
+      for (const HullFace& face : hull.faces()) EXPECT_LE(face.normal.dot(reach) - face.offset, 1e-4f);
+    }
+    // And it is no smaller than the hull scaled until every face is the radius in, then rounded: along a
+    // face's normal it reaches the plane less the radius's share of the face's distance from the centroid.
+    Vec3 centroid = Vec3::Zero();
+    for (const Vec3& v : hull.vertices()) centroid += v;
+    centroid /= static_cast<float>(hull.vertices().size());
+    float depth = kLargeFloat;
+    for (const HullFace& face : hull.faces())
+      depth = std::min(depth, face.offset - face.normal.dot(centroid));
+    for (const HullFace& face : hull.faces()) {
+      const float from_centroid = face.offset - face.normal.dot(centroid);
+      EXPECT_GE(face.normal.dot(hull.Support(face.normal)),
+                face.offset - radius / depth * from_centroid - 1e-4f);
+    }
+    EXPECT_GT(radius, 0.0f);
   }
 }
 
