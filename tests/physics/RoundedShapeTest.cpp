@@ -54,6 +54,16 @@ TEST(RoundedShape, TheDefaultRadiusIsJoltsShrunkForSmallShapesAndBadRadiiAreRefu
     ASSERT_FALSE(box.ok()) << bad;
     EXPECT_NE(box.error().message.find("convex radius"), std::string::npos) << box.error().message;
   }
+  // Rounded by its whole thinnest half extent, a box's core is flat: still a shape rays and contacts meet.
+  const ShapeRef slab = *BoxShape::Create(Vec3(1, 0.2f, 1), 0.2f);
+  ShapeRayHit hit;
+  ASSERT_TRUE(slab->CastRay(Vec3(0.3f, 2, 0.1f), Vec3(0, -4, 0), 1.0f, hit));
+  EXPECT_NEAR(2.0f - 4.0f * hit.fraction, 0.2f, 1e-5f);
+  ContactManifold on_slab;
+  ASSERT_TRUE(CollideConvexConvex(Convex(slab), Pose{}, Convex(Sphere(0.5f)),
+                                  Pose{Vec3(0.9f, 0.65f, 0.9f), Quat::Identity()}, 0.1f, on_slab));
+  EXPECT_NEAR(on_slab.MinSeparation(),
+              SphereToRoundedBox(Vec3(0.9f, 0.65f, 0.9f), Vec3(0.8f, 0, 0.8f), 0.2f, 0.5f), 2e-4f);
   // The pyramid's interior is 0.2 m deep below its centroid: half of that at most.
   const std::vector<Vec3> points = {Vec3(0, 1, 0), Vec3(1, 0, 0), Vec3(-1, 0, 0), Vec3(0, 0, 1),
                                     Vec3(0, 0, -1)};
