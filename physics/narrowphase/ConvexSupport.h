@@ -15,20 +15,26 @@ class ConvexSupport {
   virtual Vec3 Center() const = 0;
 };
 
-/// A ConvexShape at a pose; `use_core` selects the shrunk core instead of the exact shape.
+/// A ConvexShape at a pose; `use_core` selects the shrunk core instead of the exact shape. The rotation is
+/// kept as a matrix: GJK asks for a support a dozen times a pair (and per triangle on a mesh), and two
+/// matrix products cost less than two quaternion rotations.
 class PosedConvex final : public ConvexSupport {
  public:
   PosedConvex(const ConvexShape& shape, const Pose& pose, bool use_core)
-      : shape_(shape), pose_(pose), use_core_(use_core) {}
+      : shape_(shape),
+        position_(pose.position),
+        rotation_(pose.rotation.toRotationMatrix()),
+        use_core_(use_core) {}
   Vec3 Support(const Vec3& direction) const override {
-    const Vec3 local = pose_.DirectionToLocal(direction);
-    return pose_.ToWorld(use_core_ ? shape_.CoreSupport(local) : shape_.Support(local));
+    const Vec3 local = rotation_.transpose() * direction;
+    return position_ + rotation_ * (use_core_ ? shape_.CoreSupport(local) : shape_.Support(local));
   }
-  Vec3 Center() const override { return pose_.ToWorld(shape_.LocalBounds().Center()); }
+  Vec3 Center() const override { return position_ + rotation_ * shape_.LocalBounds().Center(); }
 
  private:
   const ConvexShape& shape_;
-  const Pose& pose_;
+  Vec3 position_;
+  Mat3 rotation_;
   bool use_core_;
 };
 
