@@ -30,9 +30,12 @@ bool FindContact(const ConvexSupport& core_a, const ConvexSupport& exact_a, floa
   if (!core.overlapping && core.distance > core_reach) return false;
   if (!core.overlapping && core.distance > 1e-5f) {
     normal = (core.point_b - core.point_a) / core.distance;
-    const Vec3 extreme_a = exact_a.Support(normal), extreme_b = exact_b.Support(-normal);
-    const float separation =
-        std::min(core.distance - radius_a - radius_b, (extreme_b - extreme_a).dot(normal));
+    float separation = core.distance - radius_a - radius_b;
+    // Exact cores (no slack) make that the shapes' gap; sharp corners can reach past it along the normal.
+    if (corner_slack > 0.0f) {
+      const Vec3 extreme_a = exact_a.Support(normal), extreme_b = exact_b.Support(-normal);
+      separation = std::min(separation, (extreme_b - extreme_a).dot(normal));
+    }
     if (separation > max_separation) return false;
     deepest = {core.point_a + radius_a * normal, core.point_b - radius_b * normal, separation};
     return true;
