@@ -50,7 +50,7 @@ class Shape {
   virtual bool BoundsTurnWithBody() const { return true; }
   /// How far the shape's edges and corners are rounded (its convex radius; 0 for sharp shapes): a rounded
   /// shape's world bounds are its local bounds shrunk by this, turned, and grown by it again, which fits a
-  /// turned rounded box or capsule exactly where the turned local box would stick out at the corners.
+  /// turned rounded box exactly where the turned local box would stick out at the corners.
   virtual float BoundsRounding() const { return 0.0f; }
   /// Bounds in world space for a body at `pose`.
   AABB WorldBounds(const Pose& pose) const {
