@@ -18,9 +18,9 @@ namespace strata {
 
 namespace {
 
-// Normal (A to B) and deepest point pair of two convex supports. The cores carry radii; exact supports
-// are only used when the cores overlap.
-// `corner_slack`: how far the rounded cores may fall short of sharp exact shapes (CornerSlack).
+// Normal (A to B) and deepest point pair of two convex supports. The cores carry radii; exact supports are
+// used when the cores overlap, and where `corner_slack` (CornerSlack) says the cores fall short of sharp
+// exact shapes.
 bool FindContact(const ConvexSupport& core_a, const ConvexSupport& exact_a, float radius_a,
                  const ConvexSupport& core_b, const ConvexSupport& exact_b, float radius_b,
                  float corner_slack, float max_separation, Vec3& normal, ContactPoint& deepest,
@@ -81,9 +81,10 @@ bool Rounded(const ConvexShape& shape) {
 // that face is the contact, as separating axes would find it.
 constexpr float kFaceNormalTolerance = 5e-4f;
 
-void PreferFaceNormal(const ConvexSupport& exact_a, const ConvexSupport& exact_b,
+void PreferFaceNormal(const ConvexShape& a, const Pose& pose_a, const ConvexShape& b, const Pose& pose_b,
                       const SupportingFace& face_a, const SupportingFace& face_b, Vec3& normal,
                       ContactPoint& deepest) {
+  const PosedConvex exact_a(a, pose_a, false), exact_b(b, pose_b, false);
   float best = -kLargeFloat;
   Vec3 best_normal = normal;
   ContactPoint best_point = deepest;
@@ -275,20 +276,17 @@ bool CollideByGjk(const ConvexShape& a, const Pose& pose_a, const ConvexShape& b
       found = true;
     }
   }
-  SupportingFace face_a, face_b;
   if (!found) {
     const PosedConvex core_a(a, pose_a, true), exact_a(a, pose_a, false);
     const PosedConvex core_b(b, pose_b, true), exact_b(b, pose_b, false);
     if (!FindContact(core_a, exact_a, a.core_radius(), core_b, exact_b, b.core_radius(),
                      CornerSlack(a) + CornerSlack(b), max_separation, normal, deepest, scratch.epa))
       return false;
-    WorldFace(a, pose_a, normal, face_a);
-    WorldFace(b, pose_b, -normal, face_b);
-    if (Rounded(a) || Rounded(b)) PreferFaceNormal(exact_a, exact_b, face_a, face_b, normal, deepest);
-  } else {
-    WorldFace(a, pose_a, normal, face_a);
-    WorldFace(b, pose_b, -normal, face_b);
   }
+  SupportingFace face_a, face_b;
+  WorldFace(a, pose_a, normal, face_a);
+  WorldFace(b, pose_b, -normal, face_b);
+  if (Rounded(a) || Rounded(b)) PreferFaceNormal(a, pose_a, b, pose_b, face_a, face_b, normal, deepest);
   manifold.normal = normal;
   BuildManifold(face_a, face_b, deepest, max_separation, manifold);
   // The deepest point is never shallower than the shapes' deepest overlap (exact on two exact cores, else the

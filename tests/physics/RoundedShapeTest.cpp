@@ -248,12 +248,7 @@ std::vector<float> DropOnMesh(std::shared_ptr<JobSystem> jobs, int steps) {
         Add(*world, Dynamic(shape, at, Quat(Eigen::AngleAxisf(0.3f * i, Vec3(1, 2, 3).normalized())))));
   }
   StepFor(*world, steps);
-  std::vector<float> state;
-  for (const BodyID id : ids) {
-    const Vec3 p = Position(*world, id);
-    state.insert(state.end(), {p.x(), p.y(), p.z()});
-  }
-  return state;
+  return Positions(*world, ids);
 }
 
 TEST(RoundedShape, PilesOnAMeshSettleAboveItAndMatchBitForBitOnEveryThreadCount) {

@@ -218,12 +218,7 @@ std::vector<float> SimulatePile(std::shared_ptr<JobSystem> jobs) {
     ids.push_back(Add(*world, Dynamic(i % 2 ? Box(0.4f, 0.3f, 0.5f) : Sphere(0.4f),
                                       Vec3(0.3f * (i % 5), 1.0f + 0.9f * i, 0.2f * (i % 3)))));
   StepFor(*world, 200);
-  std::vector<float> state;
-  for (const BodyID id : ids) {
-    const Vec3 p = Position(*world, id);
-    state.insert(state.end(), {p.x(), p.y(), p.z()});
-  }
-  return state;
+  return Positions(*world, ids);
 }
 
 TEST(Simulation, SameInputsGiveSameResult) {

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <vector>
 
 #include "physics/body/BodyInterface.h"
 #include "physics/core/JobSystem.h"
@@ -111,6 +112,16 @@ inline void StepFor(PhysicsSystem& world, int steps, float dt = 1.0f / 60.0f) {
 
 inline Vec3 Position(PhysicsSystem& world, BodyID id) {
   return *world.bodies().GetPosition(id);
+}
+/// The positions of `ids`, x y z after each other: what determinism tests compare bit for bit.
+inline std::vector<float> Positions(PhysicsSystem& world, const std::vector<BodyID>& ids) {
+  std::vector<float> state;
+  state.reserve(3 * ids.size());
+  for (const BodyID id : ids) {
+    const Vec3 p = Position(world, id);
+    state.insert(state.end(), {p.x(), p.y(), p.z()});
+  }
+  return state;
 }
 inline Vec3 Velocity(PhysicsSystem& world, BodyID id) {
   return *world.bodies().GetLinearVelocity(id);
