@@ -14,13 +14,10 @@
 #include "assets/import/MeshImporter.h"
 #include "tools/levelgen/LevelGenerator.h"
 
+#include "tests/TempPath.h"
+
 namespace strata::test {
 namespace {
-
-std::filesystem::path Temp(const std::string& name) {
-  return std::filesystem::temp_directory_path() /
-         ("strata_counts_" + std::to_string(::getpid()) + "_" + name);
-}
 
 std::string Read(const std::filesystem::path& path) {
   std::ifstream file(path, std::ios::binary);
@@ -29,7 +26,7 @@ std::string Read(const std::filesystem::path& path) {
 
 // The message CheckDeclaredCounts gives for `bytes` written to a file, or "ok".
 std::string Check(const std::string& bytes, const std::string& name) {
-  const auto path = Temp(name);
+  const auto path = TempPath(name);
   std::ofstream(path, std::ios::binary) << bytes;
   const Status status = CheckDeclaredCounts(path, bytes.size());
   std::filesystem::remove(path);
@@ -48,7 +45,7 @@ std::string Edited(std::string bytes, const std::string& text, const std::string
 class DeclaredCounts : public ::testing::Test {
  protected:
   void SetUp() override {
-    const auto path = Temp("arena.glb");
+    const auto path = TempPath("arena.glb");
     ASSERT_TRUE(ExportMesh(levelgen::Arena().mesh, path, "glb2").ok());
     glb_ = Read(path);
     std::filesystem::remove(path);

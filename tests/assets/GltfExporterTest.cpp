@@ -12,12 +12,10 @@
 
 #include "assets/import/GltfExporter.h"
 
+#include "tests/TempPath.h"
+
 namespace strata::test {
 namespace {
-
-std::filesystem::path TempPath(const std::string& name) {
-  return std::filesystem::path(::testing::TempDir()) / name;
-}
 
 /// Each mesh of the file by name.
 std::map<std::string, const aiMesh*> MeshesByName(const aiScene& scene) {

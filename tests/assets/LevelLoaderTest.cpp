@@ -14,12 +14,10 @@
 
 #include <stb/stb_image_write.h>
 
+#include "tests/TempPath.h"
+
 namespace strata::test {
 namespace {
-
-std::filesystem::path TempPath(const std::string& name) {
-  return std::filesystem::path(::testing::TempDir()) / ("strata_level_" + name);
-}
 
 AABB BoundsOf(const ImportedMesh& mesh) {
   AABB bounds;

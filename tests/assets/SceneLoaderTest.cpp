@@ -11,6 +11,7 @@
 #include "physics/shapes/ConvexShape.h"
 #include "physics/shapes/HeightFieldShape.h"
 #include "physics/shapes/TriangleMeshShape.h"
+#include "tests/TempPath.h"
 
 namespace strata::test {
 namespace {
@@ -284,7 +285,7 @@ TEST(SceneLoader, NumbersOutsideTheirTypesAreErrorsNotAborts) {
 }
 
 TEST(SceneLoader, MeshFilesImportThroughAssimp) {
-  const std::filesystem::path directory = std::filesystem::temp_directory_path() / "strata_scene_test";
+  const std::filesystem::path directory = TempPath("scene_test");
   std::filesystem::create_directories(directory);
   std::ofstream(directory / "quad.obj") << "v 0 0 0\nv 4 0 0\nv 4 0 4\nv 0 0 4\nf 1 3 2\nf 1 4 3\n";
   std::ofstream(directory / "broken.obj") << "this is not a mesh\n";
@@ -322,7 +323,7 @@ TEST(SceneLoader, HeightFieldsComeFromArraysPicturesAndRawFiles) {
   EXPECT_FALSE(field.IsHole(0, 1));
 
   // A grey picture: black at the low end of height_range, white at the high end.
-  const std::filesystem::path dir = std::filesystem::path(::testing::TempDir()) / "heightfield_scene";
+  const std::filesystem::path dir = TempPath("heightfield_scene");
   std::filesystem::create_directories(dir);
   const unsigned char grey[6] = {0, 51, 102, 153, 204, 255};
   ASSERT_NE(stbi_write_png((dir / "terrain.png").string().c_str(), 3, 2, 1, grey, 3), 0);

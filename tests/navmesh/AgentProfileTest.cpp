@@ -11,6 +11,7 @@
 
 #include "NavMeshTestWorld.h"
 #include "navmesh/LevelBake.h"
+#include "tests/TempPath.h"
 
 namespace strata::test {
 namespace {
@@ -39,8 +40,7 @@ void AddVariedGround(PhysicsSystem& world) {
 }
 
 std::string Bytes(const navmesh::NavMesh& navmesh, const std::string& name) {
-  const std::filesystem::path path =
-      std::filesystem::temp_directory_path() / ("strata_profile_" + name + ".bin");
+  const std::filesystem::path path = TempPath("profile_" + name + ".bin");
   EXPECT_TRUE(navmesh.Save(path).ok());
   std::ifstream file(path, std::ios::binary);
   std::string bytes((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
@@ -165,7 +165,7 @@ TEST(AgentProfiles, ASavedSetNamesItsProfileAndShardsOfTwoProfilesDoNotMerge) {
   navmesh::NavMeshServiceConfig config = FastServiceConfig();
   config.profiles = {AgentProfile::Person(), AgentProfile::Machine()};
   const auto service = BuildArea(*world, TileArea(2), config);
-  const std::filesystem::path directory = std::filesystem::temp_directory_path() / "strata_profile_sets";
+  const std::filesystem::path directory = TempPath("profile_sets");
   std::filesystem::create_directories(directory);
   ASSERT_TRUE(service->navmesh(0).Save(directory / "person.bin").ok());
   ASSERT_TRUE(service->navmesh(1).Save(directory / "machine.bin").ok());

@@ -9,6 +9,7 @@
 #include <random>
 
 #include "NavMeshTestWorld.h"
+#include "tests/TempPath.h"
 
 namespace strata::test {
 namespace {
@@ -91,7 +92,7 @@ TEST(DropLinks, LinksAreSavedAndLoadedWithTheirTile) {
   auto world = MakeWorld();
   AddLedge(*world);
   const auto service = BuildArea(*world, TileArea(1), DropConfig(2.0f));
-  const std::filesystem::path file = std::filesystem::temp_directory_path() / "strata_drop_links.bin";
+  const std::filesystem::path file = TempPath("drop_links.bin");
   ASSERT_TRUE(service->navmesh().Save(file).ok());
   const auto loaded = navmesh::NavMesh::Load(file);
   ASSERT_TRUE(loaded.ok()) << loaded.error().message;
@@ -108,7 +109,7 @@ TEST(DropLinks, ACorruptLinkInAFileIsRefused) {
   AddLedge(*world);
   const auto service = BuildArea(*world, TileArea(1), DropConfig(2.0f));
   ASSERT_EQ(service->navmesh().tile_count(), 1);
-  const std::filesystem::path file = std::filesystem::temp_directory_path() / "strata_drop_corrupt.bin";
+  const std::filesystem::path file = TempPath("drop_corrupt.bin");
   ASSERT_TRUE(service->navmesh().Save(file).ok());
   std::string bytes;
   {

@@ -15,6 +15,7 @@
 #include "assets/level/LevelLoader.h"
 #include "navmesh/LevelBake.h"
 #include "navmesh/Validation.h"
+#include "tests/TempPath.h"
 #include "tools/levelgen/LevelGenerator.h"
 
 namespace strata::test {
@@ -41,13 +42,13 @@ std::string ReadBytes(const std::filesystem::path& path) {
 
 std::string SavedBytes(const navmesh::NavMesh& navmesh, const std::string& name,
                        std::optional<navmesh::SetCoverage> coverage = std::nullopt) {
-  const std::filesystem::path path = std::filesystem::path(::testing::TempDir()) / (name + ".bin");
+  const std::filesystem::path path = TempPath(name + ".bin");
   EXPECT_TRUE(navmesh.Save(path, coverage).ok());
   return ReadBytes(path);
 }
 
 std::string ObjBytes(const navmesh::NavMesh& navmesh, const std::string& name) {
-  const std::filesystem::path path = std::filesystem::path(::testing::TempDir()) / (name + ".obj");
+  const std::filesystem::path path = TempPath(name + ".obj");
   EXPECT_TRUE(navmesh.WriteObj(path).ok());
   return ReadBytes(path);
 }
@@ -116,7 +117,7 @@ TEST(LevelBake, AGeneratedFieldIsTheSameForItsSeedAndWalkableCornerToCorner) {
   EXPECT_EQ(bounds.min.y(), 0.0f);
   EXPECT_LE(bounds.max.y(), 8.0f);
 
-  const std::filesystem::path path = std::filesystem::path(::testing::TempDir()) / "field.obj";
+  const std::filesystem::path path = TempPath("field.obj");
   ASSERT_TRUE(ExportMesh(field.mesh, path, "objnomtl").ok());
   auto world = MakeWorld();
   const Result<LoadedLevel> level = LoadLevel(*world, path);
@@ -186,7 +187,7 @@ void ExpectFarSlabBakesAndPathsCrossIt(float corner) {
   ASSERT_FALSE(path->points.empty());
   EXPECT_LT((path->points.front() - from).norm(), 1.0f) << "path points come back in world coordinates";
   // Saved and loaded, the navmesh keeps its origin: the same path from the file.
-  const std::filesystem::path file = std::filesystem::path(::testing::TempDir()) / "far_slab.bin";
+  const std::filesystem::path file = TempPath("far_slab.bin");
   ASSERT_TRUE(navmesh.Save(file).ok());
   const auto loaded = navmesh::NavMesh::Load(file);
   ASSERT_TRUE(loaded.ok()) << loaded.error().message;
@@ -283,7 +284,7 @@ TEST(LevelBake, WhatANavMeshWritesIsTheSameForAnyThreadCountAndPublishOrder) {
   ExpectSameOutputs(reversed->navmesh(), reference, "rebuilt");
 
   // The file loads and answers as the navmesh it came from.
-  const std::filesystem::path path = std::filesystem::path(::testing::TempDir()) / "rebuilt.bin";
+  const std::filesystem::path path = TempPath("rebuilt.bin");
   const auto loaded = navmesh::NavMesh::Load(path);
   ASSERT_TRUE(loaded.ok()) << loaded.error().message;
   const Vec3 from(2, 0, 2), to(49, 0, 49);
@@ -337,8 +338,7 @@ TEST(LevelBake, ShardsMergeIntoTheBytesOfOneBake) {
       ASSERT_TRUE(part.ok()) << part.error().message;
       tiles += part->tiles;
       stored += part->service->navmesh().tile_count();
-      files.push_back(std::filesystem::path(::testing::TempDir()) /
-                      ("shard" + std::to_string(shard) + "of" + std::to_string(count) + ".bin"));
+      files.push_back(TempPath("shard" + std::to_string(shard) + "of" + std::to_string(count) + ".bin"));
       ASSERT_TRUE(part->service->navmesh().Save(files.back(), part->coverage).ok());
     }
     EXPECT_EQ(tiles, whole->tiles) << "the shards share the tiles out";
@@ -356,10 +356,9 @@ TEST(LevelBake, ShardsMergeIntoTheBytesOfOneBake) {
   AddSlab(*other, 0.0f, 20.0f, 0.0f, 20.0f, 0.0f);
   Result<navmesh::LevelBake> small = navmesh::BakeLevel(*other, SlabBounds(0, 20, 0, 20), Options(1));
   ASSERT_TRUE(small.ok());
-  const std::string small_file = (std::filesystem::path(::testing::TempDir()) / "small.bin").string();
+  const std::string small_file = TempPath("small.bin").string();
   ASSERT_TRUE(small->service->navmesh().Save(small_file).ok());
-  const Result<navmesh::MergedShards> mixed =
-      navmesh::MergeShards({std::filesystem::path(::testing::TempDir()) / "shard0of3.bin", small_file});
+  const Result<navmesh::MergedShards> mixed = navmesh::MergeShards({TempPath("shard0of3.bin"), small_file});
   ASSERT_FALSE(mixed.ok());
   EXPECT_NE(mixed.error().message.find("small.bin"), std::string::npos) << mixed.error().message;
   EXPECT_FALSE(navmesh::MergeShards({}).ok());
@@ -384,8 +383,7 @@ TEST(LevelBake, MergingAnIncompleteShardSetFailsAndListsTheMissingTiles) {
     Result<navmesh::LevelBake> part = navmesh::BakeLevel(*world, bounds, options);
     ASSERT_TRUE(part.ok()) << part.error().message;
     tiles_in_files += part->tiles;
-    files.push_back(std::filesystem::path(::testing::TempDir()) /
-                    ("partial" + std::to_string(shard) + ".bin"));
+    files.push_back(TempPath("partial" + std::to_string(shard) + ".bin"));
     ASSERT_TRUE(part->service->navmesh().Save(files.back(), part->coverage).ok());
   }
   const Result<navmesh::MergedShards> refused = navmesh::MergeShards(files);

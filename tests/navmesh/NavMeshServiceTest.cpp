@@ -10,6 +10,7 @@
 
 #include "NavMeshTestWorld.h"
 #include "navmesh/Validation.h"
+#include "tests/TempPath.h"
 
 namespace strata::test {
 namespace {
@@ -247,8 +248,7 @@ class NavMeshFile : public ::testing::Test {
     AddFloor(*world_, 2);
     AddSlab(*world_, 10.0f, 16.0f, 10.0f, 16.0f, 2.0f, 2.0f);
     service_ = BuildArea(*world_, TileArea(2));
-    path_ = std::filesystem::path(::testing::TempDir()) /
-            (std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) + ".bin");
+    path_ = TempPath(std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) + ".bin");
     ASSERT_TRUE(service_->navmesh().Save(path_).ok());
     std::ifstream file(path_, std::ios::binary);
     bytes_.assign(std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>());
@@ -395,9 +395,8 @@ class NavMeshFuzzFindings : public ::testing::Test {
     std::vector<char> edited = seed_;
     std::copy(bytes.begin(), bytes.end(), edited.begin() + static_cast<std::ptrdiff_t>(offset));
     // A name of this test's own: ctest runs the fixture's tests in parallel processes.
-    const auto path = std::filesystem::path(::testing::TempDir()) /
-                      (std::string("strata_fuzz_finding_") +
-                       ::testing::UnitTest::GetInstance()->current_test_info()->name() + ".bin");
+    const auto path = TempPath(std::string("fuzz_finding_") +
+                               ::testing::UnitTest::GetInstance()->current_test_info()->name() + ".bin");
     std::ofstream(path, std::ios::binary).write(edited.data(), static_cast<std::streamsize>(edited.size()));
     const auto loaded = navmesh::NavMesh::Load(path);
     std::filesystem::remove(path);

@@ -12,13 +12,10 @@
 #include <string>
 
 #include "physics/core/OutputFile.h"
+#include "tests/TempPath.h"
 
 namespace strata::test {
 namespace {
-
-std::filesystem::path Temp(const std::string& name) {
-  return std::filesystem::temp_directory_path() / ("strata_io_" + std::to_string(::getpid()) + "_" + name);
-}
 
 std::string Contents(const std::filesystem::path& path) {
   std::ifstream file(path, std::ios::binary);
@@ -37,7 +34,7 @@ void ExpectRefused(const std::filesystem::path& path, const std::string& why) {
 }
 
 TEST(InputFile, ReadsARegularFileWhole) {
-  const auto path = Temp("regular.txt");
+  const auto path = TempPath("regular.txt");
   const std::string text(100000, 'x');
   std::ofstream(path, std::ios::binary) << text;
   const Result<std::string> read = ReadInputFile(path, 1 << 20);
@@ -48,18 +45,18 @@ TEST(InputFile, ReadsARegularFileWhole) {
 }
 
 TEST(InputFile, RefusesWhatIsNotARegularFileBeforeReadingIt) {
-  ExpectRefused(Temp("missing.txt"), "file not found");
+  ExpectRefused(TempPath("missing.txt"), "file not found");
   ExpectRefused(std::filesystem::temp_directory_path(), "is a directory");
   // Endless devices and a pipe with no writer would hang a reader: refused without a read.
   ExpectRefused("/dev/zero", "is a device");
-  const auto fifo = Temp("fifo");
+  const auto fifo = TempPath("fifo");
   ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
   ExpectRefused(fifo, "is a pipe");
   std::filesystem::remove(fifo);
 }
 
 TEST(InputFile, RefusesAFileOverItsLimitByItsSize) {
-  const auto path = Temp("large.txt");
+  const auto path = TempPath("large.txt");
   std::ofstream(path, std::ios::binary) << std::string(1001, 'x');
   ASSERT_TRUE(ReadInputFile(path, 1001).ok());
   const Result<std::string> read = ReadInputFile(path, 1000);
@@ -71,7 +68,7 @@ TEST(InputFile, RefusesAFileOverItsLimitByItsSize) {
 }
 
 TEST(OutputFile, CommitReplacesTheTargetAndLeavesNoTemporary) {
-  const auto path = Temp("out.txt");
+  const auto path = TempPath("out.txt");
   std::ofstream(path) << "old";
   ASSERT_TRUE(WriteOutputFile(path, "new contents").ok());
   EXPECT_EQ(Contents(path), "new contents");
@@ -80,7 +77,7 @@ TEST(OutputFile, CommitReplacesTheTargetAndLeavesNoTemporary) {
 }
 
 TEST(OutputFile, AWriterDroppedBeforeCommitLeavesTheOldFileWhole) {
-  const auto path = Temp("kept.txt");
+  const auto path = TempPath("kept.txt");
   std::ofstream(path) << "old";
   {
     OutputFile file(path);
@@ -95,7 +92,7 @@ TEST(OutputFile, AWriterDroppedBeforeCommitLeavesTheOldFileWhole) {
 TEST(OutputFile, AProcessKilledWhileWritingLeavesTheOldFileWhole) {
   // A real SIGKILL, after part of the new file reached the disk: no destructor, no cleanup runs.
   GTEST_FLAG_SET(death_test_style, "threadsafe");
-  const auto path = Temp("killed.txt");
+  const auto path = TempPath("killed.txt");
   std::ofstream(path) << "old";
   EXPECT_EXIT(
       {

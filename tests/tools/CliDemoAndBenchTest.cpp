@@ -22,13 +22,13 @@ namespace strata::test {
 namespace {
 
 TEST(Cli, DemoRefusesBadOptionsBeforeRunningAndAddsEveryCrate) {
-  const auto out_dir = TempFile("demo_out");
+  const auto out_dir = TempPath("demo_out");
   for (const char* bad :
        {"--steps -1", "--steps 0", "--crates -1", "--request-radius nan", "--request-radius -3",
         "--agents 100000", "--threads 0", "--player-route 1,2,3", "--player-route 33,45",
         "--player-route 1,nan,3,4", "--player-speed 0", "--player-speed 51"})
     EXPECT_EQ(RunCli("demo --out-dir " + out_dir.string() + " " + std::string(bad)), 2) << bad;
-  const auto file = TempFile("a_file");
+  const auto file = TempPath("a_file");
   std::ofstream(file) << "x";
   EXPECT_EQ(RunCli("demo --steps 5 --out-dir " + (file / "pictures").string()), 2);
   std::string output;
@@ -42,7 +42,7 @@ TEST(Cli, DemoRefusesBadOptionsBeforeRunningAndAddsEveryCrate) {
 }
 
 TEST(Cli, DemoBuildsTilesWhileSteppingAndWritesPictures) {
-  const auto out = TempFile("demo");
+  const auto out = TempPath("demo");
   std::string output;
   ASSERT_EQ(
       RunCliCapture("demo --steps 120 --crates 40 --boulders 2 --agents 3 --out-dir " + out.string(), output),
@@ -112,7 +112,7 @@ std::vector<AgentRow> AgentRows(const std::string& output) {
 
 TEST(Cli, DemoAgentsWalkToTheirTargetsAndThePlayerWalksTheCourtyardTour) {
   // At four times a game's pace: the background still has the time it needs between frames.
-  const auto out = TempFile("demo_player");
+  const auto out = TempPath("demo_player");
   std::string output;
   ASSERT_EQ(RunCliCapture("demo --time-scale 4 --out-dir " + out.string(), output), 0) << output;
   // Every agent, people and machines, walked to its target through its crowd; the two on the crate stack
@@ -150,7 +150,7 @@ TEST(Cli, DemoAgentsWalkToTheirTargetsAndThePlayerWalksTheCourtyardTour) {
 
 TEST(Cli, DemoAgentsOnTheCrateStackStayThereWithoutDropLinks) {
   // Only the two drop-down agents, for ten seconds (they need under ten with links).
-  const auto out = TempFile("demo_no_links");
+  const auto out = TempPath("demo_no_links");
   const std::string quiet =
       " --steps 600 --time-scale 4 --agents 0 --crates 0 --boulders 0 --no-player --out-dir ";
   std::string with_links, without_links;
@@ -172,7 +172,7 @@ TEST(Cli, DemoOnTheSmallArenaGivesEveryAgentANavmesh) {
   // The arena is four tiles; each agent asks for the tiles 16 m around it, which reach off the level. That
   // request was once refused as "more tiles than max_tiles", silently: no tile, every agent "no navmesh",
   // exit code 0.
-  const auto out = TempFile("demo_arena");
+  const auto out = TempPath("demo_arena");
   std::string output;
   ASSERT_EQ(RunCliCapture(std::string("demo ") + STRATA_LEVELS_DIR +
                               "/arena.glb --steps 60 --crates 0 "
@@ -189,10 +189,10 @@ TEST(Cli, DemoOnTheSmallArenaGivesEveryAgentANavmesh) {
 
 TEST(Cli, DemoFailsWhenItsNavmeshCannotBeBuilt) {
   // A level of walls only: nothing to walk on. The demo runs, says why, and exits non-zero.
-  const auto level = TempFile("walls.obj");
+  const auto level = TempPath("walls.obj");
   std::ofstream(level) << "v 0 0 0\nv 20 0 0\nv 20 10 0\nv 0 10 0\nv 0 0 20\nv 0 10 20\n"
                           "f 1 2 3\nf 1 3 4\nf 1 4 6\nf 1 6 5\n";
-  const auto out = TempFile("demo_walls");
+  const auto out = TempPath("demo_walls");
   std::string output;
   EXPECT_EQ(RunCliErrors("demo " + level.string() +
                              " --steps 10 --crates 0 --boulders 0 --agents 2 --out-dir " + out.string(),
@@ -208,10 +208,10 @@ TEST(Cli, DemoOnAFloorWithOneFarTriangleStaysSmallAndFindsTheFloor) {
   // A 30 m floor and one triangle 3 km away: the level's bounds are 3 km wide. The picture once took the
   // bounds at 8 pixels a metre (tens of GB for such levels), and agents placed at random in the bounds
   // never landed on the floor.
-  const auto level = TempFile("far_triangle.obj");
+  const auto level = TempPath("far_triangle.obj");
   std::ofstream(level) << "v 0 0 0\nv 30 0 0\nv 30 0 30\nv 0 0 30\nv 3000 0 3000\nv 3001 0 3000\n"
                           "v 3001 0 3001\nf 1 3 2\nf 1 4 3\nf 5 7 6\n";
-  const auto out = TempFile("demo_far");
+  const auto out = TempPath("demo_far");
   std::string output;
   ASSERT_EQ(RunCliCapture("demo " + level.string() +
                               " --steps 30 --crates 0 --boulders 0 --agents 3 --out-dir " + out.string(),
@@ -233,7 +233,7 @@ TEST(Cli, DemoOnAFloorWithOneFarTriangleStaysSmallAndFindsTheFloor) {
 }
 
 TEST(Cli, BenchSweepsThreadCountsAndWritesJson) {
-  const std::filesystem::path json = TempFile("bench.json");
+  const std::filesystem::path json = TempPath("bench.json");
   std::string output;
   ASSERT_EQ(RunCliCapture("bench --steps 12 --threads 1,2 --no-bullet --json " + json.string(), output), 0);
   EXPECT_NE(output.find("where a step goes"), std::string::npos);
@@ -281,16 +281,16 @@ TEST(Cli, BenchSweepsThreadCountsAndWritesJson) {
   EXPECT_EQ(RunCli("bench --steps 2 --threads 1,x"), 2);
   EXPECT_EQ(RunCli("bench --steps 2 --job-system fibers"), 2);
   EXPECT_EQ(RunCli("bench --steps 2 --solver bullet"), 2);
-  EXPECT_EQ(RunCli("bench --steps 2 --json " + (TempFile("no-such-dir") / "bench.json").string()), 2);
+  EXPECT_EQ(RunCli("bench --steps 2 --json " + (TempPath("no-such-dir") / "bench.json").string()), 2);
 }
 
 TEST(Cli, ShardedBakeMergesIntoTheFileOfOneBake) {
   const std::string level = (kLevels / "courtyard.obj").string();
-  const auto whole = TempFile("whole.bin"), merged = TempFile("merged.bin");
+  const auto whole = TempPath("whole.bin"), merged = TempPath("merged.bin");
   ASSERT_EQ(RunCli("navmesh bake " + level + " --out " + whole.string()), 0);
   std::string shards;
   for (int k = 0; k < 3; ++k) {
-    const auto shard = TempFile("courtyard-" + std::to_string(k) + ".bin");
+    const auto shard = TempPath("courtyard-" + std::to_string(k) + ".bin");
     ASSERT_EQ(RunCli("navmesh bake " + level + " --threads 1 --shard " + std::to_string(k) + "/3 --out " +
                      shard.string()),
               0);
@@ -302,7 +302,7 @@ TEST(Cli, ShardedBakeMergesIntoTheFileOfOneBake) {
       merged_bytes{std::istreambuf_iterator<char>(b), {}};
   EXPECT_EQ(whole_bytes, merged_bytes);
   for (const char* bad : {"3/3", "x/2", "1/0", "-1/2", "1/2/3"})
-    EXPECT_EQ(RunCli("navmesh bake " + level + " --shard " + bad + " --out " + TempFile("bad.bin").string()),
+    EXPECT_EQ(RunCli("navmesh bake " + level + " --shard " + bad + " --out " + TempPath("bad.bin").string()),
               2)
         << bad;
   EXPECT_EQ(RunCli("navmesh merge" + shards + shards + " --out " + merged.string()), 2) << "a tile twice";
@@ -310,21 +310,21 @@ TEST(Cli, ShardedBakeMergesIntoTheFileOfOneBake) {
 
 TEST(Cli, LongCommandsShowABarOnATerminalAndOneSummaryLineOtherwise) {
   const std::string level = (kLevels / "courtyard.obj").string();
-  const std::string bake = "navmesh bake " + level + " --out " + TempFile("progress.bin").string();
+  const std::string bake = "navmesh bake " + level + " --out " + TempPath("progress.bin").string();
   std::string errors;
   ASSERT_EQ(RunCliErrors(bake, errors), 0) << errors;
   EXPECT_EQ(errors.rfind("strata navmesh bake: ", 0), 0u) << errors;
   EXPECT_EQ(std::count(errors.begin(), errors.end(), '\n'), 1) << errors;
   EXPECT_EQ(errors.find('\r'), std::string::npos) << errors;
   ASSERT_EQ(RunCliErrors("simulate " + (kScenes / "bounce.json").string() + " --steps 30 --out " +
-                             TempFile("progress.jsonl").string(),
+                             TempPath("progress.jsonl").string(),
                          errors),
             0);
   EXPECT_EQ(errors.rfind("strata simulate: 30 steps", 0), 0u) << errors;
 
   // On a terminal (util-linux `script` gives the command one) the bar is drawn, then the summary.
   if (std::system("command -v script > /dev/null 2>&1") != 0) GTEST_SKIP() << "no `script` here";
-  const std::filesystem::path typescript = TempFile("progress-terminal.txt");
+  const std::filesystem::path typescript = TempPath("progress-terminal.txt");
   const std::string command = "script -qec '" + std::string(STRATA_CLI) + " " + bake + "' /dev/null > " +
                               typescript.string() + " 2>&1";
   ASSERT_EQ(std::system(command.c_str()), 0);
@@ -337,7 +337,7 @@ TEST(Cli, LongCommandsShowABarOnATerminalAndOneSummaryLineOtherwise) {
 }
 
 TEST(Cli, GameplayBenchWritesItsFiguresAsJson) {
-  const std::filesystem::path json = TempFile("gameplay.json");
+  const std::filesystem::path json = TempPath("gameplay.json");
   ASSERT_EQ(RunCli("bench-gameplay --bodies 2000 --tiles 4 --casts 300 --repeats 1 --event-steps 5 "
                    "--event-rounds 1 --walkers 3 --frames 20 --json " +
                    json.string()),
@@ -378,7 +378,7 @@ TEST(Cli, GameplayBenchWritesItsFiguresAsJson) {
 }
 
 TEST(Cli, GameplayBenchRefusesALevelThatDoesNotLoadBeforeItsLongParts) {
-  const std::filesystem::path json = TempFile("gameplay-bad-level.json"), level = TempFile("two-lines.obj");
+  const std::filesystem::path json = TempPath("gameplay-bad-level.json"), level = TempPath("two-lines.obj");
   std::ofstream(level) << "v 1 2\nf 1 2 3\n";
   for (const std::string& path : {level.string(), std::string("/no/such/level.obj")}) {
     std::string errors;
@@ -390,7 +390,7 @@ TEST(Cli, GameplayBenchRefusesALevelThatDoesNotLoadBeforeItsLongParts) {
 }
 
 TEST(Cli, BroadPhaseAndNavmeshBenchesWriteTheirFiguresAsJson) {
-  const std::filesystem::path broad = TempFile("broadphase.json"), nav = TempFile("navmesh-bench.json");
+  const std::filesystem::path broad = TempPath("broadphase.json"), nav = TempPath("navmesh-bench.json");
   ASSERT_EQ(RunCli("bench-broadphase --bodies 2000 --tiles 4 --queries 200 --frames 3 --max-threads 2 "
                    "--no-bullet --json " +
                    broad.string()),
@@ -419,7 +419,7 @@ TEST(Cli, BroadPhaseAndNavmeshBenchesWriteTheirFiguresAsJson) {
     for (const char* key : {"mean_ms", "median_ms", "max_ms", "lock_wait_ms"})
       EXPECT_TRUE(is_figure(nav_json["step"][part][key])) << part << " " << key;
   EXPECT_TRUE(is_figure(nav_json["step"]["blocked_by_navmesh_jobs_us"]));
-  const std::filesystem::path open_world = TempFile("open-world.json");
+  const std::filesystem::path open_world = TempPath("open-world.json");
   ASSERT_EQ(RunCli("bench-navmesh --open-world --world-size 300 --bodies 1000 --agents 8 --walk 30 "
                    "--tile-budget 16 --profile-cost-tiles 2 --profile-cost-runs 1 --crowd-agents 8 --json " +
                    open_world.string()),
@@ -443,7 +443,7 @@ TEST(Cli, BroadPhaseAndNavmeshBenchesWriteTheirFiguresAsJson) {
   ASSERT_EQ(open_world_json["memory"].size(), 5u);
   for (const auto& snapshot : open_world_json["memory"]) EXPECT_TRUE(is_figure(snapshot["resident_mb"]));
   for (const char* command : {"bench-broadphase --frames 1", "bench-navmesh", "bench-navmesh --open-world"})
-    EXPECT_EQ(RunCli(std::string(command) + " --json " + (TempFile("no-such-dir") / "x.json").string()), 2)
+    EXPECT_EQ(RunCli(std::string(command) + " --json " + (TempPath("no-such-dir") / "x.json").string()), 2)
         << command;
 }
 

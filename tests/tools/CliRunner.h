@@ -12,6 +12,8 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "tests/TempPath.h"
+
 namespace strata::test {
 
 inline const std::filesystem::path kScenes = STRATA_SCENES_DIR;
@@ -19,8 +21,7 @@ inline const std::filesystem::path kLevels = STRATA_LEVELS_DIR;
 
 /// Runs the CLI with stdout captured into `output`.
 inline int RunCliCapture(const std::string& arguments, std::string& output) {
-  const std::filesystem::path captured =
-      std::filesystem::temp_directory_path() / ("strata_cli_capture_" + std::to_string(::getpid()));
+  const std::filesystem::path captured = TempPath("cli_capture");
   const int status =
       std::system((std::string(STRATA_CLI) + " " + arguments + " > " + captured.string()).c_str());
   std::ifstream file(captured);
@@ -30,8 +31,7 @@ inline int RunCliCapture(const std::string& arguments, std::string& output) {
 
 /// Runs the CLI with standard output discarded; `errors` gets what it wrote to standard error.
 inline int RunCliErrors(const std::string& arguments, std::string& errors) {
-  const std::filesystem::path captured =
-      std::filesystem::temp_directory_path() / ("strata_cli_errors_" + std::to_string(::getpid()));
+  const std::filesystem::path captured = TempPath("cli_errors");
   const int status = std::system(
       (std::string(STRATA_CLI) + " " + arguments + " > /dev/null 2> " + captured.string()).c_str());
   std::ifstream file(captured);
@@ -42,11 +42,6 @@ inline int RunCliErrors(const std::string& arguments, std::string& errors) {
 inline int RunCli(const std::string& arguments) {
   const int status = std::system((std::string(STRATA_CLI) + " " + arguments + " > /dev/null 2>&1").c_str());
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
-
-inline std::filesystem::path TempFile(const std::string& name) {
-  return std::filesystem::temp_directory_path() /
-         ("strata_cli_test_" + std::to_string(::getpid()) + "_" + name);
 }
 
 inline nlohmann::json ReadJson(const std::filesystem::path& path) {

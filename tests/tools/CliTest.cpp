@@ -23,12 +23,12 @@ namespace strata::test {
 namespace {
 
 TEST(Cli, SimulateWarnsWhenVelocitiesWereClamped) {
-  const auto scene = TempFile("clamped.json");
+  const auto scene = TempPath("clamped.json");
   std::ofstream(scene) << R"({"settings": {"gravity": [0, 0, 0]}, "bodies": [{"name": "b", "shape":
       {"type": "sphere", "radius": 0.5}, "linear_velocity": [50, 0, 0], "max_linear_velocity": 10}]})";
   // Standard error only: the warning names the limit to raise.
   auto errors_of = [](const std::string& arguments) {
-    const auto captured = TempFile("stderr.txt");
+    const auto captured = TempPath("stderr.txt");
     const int status = std::system(
         (std::string(STRATA_CLI) + " " + arguments + " > /dev/null 2> " + captured.string()).c_str());
     EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << arguments;
@@ -43,7 +43,7 @@ TEST(Cli, SimulateWarnsWhenVelocitiesWereClamped) {
 }
 
 TEST(Cli, AccuracyWritesJsonMarkdownAndPlot) {
-  const auto dir = TempFile("accuracy");
+  const auto dir = TempPath("accuracy");
   std::string output;
   ASSERT_EQ(RunCliCapture("accuracy --quick --case free_fall --case fast_thin_wall --out-dir " + dir.string(),
                           output),
@@ -72,7 +72,7 @@ TEST(Cli, AccuracyWritesJsonMarkdownAndPlot) {
 }
 
 TEST(Cli, AccuracyRunsOnlyTheSettingsAsked) {
-  const auto dir = TempFile("accuracy-settings");
+  const auto dir = TempPath("accuracy-settings");
   std::string output;
   ASSERT_EQ(RunCliCapture("accuracy --no-bullet --timing-runs 1 --case free_fall --setting \"dt1/30 sub1\" "
                           "--setting \"dt1/120 sub8\" --out-dir " +
@@ -88,7 +88,7 @@ TEST(Cli, AccuracyRunsOnlyTheSettingsAsked) {
 }
 
 TEST(Cli, SimulateWritesOneLinePerRecordedStep) {
-  const auto out = TempFile("states.jsonl");
+  const auto out = TempPath("states.jsonl");
   ASSERT_EQ(RunCli("simulate " + (kScenes / "bounce.json").string() + " --steps 120 --every 30 --out " +
                    out.string()),
             0);
@@ -113,7 +113,7 @@ TEST(Cli, SimulateWritesOneLinePerRecordedStep) {
 }
 
 TEST(Cli, SimulateWritesContactAndSensorEventsAsJsonLines) {
-  const auto events = TempFile("events.jsonl");
+  const auto events = TempPath("events.jsonl");
   ASSERT_EQ(RunCli("simulate " + (kScenes / "playground.json").string() + " --steps 600 --events " +
                    events.string()),
             0);
@@ -160,7 +160,7 @@ TEST(Cli, SimulateWritesContactAndSensorEventsAsJsonLines) {
 }
 
 TEST(Cli, SimulateWritesConstraintForcesWhenAsked) {
-  const auto out = TempFile("joints.jsonl");
+  const auto out = TempPath("joints.jsonl");
   ASSERT_EQ(RunCli("simulate " + (kScenes / "joints.json").string() +
                    " --steps 60 --every 60 --constraint-forces --out " + out.string()),
             0);
@@ -181,7 +181,7 @@ TEST(Cli, SimulateWritesConstraintForcesWhenAsked) {
   ASSERT_TRUE(std::getline(plain, line));
   EXPECT_FALSE(nlohmann::json::parse(line).contains("constraints"));
   std::filesystem::remove(out);
-  const auto bad = TempFile("bad_joint.json");
+  const auto bad = TempPath("bad_joint.json");
   std::ofstream(bad) << R"({"bodies": [{"name": "a", "shape": {"type": "sphere", "radius": 1}}],
                             "constraints": [{"type": "hinge", "body_b": "a", "limits": [10, 20]}]})";
   std::string errors;
@@ -191,18 +191,18 @@ TEST(Cli, SimulateWritesConstraintForcesWhenAsked) {
 }
 
 TEST(Cli, BadSceneExitsWithTwoAndWritesNothing) {
-  const auto scene = TempFile("bad.json");
+  const auto scene = TempPath("bad.json");
   std::ofstream(scene) << R"({"bodies": [{"shape": {"type": "sphere", "radius": -2}}]})";
-  const auto out = TempFile("never.jsonl");
+  const auto out = TempPath("never.jsonl");
   EXPECT_EQ(RunCli("simulate " + scene.string() + " --steps 10 --out " + out.string()), 2);
   EXPECT_FALSE(std::filesystem::exists(out));
-  EXPECT_EQ(RunCli("simulate " + TempFile("missing.json").string() + " --steps 10"), 2);
+  EXPECT_EQ(RunCli("simulate " + TempPath("missing.json").string() + " --steps 10"), 2);
   EXPECT_EQ(RunCli("simulate"), 2);  // scene argument missing
   std::filesystem::remove(scene);
 }
 
 TEST(Cli, NavmeshBakeWritesSetObjAndReportThenPathQueriesIt) {
-  const auto nav = TempFile("arena.bin"), obj = TempFile("arena.obj"), report = TempFile("arena.json");
+  const auto nav = TempPath("arena.bin"), obj = TempPath("arena.obj"), report = TempPath("arena.json");
   ASSERT_EQ(RunCli("navmesh bake " + (kLevels / "arena.glb").string() + " --out " + nav.string() + " --obj " +
                    obj.string() + " --json " + report.string()),
             0);
@@ -228,7 +228,7 @@ TEST(Cli, NavmeshBakeWritesSetObjAndReportThenPathQueriesIt) {
   EXPECT_NEAR(last[0].get<float>(), 23.0f, 0.5f);
   EXPECT_NEAR(last[2].get<float>(), 23.0f, 0.5f);
   // Off the navmesh at the far end: found, not reached, and a warning on standard error says why.
-  const auto errors = TempFile("path_errors.txt");
+  const auto errors = TempPath("path_errors.txt");
   ASSERT_EQ(
       RunCliCapture(
           "navmesh path " + nav.string() + " --from 2,0,2 --to 60,0,60 --json 2> " + errors.string(), output),
@@ -244,9 +244,9 @@ TEST(Cli, NavmeshBakeWritesSetObjAndReportThenPathQueriesIt) {
 }
 
 TEST(Cli, NavmeshBakeAndPathTakeAProfile) {
-  const auto person = TempFile("arena_person.bin"), machine = TempFile("arena_machine.bin");
-  const auto report = TempFile("arena_person.json"), errors = TempFile("profile_errors.txt");
-  const auto never = TempFile("never.bin");
+  const auto person = TempPath("arena_person.bin"), machine = TempPath("arena_machine.bin");
+  const auto report = TempPath("arena_person.json"), errors = TempPath("profile_errors.txt");
+  const auto never = TempPath("never.bin");
   std::filesystem::remove(never);  // one left by an earlier process with the same id would spoil the check
   const std::string level = (kLevels / "arena.glb").string();
   ASSERT_EQ(RunCli("navmesh bake " + level + " --profile person --out " + person.string() + " --json " +
@@ -279,9 +279,9 @@ TEST(Cli, NavmeshBakeAndPathTakeAProfile) {
 }
 
 TEST(Cli, NavmeshBadInputExitsWithTwo) {
-  const auto nav = TempFile("bad.bin");
+  const auto nav = TempPath("bad.bin");
   std::filesystem::remove(nav);  // one left by an earlier process with the same id would pass for a new one
-  EXPECT_EQ(RunCli("navmesh bake " + TempFile("missing.obj").string() + " --out " + nav.string()), 2);
+  EXPECT_EQ(RunCli("navmesh bake " + TempPath("missing.obj").string() + " --out " + nav.string()), 2);
   EXPECT_EQ(RunCli("navmesh bake " + (kLevels / "arena.glb").string() + " --out " + nav.string() +
                    " --max-slope 120"),
             2);
@@ -296,7 +296,7 @@ TEST(Cli, NavmeshBadInputExitsWithTwo) {
 // Every input that is not a regular file is refused at once (exit 2), never read: a directory used to abort
 // the process, /dev/zero and a pipe with no writer used to hang it. `timeout` turns a hang into a failure.
 TEST(Cli, InputsThatAreNotRegularFilesExitTwoAtOnce) {
-  const auto fifo = TempFile("fifo"), never = TempFile("never.bin");
+  const auto fifo = TempPath("fifo"), never = TempPath("never.bin");
   std::filesystem::remove(fifo);  // left by an earlier process with the same id
   std::filesystem::remove(never);
   ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
@@ -322,14 +322,14 @@ constexpr const char* kAddressSpaceLimit = "ulimit -v 4000000; ";
 // anything is allocated for them (a 227-byte PLY declaring 1e9 vertices took 11-23 GB; one flipped byte in
 // arena.glb put a vertex 3e16 m away and the tile list ran out of memory).
 TEST(Cli, CorruptCountsAndCoordinatesAreRefusedBeforeAllocating) {
-  const auto ply = TempFile("huge.ply");
+  const auto ply = TempPath("huge.ply");
   std::ofstream(ply)
       << "ply\nformat ascii 1.0\nelement vertex 1000000000\nproperty float x\nproperty float y\n"
          "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
          "0 0 0\n3 0 0 0\n";
   std::string errors;
   const auto stderr_of = [&](const std::string& arguments) {
-    const auto captured = TempFile("stderr.txt");
+    const auto captured = TempPath("stderr.txt");
     const int status = std::system((std::string(kAddressSpaceLimit) + STRATA_CLI + " " + arguments +
                                     " > /dev/null 2> " + captured.string())
                                        .c_str());
@@ -337,19 +337,19 @@ TEST(Cli, CorruptCountsAndCoordinatesAreRefusedBeforeAllocating) {
     errors.assign(std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>());
     return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   };
-  EXPECT_EQ(stderr_of("navmesh bake " + ply.string() + " --out " + TempFile("ply.bin").string()), 2);
+  EXPECT_EQ(stderr_of("navmesh bake " + ply.string() + " --out " + TempPath("ply.bin").string()), 2);
   EXPECT_NE(errors.find("declares 1000000000 entries"), std::string::npos) << errors;
-  const auto glb = TempFile("flipped.glb");
+  const auto glb = TempPath("flipped.glb");
   std::filesystem::copy_file(kLevels / "arena.glb", glb, std::filesystem::copy_options::overwrite_existing);
   {
     std::fstream file(glb, std::ios::in | std::ios::out | std::ios::binary);
     file.seekp(919);
     file.put(static_cast<char>(0xDA));  // a vertex's exponent byte: 7.5 becomes -3.4e16
   }
-  EXPECT_EQ(stderr_of("navmesh bake " + glb.string() + " --out " + TempFile("glb.bin").string()), 2);
+  EXPECT_EQ(stderr_of("navmesh bake " + glb.string() + " --out " + TempPath("glb.bin").string()), 2);
   EXPECT_NE(errors.find("x 3.378e+16 m"), std::string::npos) << errors;
   EXPECT_NE(errors.find("more than a navmesh holds"), std::string::npos) << errors;
-  EXPECT_EQ(stderr_of("demo " + glb.string() + " --steps 10 --out-dir " + TempFile("demo").string()), 2);
+  EXPECT_EQ(stderr_of("demo " + glb.string() + " --steps 10 --out-dir " + TempPath("demo").string()), 2);
   EXPECT_NE(errors.find("x 3.378e+16 m"), std::string::npos) << errors;
   std::filesystem::remove(ply);
   std::filesystem::remove(glb);
@@ -360,9 +360,9 @@ TEST(Cli, FailedWritesExitTwoAndOutputsAreReplacedWhole) {
   const std::string scene = (kScenes / "stack.json").string();
   EXPECT_EQ(RunCli("simulate " + scene + " --steps 5 --out /dev/full"), 2);
   EXPECT_EQ(RunCli("navmesh bake " + (kLevels / "arena.glb").string() + " --out " +
-                   TempFile("a.bin").string() + " --report /dev/full"),
+                   TempPath("a.bin").string() + " --report /dev/full"),
             2);
-  const auto out = TempFile("replaced.jsonl");
+  const auto out = TempPath("replaced.jsonl");
   std::ofstream(out) << "old\n";
   // (A run that stops before its end leaves the old file whole: OutputFile's tests.)
   ASSERT_EQ(RunCli("simulate " + scene + " --steps 5 --out " + out.string()), 0);
@@ -372,13 +372,13 @@ TEST(Cli, FailedWritesExitTwoAndOutputsAreReplacedWhole) {
   EXPECT_NE(first, "old");
   EXPECT_FALSE(std::filesystem::exists(out.string() + ".tmp"));
   std::filesystem::remove(out);
-  std::filesystem::remove(TempFile("a.bin"));
+  std::filesystem::remove(TempPath("a.bin"));
 }
 
 // Options out of range (NaN included: CLI11's own checks let it through) and an --out-dir that cannot be
 // made are refused before the run; crates beyond the old fixed body table are all added, not capped.
 TEST(Cli, BundledLevelsAreWhatTheGeneratorWrites) {
-  const auto out = TempFile("levels");
+  const auto out = TempPath("levels");
   ASSERT_EQ(RunCli("level generate --out " + out.string()), 0);
   for (const char* name : {"courtyard.obj", "courtyard_zup.obj", "arena.glb"}) {
     std::ifstream generated(out / name, std::ios::binary), bundled(kLevels / name, std::ios::binary);

@@ -23,6 +23,8 @@
 #include <thread>
 #include <vector>
 
+#include "tests/TempPath.h"
+
 extern char** environ;
 
 namespace strata::test {
@@ -30,11 +32,6 @@ namespace {
 
 const std::filesystem::path kScenes = STRATA_SCENES_DIR;
 const std::filesystem::path kLevels = STRATA_LEVELS_DIR;
-
-std::filesystem::path Temp(const std::string& name) {
-  return std::filesystem::temp_directory_path() /
-         ("strata_hostile_" + std::to_string(::getpid()) + "_" + name);
-}
 
 std::string ReadBytes(const std::filesystem::path& path) {
   std::ifstream file(path, std::ios::binary);
@@ -53,7 +50,7 @@ struct CliRun {
 
 /// Runs `strata arguments` under a 60 s timeout (a hang is a failure, never a stuck test).
 CliRun Strata(const std::string& arguments) {
-  const std::filesystem::path out = Temp("stdout"), err = Temp("stderr");
+  const std::filesystem::path out = TempPath("stdout"), err = TempPath("stderr");
   const int status = std::system(("timeout 60 " + std::string(STRATA_CLI) + " " + arguments + " > " +
                                   out.string() + " 2> " + err.string())
                                      .c_str());
@@ -85,7 +82,8 @@ std::string BinaryPlyFloor() {
 }
 
 TEST(HostileInput, APlyWithoutItsLastNewlineBakesThroughEveryRoute) {
-  const auto ply = Temp("floor.ply"), navmesh = Temp("floor.bin"), scene = Temp("floor_scene.json");
+  const auto ply = TempPath("floor.ply"), navmesh = TempPath("floor.bin"),
+             scene = TempPath("floor_scene.json");
   WriteBytes(ply, AsciiPlyFloor(false));
   const CliRun bake = Strata("navmesh bake " + ply.string() + " --out " + navmesh.string());
   ASSERT_EQ(bake.status, 0) << bake.err;
@@ -98,12 +96,12 @@ TEST(HostileInput, APlyWithoutItsLastNewlineBakesThroughEveryRoute) {
   EXPECT_EQ(simulate.status, 0) << simulate.err;
   const CliRun demo = Strata("demo " + ply.string() +
                              " --steps 30 --crates 2 --boulders 0 --agents 2 --no-player --out-dir " +
-                             Temp("ply_demo").string());
+                             TempPath("ply_demo").string());
   EXPECT_EQ(demo.status, 0) << demo.err;
 }
 
 TEST(HostileInput, DamagedPlyFilesAreErrorsNotCrashesOrSpins) {
-  const auto ply = Temp("damaged.ply");
+  const auto ply = TempPath("damaged.ply");
   const std::string binary = BinaryPlyFloor();
   struct Case {
     std::string name;
@@ -126,24 +124,24 @@ TEST(HostileInput, DamagedPlyFilesAreErrorsNotCrashesOrSpins) {
   };
   for (const Case& c : cases) {
     WriteBytes(ply, c.bytes);
-    const CliRun bake = Strata("navmesh bake " + ply.string() + " --out " + Temp("damaged.bin").string());
+    const CliRun bake = Strata("navmesh bake " + ply.string() + " --out " + TempPath("damaged.bin").string());
     EXPECT_EQ(bake.status, 2) << c.name << ": " << bake.err;
     EXPECT_NE(bake.err.find(c.message), std::string::npos) << c.name << ": " << bake.err;
   }
   WriteBytes(ply, binary);
-  EXPECT_EQ(Strata("navmesh bake " + ply.string() + " --out " + Temp("damaged.bin").string()).status, 0)
+  EXPECT_EQ(Strata("navmesh bake " + ply.string() + " --out " + TempPath("damaged.bin").string()).status, 0)
       << "the undamaged binary file bakes";
 }
 
 TEST(HostileInput, APipeALevelRefersToIsRefusedNotWaitedOn) {
-  const auto folder = Temp("referenced");
+  const auto folder = TempPath("referenced");
   std::filesystem::remove_all(folder);  // an earlier run under a reused process id left its pipes
   std::filesystem::create_directories(folder);
   ASSERT_EQ(::mkfifo((folder / "materials.mtl").c_str(), 0600), 0);
   ASSERT_EQ(::mkfifo((folder / "buffer.bin").c_str(), 0600), 0);
   WriteBytes(folder / "level.obj", "mtllib materials.mtl\nv -10 0 -10\nv -10 0 10\nv 10 0 10\nf 1 2 3\n");
   const CliRun obj =
-      Strata("navmesh bake " + (folder / "level.obj").string() + " --out " + Temp("ref.bin").string());
+      Strata("navmesh bake " + (folder / "level.obj").string() + " --out " + TempPath("ref.bin").string());
   // OBJ geometry is read by ObjReader, which never opens a material file: the pipe is not touched.
   EXPECT_EQ(obj.status, 0) << obj.err;
   WriteBytes(folder / "level.gltf",
@@ -153,7 +151,7 @@ TEST(HostileInput, APipeALevelRefersToIsRefusedNotWaitedOn) {
                  "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}], "nodes": [{"mesh": 0}],
                  "scenes": [{"nodes": [0]}], "scene": 0})");
   const CliRun gltf =
-      Strata("navmesh bake " + (folder / "level.gltf").string() + " --out " + Temp("ref.bin").string());
+      Strata("navmesh bake " + (folder / "level.gltf").string() + " --out " + TempPath("ref.bin").string());
   EXPECT_EQ(gltf.status, 2) << gltf.err;
   EXPECT_NE(gltf.err.find("buffer.bin"), std::string::npos) << gltf.err;
   EXPECT_NE(gltf.status, 124) << "the bake waited on the pipe";
@@ -179,7 +177,7 @@ TEST(HostileInput, SizeAndThreadOptionsNameTheirLimits) {
       {"bench-broadphase --max-threads 100000", "--max-threads must be from 0 to 256"},
       {"bench-navmesh --blocks -1 --steps -5", "--blocks must be from 2 to 1000"},
       {"navmesh bake x.obj --out y.bin --threads 100000", "--threads must be from 1 to 256"},
-      {"demo --steps 10000000 --record-every 1 --record " + Temp("huge_recording.json").string(),
+      {"demo --steps 10000000 --record-every 1 --record " + TempPath("huge_recording.json").string(),
        "record fewer frames"},
   };
   for (const Case& c : cases) {
@@ -191,7 +189,7 @@ TEST(HostileInput, SizeAndThreadOptionsNameTheirLimits) {
 }
 
 TEST(HostileInput, TenThousandBodiesAtOnePointStepWithinBudgetWithAWarning) {
-  const auto scene = Temp("pile.json");
+  const auto scene = TempPath("pile.json");
   std::string bodies =
       R"({"name": "ground", "motion": "static", "shape": {"type": "box", "half_extents": [50, 0.5, 50]},
                            "position": [0, -0.5, 0]})";
@@ -211,10 +209,10 @@ TEST(HostileInput, TenThousandBodiesAtOnePointStepWithinBudgetWithAWarning) {
 }
 
 TEST(HostileInput, OutputsThatCannotBeWrittenAreErrors) {
-  const auto full = Temp("full_link");
+  const auto full = TempPath("full_link");
   std::filesystem::remove(full);
   std::filesystem::create_symlink("/dev/full", full);
-  const std::string navmesh = Temp("path.bin").string();
+  const std::string navmesh = TempPath("path.bin").string();
   ASSERT_EQ(Strata("navmesh bake " + (kLevels / "arena.glb").string() + " --out " + navmesh).status, 0);
   const CliRun to_link =
       Strata("navmesh bake " + (kLevels / "arena.glb").string() + " --out " + full.string());
@@ -228,7 +226,7 @@ TEST(HostileInput, OutputsThatCannotBeWrittenAreErrors) {
 }
 
 TEST(HostileInput, OneFileGivenForTwoOutputsIsRefused) {
-  const auto out = Temp("same.bin"), level = Temp("level_copy.obj");
+  const auto out = TempPath("same.bin"), level = TempPath("level_copy.obj");
   std::filesystem::copy_file(kLevels / "courtyard.obj", level,
                              std::filesystem::copy_options::overwrite_existing);
   const std::string before = ReadBytes(level);
@@ -238,7 +236,7 @@ TEST(HostileInput, OneFileGivenForTwoOutputsIsRefused) {
   run = Strata("navmesh bake " + level.string() + " --out " + level.string());
   EXPECT_EQ(run.status, 2);
   EXPECT_EQ(ReadBytes(level), before) << "the level was overwritten by its own navmesh";
-  const auto link = Temp("same_link.bin");
+  const auto link = TempPath("same_link.bin");
   std::filesystem::remove(link);
   std::filesystem::create_symlink(out, link);
   WriteBytes(out, "x");
@@ -249,7 +247,7 @@ TEST(HostileInput, OneFileGivenForTwoOutputsIsRefused) {
 }
 
 TEST(HostileInput, ALinkWhereTheOldTemporaryWentIsNotFollowed) {
-  const auto out = Temp("field.obj"), victim = Temp("victim.txt");
+  const auto out = TempPath("field.obj"), victim = TempPath("victim.txt");
   WriteBytes(victim, "keep me");
   std::filesystem::remove(out.string() + ".tmp");
   std::filesystem::create_symlink(victim, out.string() + ".tmp");
@@ -260,7 +258,7 @@ TEST(HostileInput, ALinkWhereTheOldTemporaryWentIsNotFollowed) {
 
 TEST(HostileInput, ALevelFarFromTheOriginKeepsItsShapeInTheObjExport) {
   // A 10,000 km offset: every exported vertex used to print as 1e+07.
-  const auto level = Temp("far.obj"), navmesh = Temp("far.bin"), obj = Temp("far_navmesh.obj");
+  const auto level = TempPath("far.obj"), navmesh = TempPath("far.bin"), obj = TempPath("far_navmesh.obj");
   const double far = 1.0e7;
   std::string text;
   for (const auto& [x, z] : {std::pair{-20.0, -20.0}, {-20.0, 20.0}, {20.0, 20.0}, {20.0, -20.0}}) {
@@ -287,7 +285,7 @@ TEST(HostileInput, ALevelFarFromTheOriginKeepsItsShapeInTheObjExport) {
 }
 
 TEST(HostileInput, DuplicateKeysInASceneAreRefused) {
-  const auto scene = Temp("duplicate.json");
+  const auto scene = TempPath("duplicate.json");
   WriteBytes(scene, R"({"bodies": [{"name": "a", "name": "b", "shape": {"type": "sphere", "radius": 1}}]})");
   const CliRun run = Strata("simulate " + scene.string() + " --steps 1");
   EXPECT_EQ(run.status, 2);
@@ -295,17 +293,17 @@ TEST(HostileInput, DuplicateKeysInASceneAreRefused) {
 }
 
 TEST(HostileInput, MergingTwoOfThreeShardsFailsAndListsWhatIsMissing) {
-  const auto level = Temp("merge_field.obj");
+  const auto level = TempPath("merge_field.obj");
   ASSERT_EQ(Strata("level field --size 100 --seed 3 --out " + level.string()).status, 0);
   std::vector<std::string> shards;
   for (int shard = 0; shard < 2; ++shard) {
-    shards.push_back(Temp("merge_shard" + std::to_string(shard) + ".bin").string());
+    shards.push_back(TempPath("merge_shard" + std::to_string(shard) + ".bin").string());
     ASSERT_EQ(Strata("navmesh bake " + level.string() + " --shard " + std::to_string(shard) + "/3 --out " +
                      shards.back())
                   .status,
               0);
   }
-  const auto merged = Temp("merged.bin");
+  const auto merged = TempPath("merged.bin");
   std::filesystem::remove(merged);
   CliRun run = Strata("navmesh merge " + shards[0] + " " + shards[1] + " --out " + merged.string());
   EXPECT_EQ(run.status, 2);
@@ -346,20 +344,21 @@ void KillDuringEveryWriter(int tries) {
       {"level field glb", "level field --size 400 --seed 5 --out {out}", ".glb"},
       {"navmesh bake", "navmesh bake " + (kLevels / "courtyard.obj").string() + " --out {out}", ".bin"},
       {"navmesh bake --obj",
-       "navmesh bake " + (kLevels / "arena.glb").string() + " --out " + Temp("k.bin").string() +
+       "navmesh bake " + (kLevels / "arena.glb").string() + " --out " + TempPath("k.bin").string() +
            " --obj {out}",
        ".obj"},
       {"simulate --out", "simulate " + (kScenes / "stack.json").string() + " --steps 200 --out {out}",
        ".jsonl"},
       {"demo --record",
-       "demo --steps 60 --crates 10 --no-player --out-dir " + Temp("kill_demo").string() + " --record {out}",
+       "demo --steps 60 --crates 10 --no-player --out-dir " + TempPath("kill_demo").string() +
+           " --record {out}",
        ".json", false},
       {"bench --json", "bench --scene pyramid --steps 20 --threads 1 --no-bullet --json {out}", ".json",
        false},
   };
   std::mt19937 random(20261127);
   for (const Writer& writer : writers) {
-    const auto out = Temp("killed" + writer.extension);
+    const auto out = TempPath("killed" + writer.extension);
     const std::string command =
         "exec " + std::string(STRATA_CLI) + " " + Expand(writer.arguments, out) + " > /dev/null 2>&1";
     const auto start = std::chrono::steady_clock::now();

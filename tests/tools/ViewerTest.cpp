@@ -27,15 +27,12 @@
 
 #include <assimp/Importer.hpp>
 
+#include "tests/TempPath.h"
+
 namespace strata::test {
 namespace {
 
 const std::filesystem::path kScenes = STRATA_SCENES_DIR;
-
-std::filesystem::path TempPath(const std::string& name) {
-  return std::filesystem::temp_directory_path() /
-         ("strata_viewer_test_" + std::to_string(::getpid()) + "_" + name);
-}
 
 int RunShell(const std::string& command) {
   const int status = std::system(command.c_str());
