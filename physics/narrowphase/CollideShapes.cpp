@@ -21,12 +21,13 @@ namespace {
 // Normal (A to B) and deepest point pair of two convex supports. The cores carry radii; exact supports are
 // used when the cores overlap, and where `corner_slack` (CornerSlack) says the cores fall short of sharp
 // exact shapes.
-bool FindContact(const ConvexSupport& core_a, const ConvexSupport& exact_a, float radius_a,
-                 const ConvexSupport& core_b, const ConvexSupport& exact_b, float radius_b,
-                 float corner_slack, float max_separation, Vec3& normal, ContactPoint& deepest,
-                 EpaScratch& scratch) {
+// A template over the support mappings (final classes), so that GJK calls them directly.
+template <class SupportA, class SupportB>
+bool FindContact(const SupportA& core_a, const SupportA& exact_a, float radius_a, const SupportB& core_b,
+                 const SupportB& exact_b, float radius_b, float corner_slack, float max_separation,
+                 Vec3& normal, ContactPoint& deepest, EpaScratch& scratch) {
   const float core_reach = max_separation + radius_a + radius_b + corner_slack;
-  const GjkResult core = GjkClosestPoints(core_a, core_b, core_reach);
+  const GjkResult core = GjkClosestPointsOf(core_a, core_b, core_reach);
   if (!core.overlapping && core.distance > core_reach) return false;
   if (!core.overlapping && core.distance > 1e-5f) {
     normal = (core.point_b - core.point_a) / core.distance;
@@ -40,7 +41,7 @@ bool FindContact(const ConvexSupport& core_a, const ConvexSupport& exact_a, floa
     deepest = {core.point_a + radius_a * normal, core.point_b - radius_b * normal, separation};
     return true;
   }
-  const GjkResult exact = GjkClosestPoints(exact_a, exact_b, max_separation);
+  const GjkResult exact = GjkClosestPointsOf(exact_a, exact_b, max_separation);
   if (!exact.overlapping && exact.distance > max_separation) return false;
   if (!exact.overlapping && exact.distance > 1e-6f) {
     if (exact.distance > max_separation) return false;
@@ -319,22 +320,34 @@ class ConvexInMesh {
   bool use_sat() const { return use_sat_; }
   /// Whether the convex's deepest point below the triangle's plane comes within `max_separation` of it: if
   /// not, no feature of the triangle can come closer.
-  bool Reaches(const Vec3& face_normal, const Vec3& corner, float max_separation) const {
+  /// Keeps the lowest point and its height above the plane for Contact.
+  bool Reaches(const Vec3& face_normal, const Vec3& corner, float max_separation) {
     // A shape that is its core plus a radius reaches the radius past its core's lowest point (no square root
     // for the rounded support's direction).
     if (shape_.CoreIsExact()) {
-      const Vec3 lowest =
-          pose_.position + rotation_ * shape_.CoreSupport(rotation_.transpose() * -face_normal);
-      return face_normal.dot(lowest - corner) - shape_.core_radius() <= max_separation;
+      lowest_ = pose_.position + rotation_ * shape_.CoreSupport(rotation_.transpose() * -face_normal);
+      lowest_height_ = face_normal.dot(lowest_ - corner);
+      return lowest_height_ - shape_.core_radius() <= max_separation;
     }
-    const Vec3 lowest = pose_.position + rotation_ * shape_.Support(rotation_.transpose() * -face_normal);
-    return face_normal.dot(lowest - corner) <= max_separation;
+    lowest_ = pose_.position + rotation_ * shape_.Support(rotation_.transpose() * -face_normal);
+    lowest_height_ = face_normal.dot(lowest_ - corner);
+    return lowest_height_ <= max_separation;
   }
-  /// The contact with one triangle: its normal and deepest point (and, by separating axes, the whole
-  /// manifold). False when they are apart beyond `max_separation`.
+  /// The contact with one triangle (after Reaches for it): its normal and deepest point (and, by separating
+  /// axes, the whole manifold). False when they are apart beyond `max_separation`.
   bool Contact(const TriangleSupport& triangle, const MeshTriangle& corners, float max_separation,
                EpaScratch& epa, ContactManifold& manifold, Vec3& normal, ContactPoint& deepest) {
     if (use_sat_) return PolyhedronContact(triangle, corners, max_separation, manifold, normal, deepest);
+    if (rounded_ && OverTriangleInside(corners)) {
+      // The core lies wholly above the triangle's plane, and its lowest point stands over the triangle's
+      // inside: no point of the triangle is nearer the core than that point's foot on the plane, so that
+      // pair is the closest, as GJK would find it (most triangles under a resting body, without GJK).
+      normal = -corners.normal;
+      const float radius = shape_.core_radius();
+      deepest = {lowest_ + radius * normal, lowest_ - lowest_height_ * corners.normal,
+                 lowest_height_ - radius};
+      return deepest.separation <= max_separation;
+    }
     if (shape_.type() == ShapeType::kSphere)
       return SphereTriangleContact(pose_.position, shape_.core_radius(), triangle, corners.normal,
                                    max_separation, normal, deepest);
@@ -374,11 +387,29 @@ class ConvexInMesh {
     return true;
   }
 
+  // Whether the core's lowest point (from Reaches) is clear of the plane and over the triangle's inside, by
+  // a margin: on an edge or touching the plane, GJK decides.
+  bool OverTriangleInside(const MeshTriangle& triangle) const {
+    if (lowest_height_ <= kFaceContactMargin) return false;
+    for (int i = 0; i < 3; ++i) {
+      const Vec3& from = triangle.corners[i];
+      const Vec3 edge = triangle.corners[(i + 1) % 3] - from;
+      // Inward distance from the edge, scaled by its length: compare against the margin times that length.
+      if (edge.cross(lowest_ - from).dot(triangle.normal) <= kFaceContactMargin * edge.norm()) return false;
+    }
+    return true;
+  }
+
+  static constexpr float kFaceContactMargin = 1e-4f;
+
   const ConvexShape& shape_;
   const Pose pose_;
   const Mat3 rotation_;
   const PosedConvex core_, exact_;
+  const bool rounded_ = Rounded(shape_);
   bool use_sat_ = false;
+  Vec3 lowest_ = Vec3::Zero();
+  float lowest_height_ = 0.0f;
   Vec3 capsule_core_[2];
   static thread_local Polyhedron polyhedron_;
 };

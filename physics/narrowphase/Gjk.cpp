@@ -144,62 +144,7 @@ bool ClosestPointOnSimplex(SimplexVertex* simplex, int& count, float* weights, V
 }
 
 GjkResult GjkClosestPoints(const ConvexSupport& a, const ConvexSupport& b, float max_distance) {
-  GjkResult result;
-  Vec3 v = a.Center() - b.Center();
-  if (v.squaredNorm() < 1e-12f) v = Vec3::UnitX();
-  float weights[4] = {1, 0, 0, 0};
-  constexpr int kMaxIterations = 48;
-  for (int iteration = 0; iteration < kMaxIterations; ++iteration) {
-    const Vec3 direction = -v;
-    SimplexVertex vertex;
-    vertex.a = a.Support(direction);
-    vertex.b = b.Support(-direction);
-    vertex.w = vertex.a - vertex.b;
-    const float v_length2 = v.squaredNorm();
-    const float progress = v.dot(vertex.w);
-    // Separating axis farther than anyone cares about.
-    if (progress > 0.0f && progress * progress > max_distance * max_distance * v_length2 &&
-        result.simplex_count > 0) {
-      result.distance = std::sqrt(progress * progress / v_length2);
-      return result;
-    }
-    // No more progress towards the origin: v is the closest point.
-    if (result.simplex_count > 0 && v_length2 - progress <= 1e-6f * v_length2) break;
-    bool duplicate = false;
-    for (int i = 0; i < result.simplex_count; ++i)
-      duplicate |= (result.simplex[i].w - vertex.w).squaredNorm() < 1e-14f;
-    if (duplicate) break;
-    // Kept to go back to: near touching, float rounding can make a new vertex pull the simplex away.
-    SimplexVertex previous[4];
-    float previous_weights[4];
-    const int previous_count = result.simplex_count;
-    std::copy_n(result.simplex, previous_count, previous);
-    std::copy_n(weights, previous_count, previous_weights);
-    result.simplex[result.simplex_count++] = vertex;
-    Vec3 closest;
-    if (!ClosestPointOnSimplex(result.simplex, result.simplex_count, weights, closest) ||
-        closest.squaredNorm() < 1e-10f) {
-      result.overlapping = true;
-      return result;
-    }
-    // Guard against cycling: the distance must shrink every iteration. One that grew ends the search at the
-    // simplex before it (its closest point is v), not at the worse one.
-    if (closest.squaredNorm() >= v_length2 && iteration > 0) {
-      std::copy_n(previous, previous_count, result.simplex);
-      std::copy_n(previous_weights, previous_count, weights);
-      result.simplex_count = previous_count;
-      break;
-    }
-    v = closest;
-  }
-  result.distance = v.norm();
-  result.point_a = Vec3::Zero();
-  result.point_b = Vec3::Zero();
-  for (int i = 0; i < result.simplex_count; ++i) {
-    result.point_a += weights[i] * result.simplex[i].a;
-    result.point_b += weights[i] * result.simplex[i].b;
-  }
-  return result;
+  return GjkClosestPointsOf(a, b, max_distance);
 }
 
 }  // namespace strata

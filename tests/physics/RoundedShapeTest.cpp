@@ -222,14 +222,8 @@ TEST(RoundedShape, RoundedHullsOfRandomCloudsStayInsideTheirPointsHullAndKeepThe
   }
 }
 
-// Rounded boxes and pyramids dropped on a wavy mesh: where every body is after `steps`, bit for bit.
-std::vector<float> DropOnMesh(std::shared_ptr<JobSystem> jobs, int steps) {
-  PhysicsSystemConfig config;
-  config.max_bodies = 64;
-  config.job_system = std::move(jobs);
-  auto world = std::move(*PhysicsSystem::Create(config, PhysicsSettings{}));
-  std::vector<Vec3> vertices;
-  std::vector<TriangleMeshShape::Indices> triangles;
+// 16 m x 16 m of ground in 2 m cells, rising and falling half a metre.
+void WavyGround(std::vector<Vec3>& vertices, std::vector<TriangleMeshShape::Indices>& triangles) {
   for (int z = 0; z <= 8; ++z)
     for (int x = 0; x <= 8; ++x)
       vertices.emplace_back(2.0f * x - 8.0f, 0.5f * std::sin(1.3f * x) * std::cos(0.9f * z), 2.0f * z - 8.0f);
@@ -239,6 +233,17 @@ std::vector<float> DropOnMesh(std::shared_ptr<JobSystem> jobs, int steps) {
       triangles.push_back({i, i + 9, i + 1});
       triangles.push_back({i + 1, i + 9, i + 10});
     }
+}
+
+// Rounded boxes and pyramids dropped on a wavy mesh: where every body is after `steps`, bit for bit.
+std::vector<float> DropOnMesh(std::shared_ptr<JobSystem> jobs, int steps) {
+  PhysicsSystemConfig config;
+  config.max_bodies = 64;
+  config.job_system = std::move(jobs);
+  auto world = std::move(*PhysicsSystem::Create(config, PhysicsSettings{}));
+  std::vector<Vec3> vertices;
+  std::vector<TriangleMeshShape::Indices> triangles;
+  WavyGround(vertices, triangles);
   Add(*world, Static(*TriangleMeshShape::Create(vertices, triangles), Vec3::Zero()));
   std::vector<BodyID> ids;
   for (int i = 0; i < 24; ++i) {
@@ -256,6 +261,97 @@ TEST(RoundedShape, PilesOnAMeshSettleAboveItAndMatchBitForBitOnEveryThreadCount)
   EXPECT_EQ(DropOnMesh(std::make_shared<ThreadPoolJobSystem>(2), 180), serial);
   EXPECT_EQ(DropOnMesh(std::make_shared<ThreadPoolJobSystem>(4), 180), serial);
   for (std::size_t i = 1; i < serial.size(); i += 3) EXPECT_GT(serial[i], -0.6f);  // none fell through
+}
+
+// Over a tilted, finely split plane the rounded shape's nearest point is its core's lowest point less the
+// radius, whether it stands over a triangle's inside (taken from the plane) or beside an edge (GJK decides).
+TEST(RoundedShape, OnAMeshEveryPoseTouchesAtTheCoresLowestPointLessTheRadius) {
+  const Quat tilt(Eigen::AngleAxisf(0.35f, Vec3(1, 0, 2).normalized()));
+  std::vector<Vec3> vertices;
+  std::vector<TriangleMeshShape::Indices> triangles;
+  for (int z = 0; z <= 12; ++z)
+    for (int x = 0; x <= 12; ++x) vertices.push_back(tilt * Vec3(0.5f * x - 3.0f, 0.0f, 0.5f * z - 3.0f));
+  for (std::uint32_t z = 0; z < 12; ++z)
+    for (std::uint32_t x = 0; x < 12; ++x) {
+      const std::uint32_t i = z * 13 + x;
+      triangles.push_back({i, i + 13, i + 1});
+      triangles.push_back({i + 1, i + 13, i + 14});
+    }
+  const ShapeRef mesh = *TriangleMeshShape::Create(vertices, triangles);
+  const Vec3 up = tilt * Vec3::UnitY();
+  std::mt19937 random(42);
+  std::uniform_real_distribution<float> unit(-1.0f, 1.0f), gap(0.0005f, 0.04f);
+  for (int i = 0; i < 400; ++i) {
+    const ShapeRef shape = i % 2 == 0 ? Box(0.4f, 0.3f, 0.5f) : Pyramid();
+    const ConvexShape& convex = Convex(shape);
+    const Quat rotation =
+        Quat(Eigen::AngleAxisf(3.0f * unit(random), Vec3(unit(random), unit(random), 1.0f).normalized()));
+    // Stand the core's lowest point `expected` plus the radius above the plane, somewhere over its middle.
+    const Vec3 lowest = rotation * convex.CoreSupport(rotation.conjugate() * -up);
+    const float expected = gap(random);
+    // A quarter of the feet on a corner of the grid and a quarter on an edge, where GJK decides.
+    Vec3 foot(1.5f * unit(random), 0.0f, 1.5f * unit(random));
+    if (i % 4 == 0) foot = Vec3(0.5f * std::round(2.0f * foot.x()), 0.0f, 0.5f * std::round(2.0f * foot.z()));
+    if (i % 4 == 1) foot.x() = 0.5f * std::round(2.0f * foot.x());
+    foot = tilt * foot;
+    const Pose pose{foot + (expected + convex.core_radius()) * up - lowest, rotation};
+    std::vector<ContactManifold> found;
+    CollideConvexMesh(convex, pose, static_cast<const TriangleMeshShape&>(*mesh), Pose{}, 0.05f,
+                      ContactManifold{}, found);
+    ASSERT_FALSE(found.empty()) << "pose " << i;
+    float deepest = kLargeFloat;
+    for (const ContactManifold& manifold : found) {
+      // GJK's stopping rule leaves a face-on pair's normal within a few degrees of the face's.
+      EXPECT_GT(-manifold.normal.dot(up), 0.999f) << "pose " << i;
+      for (int p = 0; p < manifold.count; ++p) deepest = std::min(deepest, manifold.points[p].separation);
+    }
+    EXPECT_NEAR(deepest, expected, 2e-5f) << "pose " << i;
+  }
+}
+
+// Over a wavy mesh, the nearest contact is GJK's distance from the core to the nearest triangle less the
+// radius, for every pose: standing over a triangle's inside is read right, and so is standing beside it.
+TEST(RoundedShape, OverAWavyMeshTheDeepestContactIsTheNearestTrianglesDistance) {
+  std::vector<Vec3> vertices;
+  std::vector<TriangleMeshShape::Indices> triangles;
+  WavyGround(vertices, triangles);
+  const ShapeRef mesh = *TriangleMeshShape::Create(vertices, triangles);
+  const auto& triangle_mesh = static_cast<const TriangleMeshShape&>(*mesh);
+  std::mt19937 random(7);
+  std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
+  int near = 0;
+  for (int i = 0; i < 800; ++i) {
+    const ShapeRef shape = i % 2 == 0 ? Box(0.4f, 0.3f, 0.5f) : Pyramid();
+    const ConvexShape& convex = Convex(shape);
+    const Quat rotation(
+        Eigen::AngleAxisf(3.0f * unit(random), Vec3(unit(random), unit(random), 1.0f).normalized()));
+    const Vec3 at(5.0f * unit(random), 0.0f, 5.0f * unit(random));
+    ShapeRayHit hit;
+    ASSERT_TRUE(triangle_mesh.CastRay(at + Vec3(0, 5, 0), Vec3(0, -10, 0), 1.0f, hit));
+    const float lowest = (rotation * convex.Support(rotation.conjugate() * -Vec3::UnitY())).y();
+    const Pose pose{Vec3(at.x(), 5.0f - 10.0f * hit.fraction - lowest + 0.02f + 0.03f * unit(random), at.z()),
+                    rotation};
+    // The reference: GJK from the core to every triangle, less the radius.
+    const PosedConvex core(convex, pose, true);
+    float expected = kLargeFloat;
+    bool cores_overlap = false;
+    for (std::uint32_t t = 0; t < triangle_mesh.triangle_count(); ++t) {
+      const TriangleSupport triangle(triangle_mesh.Vertex(t, 0), triangle_mesh.Vertex(t, 1),
+                                     triangle_mesh.Vertex(t, 2));
+      const GjkResult result = GjkClosestPoints(core, triangle, 1.0f);
+      cores_overlap |= result.overlapping;
+      expected = std::min(expected, result.distance - convex.core_radius());
+    }
+    if (cores_overlap || expected > 0.04f || expected < 0.001f) continue;  // a gap the mesh reports
+    ++near;
+    std::vector<ContactManifold> found;
+    CollideConvexMesh(convex, pose, triangle_mesh, Pose{}, 0.05f, ContactManifold{}, found);
+    float deepest = kLargeFloat;
+    for (const ContactManifold& manifold : found)
+      for (int p = 0; p < manifold.count; ++p) deepest = std::min(deepest, manifold.points[p].separation);
+    EXPECT_NEAR(deepest, expected, 1e-4f) << "pose " << i;
+  }
+  EXPECT_GT(near, 200);
 }
 
 TEST(RoundedShape, ARoundedBoxRestsOnAMeshAndOnABoxAtItsHalfHeight) {
