@@ -21,6 +21,9 @@ constexpr std::uint32_t kConstraintBatch = 2;
 // round ends at a barrier, so few jobs take larger batches and many take smaller ones to share the work out.
 constexpr std::uint32_t kClaimsPerJob = 2;
 constexpr std::uint32_t kBodyBatch = 64;
+// A group of at most 1 / kGroupsPerJob of one job's share of the step's work runs on one job: the jobs then
+// end within about that much of each other.
+constexpr std::uint64_t kGroupsPerJob = 4;
 // Idle laps (a pause each, about a microsecond in all) before a waiting job yields its core.
 constexpr std::uint32_t kSpinsBeforeYield = 64;
 
@@ -117,10 +120,13 @@ void ConstraintSolver::FormGroups() {
   group_count_ = 0;
   group_islands_.clear();
   form_groups([&](std::uint32_t first, std::uint32_t end, bool exact) { AddGroup(first, end, exact); });
-  for (std::uint32_t g = 0; g < group_count_; ++g)
+  total_work_ = 0;
+  for (std::uint32_t g = 0; g < group_count_; ++g) {
     for (std::uint32_t island = groups_[g].islands.first_island; island < groups_[g].islands.end_island;
          ++island)
       groups_[g].work += work(island);
+    total_work_ += groups_[g].work;
+  }
 }
 
 void ConstraintSolver::AddGroup(std::uint32_t first_island, std::uint32_t end_island, bool exact) {
@@ -170,7 +176,10 @@ void ConstraintSolver::PrepareGroup(std::uint32_t group_index, std::uint32_t job
         (group.bounces ? group.split_count * static_cast<std::uint32_t>(settings.restitution_iterations)
                        : 0) +
         (group.positions ? group.split_count : 0);
-    group.one_job = !parallel && bodies <= kBodyBatch;
+    // Whole rounds and batches do the same work in the same order (RunRoundsInOrder), so which way a group
+    // runs changes its time, never its result.
+    const std::uint64_t share_of_a_job = total_work_ / (kGroupsPerJob * jobs_.size());
+    group.one_job = (!parallel && bodies <= kBodyBatch) || group.work <= share_of_a_job;
   }
   group.processed.store(0, std::memory_order_relaxed);
   group.status.store(0, std::memory_order_release);

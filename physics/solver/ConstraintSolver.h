@@ -95,8 +95,10 @@ class ConstraintSolver {
     bool free = false;  // no constraints: forces and integration only
     bool bounces = false;
     bool positions = false;
-    // No parallel split and at most one body batch: every round is one item, so one job runs them all in
-    // order at once instead of claiming them one by one.
+    // One job runs every round in order at once instead of the jobs claiming them batch by batch: where
+    // each round is one item anyway (no parallel split, at most one body batch), and where the group is a
+    // small share of the step's work, so that the other jobs are better off with groups of their own than
+    // meeting at this one's round barriers.
     bool one_job = false;
     std::uint32_t round_count = 0;
     std::atomic<std::uint64_t> status{0};  // round << 32 | next unclaimed item
@@ -141,6 +143,7 @@ class ConstraintSolver {
   std::unique_ptr<Group[]> groups_;
   std::uint32_t group_capacity_ = 0;
   std::uint32_t group_count_ = 0;
+  std::uint64_t total_work_ = 0;  // every group's work
   std::atomic<std::uint32_t> groups_finished_{0};
   std::vector<JobState> jobs_;
 };
