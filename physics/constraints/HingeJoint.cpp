@@ -8,7 +8,7 @@ namespace strata {
 namespace {
 // The angle from `from` to `to` about `axis` (all unit, `from` and `to` at right angles to it).
 float SignedAngle(const Vec3& from, const Vec3& to, const Vec3& axis) {
-  return std::atan2(from.cross(to).dot(axis), from.dot(to));
+  return FastAtan2(from.cross(to).dot(axis), from.dot(to));
 }
 }  // namespace
 

@@ -12,7 +12,7 @@ constexpr float kUnbounded = std::numeric_limits<float>::infinity();
 float TwistOf(const Quat& relative) {
   Quat q = relative;
   if (q.w() < 0.0f) q.coeffs() = -q.coeffs();
-  return 2.0f * std::atan2(q.x(), q.w());
+  return 2.0f * FastAtan2(q.x(), q.w());
 }
 }  // namespace
 
@@ -54,7 +54,7 @@ std::string SwingTwistJoint::Describe() const {
 float SwingTwistJoint::SwingAngle(const Quat& rotation_a, const Quat& rotation_b) const {
   const Vec3 twist_a = (rotation_a * local().frame_a) * Vec3::UnitX();
   const Vec3 twist_b = (rotation_b * local().frame_b) * Vec3::UnitX();
-  return std::atan2(twist_a.cross(twist_b).norm(), twist_a.dot(twist_b));
+  return FastAtan2(twist_a.cross(twist_b).norm(), twist_a.dot(twist_b));
 }
 
 float SwingTwistJoint::TwistAngle(const Quat& rotation_a, const Quat& rotation_b) const {
@@ -67,7 +67,7 @@ void SwingTwistJoint::PrepareRows(const ConstraintBodies& bodies, const WorldFra
   const Vec3 twist_a = frames.axes_a.col(0), twist_b = frames.axes_b.col(0);
   const Vec3 bend = twist_a.cross(twist_b);
   const float bend_size = bend.norm();
-  swing = std::atan2(bend_size, twist_a.dot(twist_b));
+  swing = FastAtan2(bend_size, twist_a.dot(twist_b));
   // The swing grows as B turns about twist_a x twist_b; the row holds the opposite way. With the axes in
   // line there is no direction to hold (and no limit near).
   swing_axis_valid_ = bend_size > 1e-6f;

@@ -4,6 +4,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -27,6 +28,23 @@ inline bool IsFinite(const Quat& q) {
 }
 inline bool IsFinite(float f) {
   return std::isfinite(f);
+}
+
+/// atan2(y, x) within 1e-5 rad, by an odd polynomial on [0, 1] and the octant: the joints take their angles
+/// every solver pass, where libm's atan2f was a twentieth of a ragdoll step. Pure arithmetic, so the same
+/// answer on every platform; (0, 0) gives 0.
+inline float FastAtan2(float y, float x) {
+  const float ax = std::abs(x), ay = std::abs(y);
+  const float big = std::max(ax, ay), small = std::min(ax, ay);
+  if (big == 0.0f) return 0.0f;
+  const float t = small / big, t2 = t * t;
+  float angle =
+      t * (0.99997726f +
+           t2 * (-0.33262347f +
+                 t2 * (0.19354346f + t2 * (-0.11643287f + t2 * (0.05265332f + t2 * -0.01172120f)))));
+  if (ay > ax) angle = 0.5f * kPi - angle;
+  if (x < 0.0f) angle = kPi - angle;
+  return y < 0.0f ? -angle : angle;
 }
 
 /// A unit vector perpendicular to `n` (n must be unit length).
