@@ -82,10 +82,8 @@ bool Rounded(const ConvexShape& shape) {
 // that face is the contact, as separating axes would find it.
 constexpr float kFaceNormalTolerance = 5e-4f;
 
-void PreferFaceNormal(const ConvexShape& a, const Pose& pose_a, const ConvexShape& b, const Pose& pose_b,
-                      const SupportingFace& face_a, const SupportingFace& face_b, Vec3& normal,
-                      ContactPoint& deepest) {
-  const PosedConvex exact_a(a, pose_a, false), exact_b(b, pose_b, false);
+void PreferFaceNormal(const PosedConvex& exact_a, const PosedConvex& exact_b, const SupportingFace& face_a,
+                      const SupportingFace& face_b, Vec3& normal, ContactPoint& deepest) {
   float best = -kLargeFloat;
   Vec3 best_normal = normal;
   ContactPoint best_point = deepest;
@@ -100,11 +98,11 @@ void PreferFaceNormal(const ConvexShape& a, const Pose& pose_a, const ConvexShap
   deepest = best_point;
 }
 
-void WorldFace(const ConvexShape& shape, const Pose& pose, const Vec3& world_direction,
-               SupportingFace& face) {
-  shape.GetSupportingFace(pose.DirectionToLocal(world_direction), face);
-  for (int i = 0; i < face.count; ++i) face.vertices[i] = pose.ToWorld(face.vertices[i]);
-  face.normal = pose.DirectionToWorld(face.normal);
+void WorldFace(const ConvexShape& shape, const Vec3& position, const Mat3& rotation,
+               const Vec3& world_direction, SupportingFace& face) {
+  shape.GetSupportingFace(rotation.transpose() * world_direction, face);
+  for (int i = 0; i < face.count; ++i) face.vertices[i] = position + rotation * face.vertices[i];
+  face.normal = rotation * face.normal;
 }
 
 bool CollideSpheres(const SphereShape& a, const Pose& pose_a, const SphereShape& b, const Pose& pose_b,
@@ -277,17 +275,21 @@ bool CollideByGjk(const ConvexShape& a, const Pose& pose_a, const ConvexShape& b
       found = true;
     }
   }
+  // Each pose's rotation as a matrix once, for the supports and the faces.
+  const Mat3 rotation_a = pose_a.rotation.toRotationMatrix(), rotation_b = pose_b.rotation.toRotationMatrix();
+  const PosedConvex exact_a(a, pose_a.position, rotation_a, false),
+      exact_b(b, pose_b.position, rotation_b, false);
   if (!found) {
-    const PosedConvex core_a(a, pose_a, true), exact_a(a, pose_a, false);
-    const PosedConvex core_b(b, pose_b, true), exact_b(b, pose_b, false);
+    const PosedConvex core_a(a, pose_a.position, rotation_a, true),
+        core_b(b, pose_b.position, rotation_b, true);
     if (!FindContact(core_a, exact_a, a.core_radius(), core_b, exact_b, b.core_radius(),
                      CornerSlack(a) + CornerSlack(b), max_separation, normal, deepest, scratch.epa))
       return false;
   }
   SupportingFace face_a, face_b;
-  WorldFace(a, pose_a, normal, face_a);
-  WorldFace(b, pose_b, -normal, face_b);
-  if (Rounded(a) || Rounded(b)) PreferFaceNormal(a, pose_a, b, pose_b, face_a, face_b, normal, deepest);
+  WorldFace(a, pose_a.position, rotation_a, normal, face_a);
+  WorldFace(b, pose_b.position, rotation_b, -normal, face_b);
+  if (Rounded(a) || Rounded(b)) PreferFaceNormal(exact_a, exact_b, face_a, face_b, normal, deepest);
   manifold.normal = normal;
   BuildManifold(face_a, face_b, deepest, max_separation, manifold);
   // The deepest point is never shallower than the shapes' deepest overlap (exact on two exact cores, else the
@@ -306,8 +308,8 @@ class ConvexInMesh {
       : shape_(shape),
         pose_(pose),
         rotation_(pose.rotation.toRotationMatrix()),
-        core_(shape, pose_, true),
-        exact_(shape, pose_, false) {
+        core_(shape, pose_.position, rotation_, true),
+        exact_(shape, pose_.position, rotation_, false) {
     use_sat_ = IsPolyhedron(shape) && !shape.CoreIsExact() && MakePolyhedron(shape, pose_, polyhedron_);
     if (shape.type() != ShapeType::kCapsule) return;
     const Vec3 half_axis = rotation_.col(1) * static_cast<const CapsuleShape&>(shape).half_height();
@@ -319,8 +321,7 @@ class ConvexInMesh {
 
   bool use_sat() const { return use_sat_; }
   /// Whether the convex's deepest point below the triangle's plane comes within `max_separation` of it: if
-  /// not, no feature of the triangle can come closer.
-  /// Keeps the lowest point and its height above the plane for Contact.
+  /// not, no feature of the triangle can come closer. Keeps that point and its height for Contact.
   bool Reaches(const Vec3& face_normal, const Vec3& corner, float max_separation) {
     // A shape that is its core plus a radius reaches the radius past its core's lowest point (no square root
     // for the rounded support's direction).
@@ -364,7 +365,7 @@ class ConvexInMesh {
     if (use_sat_)
       polyhedron_.Face(MostAlignedFace(polyhedron_, normal), face);
     else
-      WorldFace(shape_, pose_, normal, face);
+      WorldFace(shape_, pose_.position, rotation_, normal, face);
   }
 
  private:

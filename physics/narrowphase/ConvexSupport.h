@@ -21,10 +21,10 @@ class ConvexSupport {
 class PosedConvex final : public ConvexSupport {
  public:
   PosedConvex(const ConvexShape& shape, const Pose& pose, bool use_core)
-      : shape_(shape),
-        position_(pose.position),
-        rotation_(pose.rotation.toRotationMatrix()),
-        use_core_(use_core) {}
+      : PosedConvex(shape, pose.position, pose.rotation.toRotationMatrix(), use_core) {}
+  /// With the pose's rotation already a matrix (a pair's core and exact shape share one).
+  PosedConvex(const ConvexShape& shape, const Vec3& position, const Mat3& rotation, bool use_core)
+      : shape_(shape), position_(position), rotation_(rotation), use_core_(use_core) {}
   Vec3 Support(const Vec3& direction) const override {
     const Vec3 local = rotation_.transpose() * direction;
     return position_ + rotation_ * (use_core_ ? shape_.CoreSupport(local) : shape_.Support(local));
