@@ -7,6 +7,7 @@
 #include <atomic>
 #include <cstdint>
 #include <span>
+#include <type_traits>
 #include <vector>
 
 #if defined(__SSE2__)
@@ -117,8 +118,9 @@ class QuadTree {
   std::uint32_t BuildRoot(std::span<Item> items, std::uint32_t& nodes_used);
 
   /// Visits the bodies under `root` whose slot passes `test`, which marks the children to enter in a
-  /// 4-bit mask and writes each one's distance (0 for overlap tests; nearer children are entered first).
-  /// `visit(body_index, distance)` returns false to stop.
+  /// 4-bit mask. A test taking `(bounds, float* distance)` also writes each one's distance, and nearer
+  /// children are entered first; an overlap test takes `(bounds)` alone, and its children are entered in
+  /// slot order at distance 0, without the sort. `visit(body_index, distance)` returns false to stop.
   template <class ChildTest, class BodyVisitor>
   void Walk(std::uint32_t root, ChildTest&& test, BodyVisitor&& visit) const;
 
@@ -211,8 +213,13 @@ void QuadTree::Walk(std::uint32_t root, ChildTest&& test, BodyVisitor&& visit) c
     }
     const QuadTreeNode& current = node(top.entry);
     const ChildBounds bounds = LoadChildBounds(current);
-    float distance[4];
-    const int mask = test(bounds, distance);
+    constexpr bool kNearestFirst = std::is_invocable_v<ChildTest&, const ChildBounds&, float*>;
+    float distance[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+    int mask = 0;
+    if constexpr (kNearestFirst)
+      mask = test(bounds, distance);
+    else
+      mask = test(bounds);
     if (mask == 0) continue;
     std::uint32_t children[4];
     int order[4];
@@ -224,9 +231,10 @@ void QuadTree::Walk(std::uint32_t root, ChildTest&& test, BodyVisitor&& visit) c
       order[count++] = i;
     }
     // Push the farthest first so the nearest is entered first (a ray's early out then prunes the rest).
-    for (int i = 1; i < count; ++i)
-      for (int j = i; j > 0 && distance[order[j]] > distance[order[j - 1]]; --j)
-        std::swap(order[j], order[j - 1]);
+    if constexpr (kNearestFirst)
+      for (int i = 1; i < count; ++i)
+        for (int j = i; j > 0 && distance[order[j]] > distance[order[j - 1]]; --j)
+          std::swap(order[j], order[j - 1]);
     for (int i = 0; i < count; ++i) push({children[order[i]], distance[order[i]]});
   }
 }

@@ -413,11 +413,7 @@ void QuadTreeBroadPhase::WalkTrees(const BroadPhasePin& pin, const QueryFilter& 
 void QuadTreeBroadPhase::CollideAABB(const BroadPhasePin& pin, const AABB& box, const QueryFilter& filter,
                                      BroadPhaseCollector& collector) const {
   WalkTrees(
-      pin, filter,
-      [&](const ChildBounds& b, float* distance) {
-        std::fill(distance, distance + 4, 0.0f);
-        return OverlapMask(b, box);
-      },
+      pin, filter, [&](const ChildBounds& b) { return OverlapMask(b, box); },
       [&](BodyID id, const BodyLocation& location, float) {
         const AABB bounds = location.Bounds();
         if (bounds.Overlaps(box)) collector.AddOverlap(id, bounds);
@@ -429,11 +425,7 @@ void QuadTreeBroadPhase::CollideSphere(const BroadPhasePin& pin, const Vec3& cen
                                        const QueryFilter& filter, BroadPhaseCollector& collector) const {
   const float radius_squared = radius * radius;
   WalkTrees(
-      pin, filter,
-      [&](const ChildBounds& b, float* distance) {
-        std::fill(distance, distance + 4, 0.0f);
-        return SphereMask(b, center, radius_squared);
-      },
+      pin, filter, [&](const ChildBounds& b) { return SphereMask(b, center, radius_squared); },
       [&](BodyID id, const BodyLocation& location, float) {
         if (SquaredDistanceToBox(location.Bounds(), center) <= radius_squared) collector.AddHit(id, 0.0f);
         return !collector.ShouldStop();
@@ -474,11 +466,7 @@ void QuadTreeBroadPhase::FindPairs(std::span<const BodyID> active, std::span<con
     filter.object_layers = own_layers ? collides_with_layers_[layer_a] : ~std::uint64_t{0};
     filter.ignore_body_index = a.index;
     WalkTrees(
-        pin, filter,
-        [&](const ChildBounds& b, float* distance) {
-          std::fill(distance, distance + 4, 0.0f);
-          return OverlapMask(b, box);
-        },
+        pin, filter, [&](const ChildBounds& b) { return OverlapMask(b, box); },
         [&](BodyID b, const BodyLocation& other, float) {
           if (active_flags[b.index] && b.index < a.index) return true;  // reported from b's side
           if (!other.Bounds().Overlaps(box)) return true;
