@@ -89,11 +89,20 @@ Constraint::LocalFrames Constraint::MakeLocalFrames(const BodyFrame& a, const Bo
   return local;
 }
 
+Constraint::WorldArms Constraint::Arms(const ConstraintBodies& bodies) const {
+  WorldArms arms;
+  arms.r_a = bodies.rotation_a * local_.anchor_a;
+  arms.r_b = bodies.rotation_b * local_.anchor_b;
+  arms.separation = (bodies.center_b + arms.r_b) - (bodies.center_a + arms.r_a);
+  return arms;
+}
+
 Constraint::WorldFrames Constraint::Frames(const ConstraintBodies& bodies) const {
   WorldFrames frames;
-  frames.r_a = bodies.rotation_a * local_.anchor_a;
-  frames.r_b = bodies.rotation_b * local_.anchor_b;
-  frames.separation = (bodies.center_b + frames.r_b) - (bodies.center_a + frames.r_a);
+  const WorldArms arms = Arms(bodies);
+  frames.r_a = arms.r_a;
+  frames.r_b = arms.r_b;
+  frames.separation = arms.separation;
   frames.axes_a = (bodies.rotation_a * local_.frame_a).toRotationMatrix();
   frames.axes_b = (bodies.rotation_b * local_.frame_b).toRotationMatrix();
   return frames;
@@ -102,6 +111,7 @@ Constraint::WorldFrames Constraint::Frames(const ConstraintBodies& bodies) const
 void Constraint::BeginStep(const ConstraintSide& a, const ConstraintSide& b, float h) {
   side_a_ = a;
   side_b_ = b;
+  set_up_version_ = -1;
   // The kept impulses are per substep: a different substep scales them (a longer one pushes longer).
   if (substep_ > 0.0f && h != substep_) ScaleImpulses(h / substep_);
   substep_ = h;

@@ -144,6 +144,12 @@ class Constraint {
     Quat frame_a = Quat::Identity();
     Quat frame_b = Quat::Identity();
   };
+  /// The arms from the centres of mass to the anchors now, world.
+  struct WorldArms {
+    Vec3 r_a;
+    Vec3 r_b;
+    Vec3 separation;  ///< B's anchor minus A's
+  };
   /// The frames now: arms from the centres of mass to the anchors and the joint axes, world.
   struct WorldFrames {
     Vec3 r_a;
@@ -161,7 +167,17 @@ class Constraint {
   /// Frames from a world anchor and axes (x = `axis`, y = `normal`) and the bodies where they are now.
   static LocalFrames MakeLocalFrames(const BodyFrame& a, const BodyFrame& b, const Vec3& anchor_a,
                                      const Vec3& anchor_b, const Vec3& axis, const Vec3& normal);
+  WorldArms Arms(const ConstraintBodies& bodies) const;
   WorldFrames Frames(const ConstraintBodies& bodies) const;
+  /// Whether the pass must set the rows up: not when they were set up this step from the poses the pass
+  /// sees (its pose version), as a substep's velocity passes see its warm start's. Every pass's rows are
+  /// then the same as if set up anew, at a fraction of the cost (Jolt's budget runs ten velocity passes
+  /// over one pose).
+  bool NeedsSetUp(const ConstraintPassContext& pass) {
+    if (pass.pose_version >= 0 && pass.pose_version == set_up_version_) return false;
+    set_up_version_ = pass.pose_version;
+    return true;
+  }
   const LocalFrames& local() const { return local_; }
   /// B's frame relative to A's when the joint was made (the fixed joint's target).
   Quat RestRotation() const { return local_.frame_a * local_.frame_b.conjugate(); }
@@ -182,7 +198,8 @@ class Constraint {
   bool enabled_ = true;
   ConstraintSide side_a_;
   ConstraintSide side_b_;
-  float substep_ = 0.0f;  // of the last step, to rescale kept impulses
+  float substep_ = 0.0f;     // of the last step, to rescale kept impulses
+  int set_up_version_ = -1;  // the pose version this step's rows were last set up at (-1: none)
   ConstraintForces forces_;
 };
 

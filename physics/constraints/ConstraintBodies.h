@@ -29,6 +29,9 @@ struct ConstraintPassContext {
   /// remove velocity error only.
   SoftSpring rigid_spring;
   bool use_bias = true;
+  /// SolverPass::pose_version: a joint whose rows were set up at the same version this step keeps them.
+  /// -1 (unknown) sets them up every pass.
+  int pose_version = -1;
 };
 
 inline Mat3 InverseInertiaOf(const SolverBody& body) {

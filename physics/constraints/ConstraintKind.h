@@ -55,6 +55,9 @@ struct SolverPass {
   /// Seconds into the step of the poses the pass sees: a velocity pass sees its substep's start, a relax
   /// pass the poses after that substep's integration, a position pass the step's end.
   float elapsed = 0.0f;
+  /// How many integrations the poses the pass sees have had this step: passes with the same count see the
+  /// same poses (a substep's warm start and velocity passes; its relax passes and the next warm start).
+  int pose_version = 0;
   bool reverse = false;          ///< visit the constraints backwards (alternates from pass to pass)
   bool last_solve_pass = false;  ///< the step's last velocity or relax pass
   bool keeps_impulses = false;   ///< the step's last pass that changes impulses: they warm-start the next

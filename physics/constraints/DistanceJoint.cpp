@@ -46,23 +46,24 @@ std::string DistanceJoint::Describe() const {
          (spring_hertz_ > 0.0f ? ", spring " + std::to_string(spring_hertz_) + " Hz" : "");
 }
 
-float DistanceJoint::Axis(const WorldFrames& frames) {
-  const float distance = frames.separation.norm();
-  if (distance > 1e-6f) axis_ = frames.separation / distance;
+float DistanceJoint::Axis(const Vec3& separation) {
+  const float distance = separation.norm();
+  if (distance > 1e-6f) axis_ = separation / distance;
   return distance;
 }
 
-void DistanceJoint::PrepareRows(const ConstraintBodies& bodies, const WorldFrames& frames) {
-  spring_.Prepare(bodies, frames.r_a, frames.r_b, axis_);
+void DistanceJoint::SetUp(const ConstraintBodies& bodies, const ConstraintPassContext& pass) {
+  if (!NeedsSetUp(pass)) return;
+  const WorldArms arms = Arms(bodies);
+  distance_ = Axis(arms.separation);
+  spring_.Prepare(bodies, arms.r_a, arms.r_b, axis_);
   if (rigid()) return;
-  lower_.Prepare(bodies, frames.r_a, frames.r_b, axis_);
-  upper_.Prepare(bodies, frames.r_a, frames.r_b, -axis_);
+  lower_.Prepare(bodies, arms.r_a, arms.r_b, axis_);
+  upper_.Prepare(bodies, arms.r_a, arms.r_b, -axis_);
 }
 
-void DistanceJoint::WarmStart(ConstraintBodies& bodies, const ConstraintPassContext&) {
-  const WorldFrames frames = Frames(bodies);
-  Axis(frames);
-  PrepareRows(bodies, frames);
+void DistanceJoint::WarmStart(ConstraintBodies& bodies, const ConstraintPassContext& pass) {
+  SetUp(bodies, pass);
   spring_.WarmStart(bodies);
   if (rigid()) return;
   lower_.WarmStart(bodies);
@@ -71,23 +72,21 @@ void DistanceJoint::WarmStart(ConstraintBodies& bodies, const ConstraintPassCont
 
 void DistanceJoint::SolveVelocity(ConstraintBodies& bodies, const ConstraintPassContext& pass,
                                   bool rigid_rows) {
-  const WorldFrames frames = Frames(bodies);
-  const float distance = Axis(frames);
-  PrepareRows(bodies, frames);
   constexpr float kUnbounded = std::numeric_limits<float>::infinity();
   if (rigid()) {
     if (!rigid_rows) return;
-    spring_.Solve(bodies, EqualityTarget(distance - rest_length_, pass), -kUnbounded, kUnbounded);
+    SetUp(bodies, pass);
+    spring_.Solve(bodies, EqualityTarget(distance_ - rest_length_, pass), -kUnbounded, kUnbounded);
     return;
   }
+  SetUp(bodies, pass);
   if (spring_hertz_ > 0.0f) {
-    // The spring acts in every pass: it is the joint's behaviour, not drift to remove.
     const SoftSpring spring = MakeSoftSpring(spring_hertz_, spring_damping_ratio_, pass.h);
-    spring_.Solve(bodies, SpringTarget(distance - rest_length_, spring), -kUnbounded, kUnbounded);
+    spring_.Solve(bodies, SpringTarget(distance_ - rest_length_, spring), -kUnbounded, kUnbounded);
   }
   if (min_distance_ > 0.0f)  // a distance is never below 0: a rope needs no lower row
-    lower_.Solve(bodies, LimitTarget(distance - min_distance_, pass), 0.0f, kUnbounded);
-  upper_.Solve(bodies, LimitTarget(max_distance_ - distance, pass), 0.0f, kUnbounded);
+    lower_.Solve(bodies, LimitTarget(distance_ - min_distance_, pass), 0.0f, kUnbounded);
+  upper_.Solve(bodies, LimitTarget(max_distance_ - distance_, pass), 0.0f, kUnbounded);
 }
 
 int DistanceJoint::RigidRowCount() const {
@@ -96,9 +95,9 @@ int DistanceJoint::RigidRowCount() const {
 
 void DistanceJoint::RigidRows(const ConstraintBodies& bodies, JointRow* rows) {
   if (!rigid()) return;
-  const WorldFrames frames = Frames(bodies);
-  const float distance = Axis(frames);
-  spring_.Prepare(bodies, frames.r_a, frames.r_b, axis_);
+  const WorldArms arms = Arms(bodies);
+  const float distance = Axis(arms.separation);
+  spring_.Prepare(bodies, arms.r_a, arms.r_b, axis_);
   rows[0] = spring_.Row(distance - rest_length_);
 }
 

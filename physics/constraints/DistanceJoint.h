@@ -42,8 +42,9 @@ class DistanceJoint final : public Constraint {
   Impulses AccumulatedImpulses() const override;
   void ScaleImpulses(float ratio) override;
   // The unit axis from A's anchor to B's and the distance, keeping the last axis when the anchors meet.
-  float Axis(const WorldFrames& frames);
-  void PrepareRows(const ConstraintBodies& bodies, const WorldFrames& frames);
+  float Axis(const Vec3& separation);
+  // The rows and the distance at the pass's poses (see NeedsSetUp).
+  void SetUp(const ConstraintBodies& bodies, const ConstraintPassContext& pass);
   bool rigid() const { return spring_hertz_ <= 0.0f && min_distance_ == max_distance_; }
 
   float rest_length_;
@@ -52,6 +53,7 @@ class DistanceJoint final : public Constraint {
   float spring_hertz_;
   float spring_damping_ratio_;
   Vec3 axis_ = Vec3::UnitY();
+  float distance_ = 0.0f;      // m, at the set-up poses
   AxisConstraintPart spring_;  // the rigid row, or the spring
   AxisConstraintPart lower_;
   AxisConstraintPart upper_;

@@ -69,7 +69,9 @@ double ExactJointSolver::Coupling(const Row& i, const Row& j) const {
   return sum;
 }
 
-void ExactJointSolver::Build(SolverBody* bodies, const SolverPose* poses, float elapsed) {
+void ExactJointSolver::Build(SolverBody* bodies, const SolverPose* poses, float elapsed, int pose_version) {
+  if (pose_version >= 0 && pose_version == built_version_) return;
+  built_version_ = pose_version;
   std::uint32_t row = 0;
   JointRow joint_rows[Constraint::kMaxRigidRows];
   for (Constraint* joint : joints_) {
@@ -106,9 +108,11 @@ void ExactJointSolver::Build(SolverBody* bodies, const SolverPose* poses, float 
   }
 }
 
-void ExactJointSolver::SolvePositions(SolverBody* bodies, SolverPose* poses, float elapsed) {
+void ExactJointSolver::SolvePositions(SolverBody* bodies, SolverPose* poses, float elapsed,
+                                      int pose_version) {
   if (row_count_ == 0) return;
-  Build(bodies, poses, elapsed);
+  Build(bodies, poses, elapsed, pose_version);
+  built_version_ = -1;  // the bodies move: the rows no longer hold for any version
   for (std::uint32_t i = 0; i < row_count_; ++i)
     scratch_[i] = -kPositionFraction * static_cast<double>(rows_[i].row.error);
   ldlt_.Solve(scratch_);

@@ -3,9 +3,9 @@
 // along a chain one link per pass and between a 100 kg ball and a 1 kg link a hundredth at a time, so a
 // 100-link chain swung from 60 degrees stretched by 5 cm; the exact solve holds it within 0.1 mm. The
 // rows' coupling matrix J M^-1 J^T is banded for chains and nearly so for trees (joints in the order they
-// were made), so it is factored as a skyline LDL^T: rows couple only through a body they share. Built per
-// substep from that substep's poses and factored once: the soft velocity passes scale the rigid solution
-// (Box2D's mass and impulse scales, for all rows at once).
+// were made), so it is factored as a skyline LDL^T: rows couple only through a body they share. Built and
+// factored once per pose version (the poses at a substep's start, those after its integration): the soft
+// velocity passes scale the rigid solution (Box2D's mass and impulse scales, for all rows at once).
 // Allocated in a job's arena for one step; used by the one job that solves its group's joints.
 #pragma once
 
@@ -26,8 +26,9 @@ class ExactJointSolver {
                                   std::uint32_t* first_row_of_body);
   static constexpr std::uint32_t kNoRow = ~0u;
 
-  /// At a substep's start: the rows from the poses now, the coupling matrix and its factorization.
-  void Build(SolverBody* bodies, const SolverPose* poses, float elapsed);
+  /// The rows from the poses now, the coupling matrix and its factorization, unless they were built at
+  /// `pose_version` already (SolverPass::pose_version; -1 always builds).
+  void Build(SolverBody* bodies, const SolverPose* poses, float elapsed, int pose_version);
   /// One exact solve of the rows against the velocities now: soft with the drift bias (`pass.use_bias`),
   /// else rigid.
   void Solve(SolverBody* bodies, const ConstraintPassContext& pass);
@@ -36,7 +37,7 @@ class ExactJointSolver {
   /// their velocities) to take a fifth of the rows' position errors out, by the exact solve:
   /// integrating a link that turns fast moves its anchor off the circle it turns on (a whipping chain's
   /// end opened by centimetres), which velocity rows cannot see.
-  void SolvePositions(SolverBody* bodies, SolverPose* poses, float elapsed);
+  void SolvePositions(SolverBody* bodies, SolverPose* poses, float elapsed, int pose_version);
 
   std::uint32_t row_count() const { return row_count_; }
 
@@ -60,6 +61,7 @@ class ExactJointSolver {
   SkylineLdlt ldlt_;                // J M^-1 J^T, factored
   double* scratch_ = nullptr;       // right-hand side, then impulse changes
   std::uint32_t row_count_ = 0;
+  int built_version_ = -1;  // the pose version the rows and factorization are of
 };
 
 }  // namespace strata

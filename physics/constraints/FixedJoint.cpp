@@ -18,22 +18,27 @@ std::string FixedJoint::Describe() const {
   return "fixed joint";
 }
 
-void FixedJoint::WarmStart(ConstraintBodies& bodies, const ConstraintPassContext&) {
-  const WorldFrames frames = Frames(bodies);
-  point_.Prepare(bodies, frames.r_a, frames.r_b);
+void FixedJoint::SetUp(const ConstraintBodies& bodies, const ConstraintPassContext& pass) {
+  if (!NeedsSetUp(pass)) return;
+  const WorldArms arms = Arms(bodies);
+  point_.Prepare(arms.r_a, arms.r_b);
+  separation_ = arms.separation;
+  rotation_.Prepare();
+  rotation_error_ = RotationConstraintPart::Error(bodies, RestRotation());
+}
+
+void FixedJoint::WarmStart(ConstraintBodies& bodies, const ConstraintPassContext& pass) {
+  SetUp(bodies, pass);
   point_.WarmStart(bodies);
   rotation_.WarmStart(bodies);
 }
 
 void FixedJoint::SolveVelocity(ConstraintBodies& bodies, const ConstraintPassContext& pass, bool rigid_rows) {
   if (!rigid_rows) return;  // every row of a weld is rigid
-  // Rotation first, the point last: a gap at the anchor shows more than a small turn.
+  SetUp(bodies, pass);
   const RowTarget target = EqualityTarget(1.0f, pass);
-  rotation_.Prepare(bodies);
-  rotation_.Solve(bodies, target.bias * RotationConstraintPart::Error(bodies, RestRotation()), target);
-  const WorldFrames frames = Frames(bodies);
-  point_.Prepare(bodies, frames.r_a, frames.r_b);
-  point_.Solve(bodies, target.bias * frames.separation, target);
+  rotation_.Solve(bodies, target.bias * rotation_error_, target);
+  point_.Solve(bodies, target.bias * separation_, target);
 }
 
 int FixedJoint::RigidRowCount() const {
@@ -41,11 +46,11 @@ int FixedJoint::RigidRowCount() const {
 }
 
 void FixedJoint::RigidRows(const ConstraintBodies& bodies, JointRow* rows) {
-  rotation_.Prepare(bodies);
+  rotation_.Prepare();
   rotation_.Rows(RotationConstraintPart::Error(bodies, RestRotation()), rows);
-  const WorldFrames frames = Frames(bodies);
-  point_.Prepare(bodies, frames.r_a, frames.r_b);
-  point_.Rows(frames.separation, rows + 3);
+  const WorldArms arms = Arms(bodies);
+  point_.Prepare(arms.r_a, arms.r_b);
+  point_.Rows(arms.separation, rows + 3);
 }
 
 Constraint::Impulses FixedJoint::AccumulatedImpulses() const {

@@ -31,8 +31,14 @@ class FixedJoint final : public Constraint {
   Impulses AccumulatedImpulses() const override;
   void ScaleImpulses(float ratio) override;
 
+  // The rows at the pass's poses (see NeedsSetUp).
+  void SetUp(const ConstraintBodies& bodies, const ConstraintPassContext& pass);
+
   PointConstraintPart point_;
   RotationConstraintPart rotation_;
+  // At the set-up poses:
+  Vec3 separation_ = Vec3::Zero();      // B's anchor minus A's
+  Vec3 rotation_error_ = Vec3::Zero();  // RotationConstraintPart::Error
 };
 
 }  // namespace strata

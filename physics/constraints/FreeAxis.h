@@ -32,6 +32,7 @@ class FreeAxis {
       : limits_(limits), min_(min), max_(max), max_friction_(max_friction), motor_(motor) {}
 
   const JointMotor& motor() const { return motor_; }
+  bool limits() const { return limits_; }
   /// Fails (nothing changed) on a non-finite speed or a negative torque.
   Status SetMotor(const JointMotor& motor) {
     if (Status valid = ValidateMotor(motor); !valid) return valid;
@@ -64,10 +65,9 @@ class FreeAxis {
     }
     if (drives()) drive_.WarmStart(bodies);
   }
-  /// The drive first and the limits after it, so a motor cannot push through a limit. `coordinate()` gives
-  /// the angle or position now (asked for only when there are limits).
-  template <class Coordinate>
-  void Solve(ConstraintBodies& bodies, const ConstraintPassContext& pass, const Coordinate& coordinate) {
+  /// The drive first and the limits after it, so a motor cannot push through a limit. `coordinate` is the
+  /// angle or position now (read only when there are limits).
+  void Solve(ConstraintBodies& bodies, const ConstraintPassContext& pass, float coordinate) {
     constexpr float kUnbounded = std::numeric_limits<float>::infinity();
     if (motor_.enabled) {
       const float most = motor_.max_torque * pass.h;
@@ -77,9 +77,8 @@ class FreeAxis {
       drive_.Solve(bodies, RowTarget{}, -most, most);
     }
     if (!limits_) return;
-    const float now = coordinate();
-    lower_.Solve(bodies, LimitTarget(now - min_, pass), 0.0f, kUnbounded);
-    upper_.Solve(bodies, LimitTarget(max_ - now, pass), 0.0f, kUnbounded);
+    lower_.Solve(bodies, LimitTarget(coordinate - min_, pass), 0.0f, kUnbounded);
+    upper_.Solve(bodies, LimitTarget(max_ - coordinate, pass), 0.0f, kUnbounded);
   }
   void ScaleImpulses(float ratio) {
     lower_.ScaleImpulse(ratio);

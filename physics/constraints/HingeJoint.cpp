@@ -48,31 +48,32 @@ float HingeJoint::Angle(const Quat& rotation_a, const Quat& rotation_b) const {
   return SignedAngle(axes_a.col(1), axes_b.col(1), axes_a.col(0));
 }
 
-void HingeJoint::PrepareRows(const ConstraintBodies& bodies, const WorldFrames& frames) {
+void HingeJoint::SetUp(const ConstraintBodies& bodies, const ConstraintPassContext& pass) {
+  if (!NeedsSetUp(pass)) return;
+  const WorldFrames frames = Frames(bodies);
   const Vec3 axis = frames.axes_a.col(0);
-  point_.Prepare(bodies, frames.r_a, frames.r_b);
+  point_.Prepare(frames.r_a, frames.r_b);
+  separation_ = frames.separation;
   rotation_.Prepare(bodies, axis, frames.axes_b.col(1), frames.axes_b.col(2));
   free_.Prepare(bodies, axis);
+  if (free_.limits()) angle_ = SignedAngle(frames.axes_a.col(1), frames.axes_b.col(1), axis);
 }
 
-void HingeJoint::WarmStart(ConstraintBodies& bodies, const ConstraintPassContext&) {
-  const WorldFrames frames = Frames(bodies);
-  PrepareRows(bodies, frames);
+void HingeJoint::WarmStart(ConstraintBodies& bodies, const ConstraintPassContext& pass) {
+  SetUp(bodies, pass);
   point_.WarmStart(bodies);
   rotation_.WarmStart(bodies);
   free_.WarmStart(bodies);
 }
 
 void HingeJoint::SolveVelocity(ConstraintBodies& bodies, const ConstraintPassContext& pass, bool rigid_rows) {
-  const WorldFrames frames = Frames(bodies);
-  PrepareRows(bodies, frames);
+  SetUp(bodies, pass);
   // The free axis first (drive, then limits); the axis and the point last, which matter most.
-  free_.Solve(bodies, pass,
-              [&] { return SignedAngle(frames.axes_a.col(1), frames.axes_b.col(1), frames.axes_a.col(0)); });
+  free_.Solve(bodies, pass, angle_);
   if (!rigid_rows) return;
   rotation_.Solve(bodies, pass);
   const RowTarget target = EqualityTarget(1.0f, pass);
-  point_.Solve(bodies, target.bias * frames.separation, target);
+  point_.Solve(bodies, target.bias * separation_, target);
 }
 
 int HingeJoint::RigidRowCount() const {
@@ -81,7 +82,7 @@ int HingeJoint::RigidRowCount() const {
 
 void HingeJoint::RigidRows(const ConstraintBodies& bodies, JointRow* rows) {
   const WorldFrames frames = Frames(bodies);
-  point_.Prepare(bodies, frames.r_a, frames.r_b);
+  point_.Prepare(frames.r_a, frames.r_b);
   rotation_.Prepare(bodies, frames.axes_a.col(0), frames.axes_b.col(1), frames.axes_b.col(2));
   point_.Rows(frames.separation, rows);
   rotation_.Rows(rows + 3);

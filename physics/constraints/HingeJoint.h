@@ -45,11 +45,15 @@ class HingeJoint final : public Constraint {
   HingeJoint(const HingeJointSettings& settings, const LocalFrames& frames);
   Impulses AccumulatedImpulses() const override;
   void ScaleImpulses(float ratio) override;
-  void PrepareRows(const ConstraintBodies& bodies, const WorldFrames& frames);
+  // The rows and the angle at the pass's poses (see NeedsSetUp).
+  void SetUp(const ConstraintBodies& bodies, const ConstraintPassContext& pass);
 
   PointConstraintPart point_;
   HingeRotationConstraintPart rotation_;
   FreeAxis<AngleConstraintPart> free_;  // the angle about the axis
+  // At the set-up poses:
+  Vec3 separation_ = Vec3::Zero();  // B's anchor minus A's
+  float angle_ = 0.0f;              // rad, about the axis (taken only with limits)
 };
 
 }  // namespace strata

@@ -111,7 +111,8 @@ void JointConstraintKind::Run(std::uint32_t group_index, const SolverPass& pass,
     // One joint at a time for those the passes solve, then the exact rows all at once.
     for (std::uint32_t k = 0; k < group.joint_count; ++k)
       if (group.exact[k] == 0) group.joints[k]->SolvePosition(step_.bodies, step_.poses, pass.elapsed);
-    if (exact_solver != nullptr) exact_solver->SolvePositions(step_.bodies, step_.poses, pass.elapsed);
+    if (exact_solver != nullptr)
+      exact_solver->SolvePositions(step_.bodies, step_.poses, pass.elapsed, pass.pose_version);
     return;
   }
   ConstraintPassContext context;
@@ -119,6 +120,7 @@ void JointConstraintKind::Run(std::uint32_t group_index, const SolverPass& pass,
   context.inverse_h = 1.0f / step_.substep_dt;
   context.rigid_spring = rigid_spring_;
   context.use_bias = pass.kind == SolverPassKind::kVelocity;
+  context.pose_version = pass.pose_version;
   // Alternating the order from pass to pass carries a load along a chain both ways.
   for (std::uint32_t k = 0; k < group.joint_count; ++k) {
     const std::uint32_t index = pass.reverse ? group.joint_count - 1 - k : k;
@@ -135,9 +137,8 @@ void JointConstraintKind::Run(std::uint32_t group_index, const SolverPass& pass,
   // The rows that always hold last, exactly: limits and drives before them cannot pull a chain apart.
   // Built from the poses the pass sees: at the substep's start for warm start and velocity passes, after
   // its integration for relax passes (a whipping chain's links turn enough in a substep that stale rows
-  // let it drift apart).
-  if (pass.kind == SolverPassKind::kWarmStart || (pass.kind == SolverPassKind::kRelax && pass.iteration == 0))
-    exact_solver->Build(step_.bodies, step_.poses, pass.elapsed);
+  // let it drift apart). A relax pass's build serves the next substep's passes too: they see its poses.
+  exact_solver->Build(step_.bodies, step_.poses, pass.elapsed, pass.pose_version);
   if (pass.kind != SolverPassKind::kWarmStart) exact_solver->Solve(step_.bodies, context);
 }
 

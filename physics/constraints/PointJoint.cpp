@@ -18,18 +18,23 @@ std::string PointJoint::Describe() const {
   return "point joint";
 }
 
-void PointJoint::WarmStart(ConstraintBodies& bodies, const ConstraintPassContext&) {
-  const WorldFrames frames = Frames(bodies);
-  point_.Prepare(bodies, frames.r_a, frames.r_b);
+void PointJoint::SetUp(const ConstraintBodies& bodies, const ConstraintPassContext& pass) {
+  if (!NeedsSetUp(pass)) return;
+  const WorldArms arms = Arms(bodies);
+  point_.Prepare(arms.r_a, arms.r_b);
+  separation_ = arms.separation;
+}
+
+void PointJoint::WarmStart(ConstraintBodies& bodies, const ConstraintPassContext& pass) {
+  SetUp(bodies, pass);
   point_.WarmStart(bodies);
 }
 
 void PointJoint::SolveVelocity(ConstraintBodies& bodies, const ConstraintPassContext& pass, bool rigid_rows) {
   if (!rigid_rows) return;
-  const WorldFrames frames = Frames(bodies);
-  point_.Prepare(bodies, frames.r_a, frames.r_b);
+  SetUp(bodies, pass);
   const RowTarget target = EqualityTarget(1.0f, pass);
-  point_.Solve(bodies, target.bias * frames.separation, target);
+  point_.Solve(bodies, target.bias * separation_, target);
 }
 
 int PointJoint::RigidRowCount() const {
@@ -37,9 +42,9 @@ int PointJoint::RigidRowCount() const {
 }
 
 void PointJoint::RigidRows(const ConstraintBodies& bodies, JointRow* rows) {
-  const WorldFrames frames = Frames(bodies);
-  point_.Prepare(bodies, frames.r_a, frames.r_b);
-  point_.Rows(frames.separation, rows);
+  const WorldArms arms = Arms(bodies);
+  point_.Prepare(arms.r_a, arms.r_b);
+  point_.Rows(arms.separation, rows);
 }
 
 Constraint::Impulses PointJoint::AccumulatedImpulses() const {

@@ -29,7 +29,11 @@ class PointJoint final : public Constraint {
   Impulses AccumulatedImpulses() const override;
   void ScaleImpulses(float ratio) override;
 
+  // The rows at the pass's poses (see NeedsSetUp).
+  void SetUp(const ConstraintBodies& bodies, const ConstraintPassContext& pass);
+
   PointConstraintPart point_;
+  Vec3 separation_ = Vec3::Zero();  // B's anchor minus A's at the set-up poses
 };
 
 }  // namespace strata

@@ -10,13 +10,9 @@ namespace strata {
 /// B's rotation == A's rotation times a fixed relative rotation.
 class RotationConstraintPart {
  public:
-  void Prepare(const ConstraintBodies& bodies) {
-    const Mat3 k = InverseInertiaOf(*bodies.a) + InverseInertiaOf(*bodies.b);
-    bool invertible = false;
-    float determinant = 0.0f;
-    k.computeInverseAndDetWithCheck(effective_mass_, determinant, invertible, 0.0f);
-    if (!invertible || !(std::abs(determinant) > 0.0f)) effective_mass_.setZero();
-  }
+  /// The effective mass waits for the first Solve: the rows of a joint that ExactJointSolver solves never
+  /// need it.
+  void Prepare() { effective_mass_ready_ = false; }
   /// How far B is turned from where A's rotation times `relative` (B in A's frame) puts it: a rotation
   /// vector (world), small while the joint holds.
   static Vec3 Error(const ConstraintBodies& bodies, const Quat& relative) {
@@ -34,6 +30,7 @@ class RotationConstraintPart {
   void WarmStart(ConstraintBodies& bodies) const { Apply(bodies, impulse_); }
   /// As PointConstraintPart::Solve, with the bias from the turn (see Error).
   void Solve(ConstraintBodies& bodies, const Vec3& bias, const RowTarget& target) {
+    if (!effective_mass_ready_) SetEffectiveMass(bodies);
     const Vec3 change = -target.mass_scale * (effective_mass_ * (VelocityError(bodies) + bias)) -
                         target.impulse_scale * impulse_;
     impulse_ += change;
@@ -46,6 +43,7 @@ class RotationConstraintPart {
   }
   /// Friction on the relative spin: stops it with an accumulated angular impulse of at most `most`.
   void SolveFriction(ConstraintBodies& bodies, float most) {
+    if (!effective_mass_ready_) SetEffectiveMass(bodies);
     const Vec3 previous = impulse_;
     impulse_ -= effective_mass_ * VelocityError(bodies);
     const float size = impulse_.norm();
@@ -57,8 +55,18 @@ class RotationConstraintPart {
   void ResetImpulse() { impulse_.setZero(); }
 
  private:
+  void SetEffectiveMass(const ConstraintBodies& bodies) {
+    const Mat3 k = InverseInertiaOf(*bodies.a) + InverseInertiaOf(*bodies.b);
+    bool invertible = false;
+    float determinant = 0.0f;
+    k.computeInverseAndDetWithCheck(effective_mass_, determinant, invertible, 0.0f);
+    if (!invertible || !(std::abs(determinant) > 0.0f)) effective_mass_.setZero();
+    effective_mass_ready_ = true;
+  }
+
   Mat3 effective_mass_ = Mat3::Zero();
   Vec3 impulse_ = Vec3::Zero();
+  bool effective_mass_ready_ = false;
 };
 
 }  // namespace strata

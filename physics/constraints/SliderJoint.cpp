@@ -43,18 +43,22 @@ float SliderJoint::Position(const BodyFrame& a, const BodyFrame& b) const {
   return ((a.rotation * local().frame_a) * Vec3::UnitX()).dot(anchor_b - anchor_a);
 }
 
-void SliderJoint::PrepareRows(const ConstraintBodies& bodies, const WorldFrames& frames) {
-  // The axis turns with A, so A's arm reaches to B's anchor: the rows then also hold A's turn.
+void SliderJoint::SetUp(const ConstraintBodies& bodies, const ConstraintPassContext& pass) {
+  if (!NeedsSetUp(pass)) return;
+  const WorldFrames frames = Frames(bodies);
   const Vec3 arm_a = frames.r_a + frames.separation;
-  rotation_.Prepare(bodies);
-  side_[0].Prepare(bodies, arm_a, frames.r_b, frames.axes_a.col(1));
-  side_[1].Prepare(bodies, arm_a, frames.r_b, frames.axes_a.col(2));
+  rotation_.Prepare();
+  rotation_error_ = RotationConstraintPart::Error(bodies, RestRotation());
+  for (int k = 0; k < 2; ++k) {
+    side_[k].Prepare(bodies, arm_a, frames.r_b, frames.axes_a.col(k + 1));
+    offset_[k] = frames.axes_a.col(k + 1).dot(frames.separation);
+  }
   free_.Prepare(bodies, frames.axes_a.col(0), arm_a, frames.r_b);
+  position_ = frames.axes_a.col(0).dot(frames.separation);
 }
 
-void SliderJoint::WarmStart(ConstraintBodies& bodies, const ConstraintPassContext&) {
-  const WorldFrames frames = Frames(bodies);
-  PrepareRows(bodies, frames);
+void SliderJoint::WarmStart(ConstraintBodies& bodies, const ConstraintPassContext& pass) {
+  SetUp(bodies, pass);
   rotation_.WarmStart(bodies);
   side_[0].WarmStart(bodies);
   side_[1].WarmStart(bodies);
@@ -63,16 +67,13 @@ void SliderJoint::WarmStart(ConstraintBodies& bodies, const ConstraintPassContex
 
 void SliderJoint::SolveVelocity(ConstraintBodies& bodies, const ConstraintPassContext& pass,
                                 bool rigid_rows) {
-  const WorldFrames frames = Frames(bodies);
-  PrepareRows(bodies, frames);
-  free_.Solve(bodies, pass, [&] { return frames.axes_a.col(0).dot(frames.separation); });
+  SetUp(bodies, pass);
+  free_.Solve(bodies, pass, position_);
   if (!rigid_rows) return;
   const RowTarget target = EqualityTarget(1.0f, pass);
-  rotation_.Solve(bodies, target.bias * RotationConstraintPart::Error(bodies, RestRotation()), target);
-  for (int k = 0; k < 2; ++k) {
-    const float offset = frames.axes_a.col(k + 1).dot(frames.separation);
-    side_[k].Solve(bodies, EqualityTarget(offset, pass), -kUnbounded, kUnbounded);
-  }
+  rotation_.Solve(bodies, target.bias * rotation_error_, target);
+  for (int k = 0; k < 2; ++k)
+    side_[k].Solve(bodies, EqualityTarget(offset_[k], pass), -kUnbounded, kUnbounded);
 }
 
 int SliderJoint::RigidRowCount() const {
@@ -81,7 +82,7 @@ int SliderJoint::RigidRowCount() const {
 
 void SliderJoint::RigidRows(const ConstraintBodies& bodies, JointRow* rows) {
   const WorldFrames frames = Frames(bodies);
-  rotation_.Prepare(bodies);
+  rotation_.Prepare();
   rotation_.Rows(RotationConstraintPart::Error(bodies, RestRotation()), rows);
   const Vec3 arm_a = frames.r_a + frames.separation;
   for (int k = 0; k < 2; ++k) {

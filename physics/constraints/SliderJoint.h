@@ -43,11 +43,16 @@ class SliderJoint final : public Constraint {
   SliderJoint(const SliderJointSettings& settings, const LocalFrames& frames);
   Impulses AccumulatedImpulses() const override;
   void ScaleImpulses(float ratio) override;
-  void PrepareRows(const ConstraintBodies& bodies, const WorldFrames& frames);
+  // The rows and the position at the pass's poses (see NeedsSetUp).
+  void SetUp(const ConstraintBodies& bodies, const ConstraintPassContext& pass);
 
   RotationConstraintPart rotation_;
   AxisConstraintPart side_[2];         // along the frame's y and z: no sideways motion
   FreeAxis<AxisConstraintPart> free_;  // the position along the axis
+  // At the set-up poses:
+  Vec3 rotation_error_ = Vec3::Zero();  // RotationConstraintPart::Error
+  float offset_[2] = {0.0f, 0.0f};      // m, B's anchor off the axis along the frame's y and z
+  float position_ = 0.0f;               // m, along the axis
 };
 
 }  // namespace strata

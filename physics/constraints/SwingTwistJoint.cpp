@@ -61,30 +61,30 @@ float SwingTwistJoint::TwistAngle(const Quat& rotation_a, const Quat& rotation_b
   return TwistOf((rotation_a * local().frame_a).conjugate() * (rotation_b * local().frame_b));
 }
 
-void SwingTwistJoint::PrepareRows(const ConstraintBodies& bodies, const WorldFrames& frames, float& swing,
-                                  float& twist) {
-  point_.Prepare(bodies, frames.r_a, frames.r_b);
+void SwingTwistJoint::SetUp(const ConstraintBodies& bodies, const ConstraintPassContext& pass) {
+  if (!NeedsSetUp(pass)) return;
+  const WorldFrames frames = Frames(bodies);
+  point_.Prepare(frames.r_a, frames.r_b);
+  separation_ = frames.separation;
   const Vec3 twist_a = frames.axes_a.col(0), twist_b = frames.axes_b.col(0);
   const Vec3 bend = twist_a.cross(twist_b);
   const float bend_size = bend.norm();
-  swing = FastAtan2(bend_size, twist_a.dot(twist_b));
+  swing_ = FastAtan2(bend_size, twist_a.dot(twist_b));
   // The swing grows as B turns about twist_a x twist_b; the row holds the opposite way. With the axes in
   // line there is no direction to hold (and no limit near).
   swing_axis_valid_ = bend_size > 1e-6f;
-  if (swing_axis_valid_) swing_.Prepare(bodies, -bend / bend_size);
-  twist = TwistOf(Quat(frames.axes_a).conjugate() * Quat(frames.axes_b));
+  if (swing_axis_valid_) swing_row_.Prepare(bodies, -bend / bend_size);
+  twist_ = TwistOf(Quat(frames.axes_a).conjugate() * Quat(frames.axes_b));
   const Vec3 mean_axis = (twist_a + twist_b).normalized();
   twist_lower_.Prepare(bodies, mean_axis);
   twist_upper_.Prepare(bodies, -mean_axis);
-  if (max_friction_torque_ > 0.0f) friction_.Prepare(bodies);
+  if (max_friction_torque_ > 0.0f) friction_.Prepare();
 }
 
-void SwingTwistJoint::WarmStart(ConstraintBodies& bodies, const ConstraintPassContext&) {
-  const WorldFrames frames = Frames(bodies);
-  float swing = 0.0f, twist = 0.0f;
-  PrepareRows(bodies, frames, swing, twist);
+void SwingTwistJoint::WarmStart(ConstraintBodies& bodies, const ConstraintPassContext& pass) {
+  SetUp(bodies, pass);
   point_.WarmStart(bodies);
-  if (swing_axis_valid_) swing_.WarmStart(bodies);
+  if (swing_axis_valid_) swing_row_.WarmStart(bodies);
   twist_lower_.WarmStart(bodies);
   twist_upper_.WarmStart(bodies);
   if (max_friction_torque_ > 0.0f) friction_.WarmStart(bodies);
@@ -92,19 +92,17 @@ void SwingTwistJoint::WarmStart(ConstraintBodies& bodies, const ConstraintPassCo
 
 void SwingTwistJoint::SolveVelocity(ConstraintBodies& bodies, const ConstraintPassContext& pass,
                                     bool rigid_rows) {
-  const WorldFrames frames = Frames(bodies);
-  float swing = 0.0f, twist = 0.0f;
-  PrepareRows(bodies, frames, swing, twist);
+  SetUp(bodies, pass);
   if (max_friction_torque_ > 0.0f) friction_.SolveFriction(bodies, max_friction_torque_ * pass.h);
   if (swing_axis_valid_ && cone_half_angle_ < kPi)
-    swing_.Solve(bodies, LimitTarget(cone_half_angle_ - swing, pass), 0.0f, kUnbounded);
+    swing_row_.Solve(bodies, LimitTarget(cone_half_angle_ - swing_, pass), 0.0f, kUnbounded);
   else
-    swing_.ResetImpulse();
-  twist_lower_.Solve(bodies, LimitTarget(twist - min_twist_, pass), 0.0f, kUnbounded);
-  twist_upper_.Solve(bodies, LimitTarget(max_twist_ - twist, pass), 0.0f, kUnbounded);
+    swing_row_.ResetImpulse();
+  twist_lower_.Solve(bodies, LimitTarget(twist_ - min_twist_, pass), 0.0f, kUnbounded);
+  twist_upper_.Solve(bodies, LimitTarget(max_twist_ - twist_, pass), 0.0f, kUnbounded);
   if (!rigid_rows) return;
   const RowTarget target = EqualityTarget(1.0f, pass);
-  point_.Solve(bodies, target.bias * frames.separation, target);
+  point_.Solve(bodies, target.bias * separation_, target);
 }
 
 int SwingTwistJoint::RigidRowCount() const {
@@ -112,19 +110,19 @@ int SwingTwistJoint::RigidRowCount() const {
 }
 
 void SwingTwistJoint::RigidRows(const ConstraintBodies& bodies, JointRow* rows) {
-  const WorldFrames frames = Frames(bodies);
-  point_.Prepare(bodies, frames.r_a, frames.r_b);
-  point_.Rows(frames.separation, rows);
+  const WorldArms arms = Arms(bodies);
+  point_.Prepare(arms.r_a, arms.r_b);
+  point_.Rows(arms.separation, rows);
 }
 
 Constraint::Impulses SwingTwistJoint::AccumulatedImpulses() const {
-  return {point_.impulse(), swing_.AngularImpulse() + twist_lower_.AngularImpulse() +
+  return {point_.impulse(), swing_row_.AngularImpulse() + twist_lower_.AngularImpulse() +
                                 twist_upper_.AngularImpulse() + friction_.impulse()};
 }
 
 void SwingTwistJoint::ScaleImpulses(float ratio) {
   point_.ScaleImpulse(ratio);
-  swing_.ScaleImpulse(ratio);
+  swing_row_.ScaleImpulse(ratio);
   twist_lower_.ScaleImpulse(ratio);
   twist_upper_.ScaleImpulse(ratio);
   friction_.ScaleImpulse(ratio);

@@ -42,19 +42,23 @@ class SwingTwistJoint final : public Constraint {
   SwingTwistJoint(const SwingTwistJointSettings& settings, const LocalFrames& frames);
   Impulses AccumulatedImpulses() const override;
   void ScaleImpulses(float ratio) override;
-  // Sets the rows up; returns the swing and twist angles now.
-  void PrepareRows(const ConstraintBodies& bodies, const WorldFrames& frames, float& swing, float& twist);
+  // The rows and angles at the pass's poses (see NeedsSetUp).
+  void SetUp(const ConstraintBodies& bodies, const ConstraintPassContext& pass);
 
   float cone_half_angle_;
   float min_twist_;
   float max_twist_;
   float max_friction_torque_;
   PointConstraintPart point_;
-  AngleConstraintPart swing_;
+  AngleConstraintPart swing_row_;
   AngleConstraintPart twist_lower_;
   AngleConstraintPart twist_upper_;
   RotationConstraintPart friction_;
   bool swing_axis_valid_ = false;
+  // At the set-up poses:
+  Vec3 separation_ = Vec3::Zero();  // B's anchor minus A's
+  float swing_ = 0.0f;              // rad
+  float twist_ = 0.0f;              // rad
 };
 
 }  // namespace strata

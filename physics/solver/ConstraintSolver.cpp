@@ -251,6 +251,7 @@ SolverPass ConstraintSolver::PassFor(const Group& group, const Round& round, std
   // Velocity passes see the poses at the substep's start, relax passes those after its integration, the
   // rounds after the last substep the step's end.
   pass.elapsed = substep_dt_ * static_cast<float>(round.substep + relax);
+  pass.pose_version = round.substep + relax;
   // Alternate the order constraints are visited in from pass to pass (and substep to substep), so a stack
   // does not lean towards the side solved first and a chain carries its load both ways.
   pass.reverse = ((round.iteration + round.substep + relax) & 1) != 0;
@@ -269,10 +270,12 @@ SolverPass ConstraintSolver::PassFor(const Group& group, const Round& round, std
     case RoundKind::kRestitution:
       pass.kind = SolverPassKind::kRestitution;
       pass.elapsed = input_.dt;
+      pass.pose_version = input_.settings->substeps;
       break;
     default:
       pass.kind = SolverPassKind::kPositions;
       pass.elapsed = input_.dt;
+      pass.pose_version = input_.settings->substeps;
       break;
   }
   // The impulses a next step warm-starts from are those after restitution, where there is one.
