@@ -61,6 +61,30 @@ Vec3 DiagonalMidpointStep(const Vec3& inertia, const Vec3& start, float h) {
   return 2.0f * middle - start;
 }
 
+// The same step for a diagonal inertia with two equal moments (a capsule, a cylinder, a box with two equal
+// sides), in closed form. The spin about the odd axis k is constant, and the rest of it obeys a linear
+// equation, so the midpoint rule's answer is the Cayley rotation of that part by the precession rate
+// W = (I_k - I_other) / I_other * w_k: by the angle 2 atan(W h / 2), exactly what Newton converges to.
+Vec3 SymmetricMidpointStep(const Vec3& inertia, int k, const Vec3& start, float h) {
+  const int i = (k + 1) % 3, j = (k + 2) % 3;  // (i, j, k) right-handed
+  const float precession = (inertia[k] - inertia[i]) / inertia[i] * start[k];
+  const float t = 0.5f * h * precession;
+  const float scale = 1.0f / (1.0f + t * t);
+  const float cosine = (1.0f - t * t) * scale, sine = 2.0f * t * scale;
+  Vec3 spin = start;
+  spin[i] = cosine * start[i] - sine * start[j];
+  spin[j] = sine * start[i] + cosine * start[j];
+  return spin;
+}
+
+// The axis whose moment differs from the two equal others, or -1 when no two are equal.
+int SymmetryAxis(const Vec3& inertia) {
+  if (inertia.x() == inertia.y()) return 2;
+  if (inertia.y() == inertia.z()) return 0;
+  if (inertia.z() == inertia.x()) return 1;
+  return -1;
+}
+
 bool IsDiagonal(const Mat3& m) {
   return m(0, 1) == 0.0f && m(0, 2) == 0.0f && m(1, 0) == 0.0f && m(1, 2) == 0.0f && m(2, 0) == 0.0f &&
          m(2, 1) == 0.0f;
@@ -74,7 +98,11 @@ Vec3 SpinWithoutTorque(const Mat3& inertia, const Quat& rotation, const Vec3& an
   const float h = dt / static_cast<float>(pieces);
   if (IsDiagonal(inertia)) {
     const Vec3 diagonal = inertia.diagonal();
-    for (int piece = 0; piece < pieces; ++piece) spin = DiagonalMidpointStep(diagonal, spin, h);
+    const int axis = SymmetryAxis(diagonal);
+    if (axis >= 0)
+      for (int piece = 0; piece < pieces; ++piece) spin = SymmetricMidpointStep(diagonal, axis, spin, h);
+    else
+      for (int piece = 0; piece < pieces; ++piece) spin = DiagonalMidpointStep(diagonal, spin, h);
   } else {
     for (int piece = 0; piece < pieces; ++piece) spin = MidpointStep(inertia, spin, h);
   }

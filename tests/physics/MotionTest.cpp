@@ -44,6 +44,28 @@ TEST(Gyroscopic, DiagonalAndGeneralInertiaGiveTheSameSpin) {
     }
 }
 
+// A diagonal inertia with two equal moments (a capsule's) takes the rule in closed form; the same inertia
+// turned takes Newton. Both must be the same rule, about whichever axis is the odd one.
+TEST(Gyroscopic, ASymmetricBodyTakesTheSameRuleInClosedForm) {
+  const Mat3 turn = Quat(Eigen::AngleAxisf(0.8f, Vec3(1, -2, 0.5f).normalized())).toRotationMatrix();
+  for (int axis = 0; axis < 3; ++axis) {
+    Vec3 moments = Vec3::Constant(0.3f);
+    moments[axis] = 0.12f;
+    const Mat3 diagonal = moments.asDiagonal();
+    const Mat3 general = turn * diagonal * turn.transpose();
+    for (const float dt : {1.0f / 30.0f, 1.0f / 240.0f})
+      for (const Vec3& start : {Vec3(30.0f, 80.0f, -20.0f), Vec3(1.0f, 2.0f, 3.0f)}) {
+        const Vec3 spin = SpinWithoutTorque(diagonal, Quat::Identity(), start, dt);
+        const Vec3 turned = SpinWithoutTorque(general, Quat::Identity(), turn * start, dt);
+        EXPECT_LT((turn * spin - turned).norm(), 1e-5f * spin.norm()) << axis << " " << dt;
+        EXPECT_EQ(spin[axis], start[axis]) << axis;                      // the odd axis keeps its spin
+        EXPECT_GT((spin - start).norm(), 1e-3f * start.norm()) << axis;  // the rest precesses
+        EXPECT_NEAR(spin.dot(diagonal * spin), start.dot(diagonal * start),
+                    1e-5f * start.dot(diagonal * start));
+      }
+  }
+}
+
 // What a bounce reverses: the approach speed when the points meet, from the step's start across the gap.
 TEST(Restitution, ApproachSpeedIsTakenAtImpact) {
   constexpr float kSubstep = 1.0f / 60.0f, kGravity = 9.81f;
