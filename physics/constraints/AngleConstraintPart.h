@@ -17,6 +17,14 @@ class AngleConstraintPart {
     const float k = axis.dot(turn_a_) + axis.dot(turn_b_);
     effective_mass_ = k > 0.0f ? 1.0f / k : 0.0f;
   }
+  /// The row the other way (an upper limit beside a lower one): `other` prepared along the negated axis,
+  /// the same numbers without the products.
+  void PrepareOpposite(const AngleConstraintPart& other) {
+    axis_ = -other.axis_;
+    turn_a_ = -other.turn_a_;
+    turn_b_ = -other.turn_b_;
+    effective_mass_ = other.effective_mass_;
+  }
   float VelocityError(const ConstraintBodies& bodies) const {
     return axis_.dot(ToVec3(bodies.b->angular_velocity - bodies.a->angular_velocity));
   }

@@ -23,6 +23,16 @@ class AxisConstraintPart {
         bodies.a->inverse_mass + bodies.b->inverse_mass + arm_a_.dot(turn_a_) + arm_b_.dot(turn_b_);
     effective_mass_ = k > 0.0f ? 1.0f / k : 0.0f;
   }
+  /// The row the other way (an upper limit beside a lower one): `other` prepared along the negated axis,
+  /// the same numbers without the products.
+  void PrepareOpposite(const AxisConstraintPart& other) {
+    axis_ = -other.axis_;
+    arm_a_ = -other.arm_a_;
+    arm_b_ = -other.arm_b_;
+    turn_a_ = -other.turn_a_;
+    turn_b_ = -other.turn_b_;
+    effective_mass_ = other.effective_mass_;
+  }
   float VelocityError(const ConstraintBodies& bodies) const {
     return axis_.dot(ToVec3(bodies.b->linear_velocity - bodies.a->linear_velocity)) +
            arm_b_.dot(ToVec3(bodies.b->angular_velocity)) - arm_a_.dot(ToVec3(bodies.a->angular_velocity));

@@ -1,7 +1,5 @@
 #include "physics/constraints/Constraint.h"
 
-#include <Eigen/Cholesky>
-
 #include <cmath>
 
 namespace strata {
@@ -103,8 +101,10 @@ Constraint::WorldFrames Constraint::Frames(const ConstraintBodies& bodies) const
   frames.r_a = arms.r_a;
   frames.r_b = arms.r_b;
   frames.separation = arms.separation;
-  frames.axes_a = (bodies.rotation_a * local_.frame_a).toRotationMatrix();
-  frames.axes_b = (bodies.rotation_b * local_.frame_b).toRotationMatrix();
+  frames.frame_a = bodies.rotation_a * local_.frame_a;
+  frames.frame_b = bodies.rotation_b * local_.frame_b;
+  frames.axes_a = frames.frame_a.toRotationMatrix();
+  frames.axes_b = frames.frame_b.toRotationMatrix();
   return frames;
 }
 
@@ -160,6 +160,35 @@ void Constraint::LinkIslands(IslandBuilder& islands) const {
     islands.Link(side_a_.solver_index - 1, side_b_.solver_index - 1);
 }
 
+namespace {
+// Solves K x = b for the symmetric `k` (its lower triangle, n <= kMaxRigidRows rows) by L D L^T in place,
+// without pivoting; `x` holds b on entry. A pivot lost to rounding (two rows made parallel by a degenerate
+// pose) drops its row, whose unknown comes out 0, rather than pushing it with a huge impulse.
+void SolveSmallSymmetric(double (&k)[Constraint::kMaxRigidRows][Constraint::kMaxRigidRows], double* x,
+                         int n) {
+  constexpr double kTinyPivot = 1e-12;
+  double inverse_pivot[Constraint::kMaxRigidRows];
+  for (int r = 0; r < n; ++r) {
+    // The row as L(r, c) D(c) first (rows above hold L), then scaled to L(r, c).
+    for (int c = 0; c < r; ++c)
+      for (int m = 0; m < c; ++m) k[r][c] -= k[r][m] * k[c][m];
+    double pivot = k[r][r];
+    for (int c = 0; c < r; ++c) {
+      const double scaled = k[r][c] * inverse_pivot[c];
+      pivot -= scaled * k[r][c];
+      k[r][c] = scaled;
+    }
+    const bool kept = pivot > kTinyPivot * k[r][r];
+    inverse_pivot[r] = kept ? 1.0 / pivot : 0.0;
+  }
+  for (int r = 0; r < n; ++r)
+    for (int m = 0; m < r; ++m) x[r] -= k[r][m] * x[m];
+  for (int r = 0; r < n; ++r) x[r] *= inverse_pivot[r];
+  for (int r = n; r-- > 0;)
+    for (int m = r + 1; m < n; ++m) x[r] -= k[m][r] * x[m];
+}
+}  // namespace
+
 void Constraint::SolvePosition(SolverBody* bodies, SolverPose* poses, float elapsed) {
   const int count = RigidRowCount();
   if (count == 0) return;
@@ -169,32 +198,25 @@ void Constraint::SolvePosition(SolverBody* bodies, SolverPose* poses, float elap
   RigidRows(view, rows);
   // K = J M^-1 J^T of the joint's rows (they couple through its two bodies), in double: a point row and a
   // rotation row of a light link differ by orders of magnitude.
-  using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxRigidRows, kMaxRigidRows>;
-  using RowVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxRigidRows, 1>;
-  RowMatrix coupling(count, count);
-  RowVector target(count);
+  double coupling[kMaxRigidRows][kMaxRigidRows];
+  double lambda[kMaxRigidRows];
   Vec3 push_a_angular[kMaxRigidRows], push_b_angular[kMaxRigidRows];
   const float inverse_mass = view.a->inverse_mass + view.b->inverse_mass;
   for (int i = 0; i < count; ++i) {
     push_a_angular[i] = InverseInertiaTimes(*view.a, rows[i].angular_a);
     push_b_angular[i] = InverseInertiaTimes(*view.b, rows[i].angular_b);
-    target(i) = -static_cast<double>(kPositionFraction * rows[i].error);
+    lambda[i] = -static_cast<double>(kPositionFraction * rows[i].error);
   }
   for (int i = 0; i < count; ++i)
-    for (int j = 0; j <= i; ++j) {
-      const float k = inverse_mass * rows[i].linear.dot(rows[j].linear) +
-                      rows[i].angular_a.dot(push_a_angular[j]) + rows[i].angular_b.dot(push_b_angular[j]);
-      coupling(i, j) = coupling(j, i) = k;
-    }
-  // A zero pivot (two rows made parallel by a degenerate pose) leaves its row alone rather than pushing it
-  // with a huge impulse: Eigen's LDLT solves only the pivots it can.
-  const Eigen::LDLT<RowMatrix> factored(coupling);
-  if (factored.info() != Eigen::Success) return;
-  const RowVector lambda = factored.solve(target);
-  if (!lambda.allFinite()) return;
+    for (int j = 0; j <= i; ++j)
+      coupling[i][j] = inverse_mass * rows[i].linear.dot(rows[j].linear) +
+                       rows[i].angular_a.dot(push_a_angular[j]) + rows[i].angular_b.dot(push_b_angular[j]);
+  SolveSmallSymmetric(coupling, lambda, count);
+  for (int i = 0; i < count; ++i)
+    if (!std::isfinite(lambda[i])) return;
   Vec3 linear = Vec3::Zero(), turn_a = Vec3::Zero(), turn_b = Vec3::Zero();
   for (int i = 0; i < count; ++i) {
-    const auto change = static_cast<float>(lambda(i));
+    const auto change = static_cast<float>(lambda[i]);
     linear += change * rows[i].linear;
     turn_a += change * push_a_angular[i];
     turn_b += change * push_b_angular[i];

@@ -155,7 +155,9 @@ class Constraint {
     Vec3 r_a;
     Vec3 r_b;
     Vec3 separation;  ///< B's anchor minus A's
-    Mat3 axes_a;      ///< columns: the joint's x, y, z on A
+    Quat frame_a;     ///< the joint's frame on A, world
+    Quat frame_b;
+    Mat3 axes_a;  ///< frame_a's columns: the joint's x, y, z on A
     Mat3 axes_b;
   };
   struct Impulses {

@@ -59,7 +59,7 @@ void DistanceJoint::SetUp(const ConstraintBodies& bodies, const ConstraintPassCo
   spring_.Prepare(bodies, arms.r_a, arms.r_b, axis_);
   if (rigid()) return;
   lower_.Prepare(bodies, arms.r_a, arms.r_b, axis_);
-  upper_.Prepare(bodies, arms.r_a, arms.r_b, -axis_);
+  upper_.PrepareOpposite(lower_);
 }
 
 void DistanceJoint::WarmStart(ConstraintBodies& bodies, const ConstraintPassContext& pass) {

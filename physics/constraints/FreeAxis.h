@@ -54,7 +54,7 @@ class FreeAxis {
   void Prepare(const ConstraintBodies& bodies, const Vec3& axis, const Lead&... lead) {
     if (limits_) {
       lower_.Prepare(bodies, lead..., axis);
-      upper_.Prepare(bodies, lead..., -axis);
+      upper_.PrepareOpposite(lower_);
     }
     if (drives()) drive_.Prepare(bodies, lead..., axis);
   }

@@ -74,10 +74,10 @@ void SwingTwistJoint::SetUp(const ConstraintBodies& bodies, const ConstraintPass
   // line there is no direction to hold (and no limit near).
   swing_axis_valid_ = bend_size > 1e-6f;
   if (swing_axis_valid_) swing_row_.Prepare(bodies, -bend / bend_size);
-  twist_ = TwistOf(Quat(frames.axes_a).conjugate() * Quat(frames.axes_b));
+  twist_ = TwistOf(frames.frame_a.conjugate() * frames.frame_b);
   const Vec3 mean_axis = (twist_a + twist_b).normalized();
   twist_lower_.Prepare(bodies, mean_axis);
-  twist_upper_.Prepare(bodies, -mean_axis);
+  twist_upper_.PrepareOpposite(twist_lower_);
   if (max_friction_torque_ > 0.0f) friction_.Prepare();
 }
 
