@@ -1,6 +1,6 @@
 // AngleConstraintPart: one angular row, the relative spin of two bodies about an axis: hinge limits,
-// motors and friction, twist and swing limits. Set up each pass from that pass's axis; keeps its impulse
-// accumulated over the step's passes. Owned by one constraint, used by the job solving it.
+// motors and friction, twist and swing limits. Set up from the axis at the poses a pass sees; keeps its
+// impulse accumulated over the step's passes. Owned by one constraint, used by the job solving it.
 #pragma once
 
 #include "physics/constraints/ConstraintBodies.h"

@@ -1,6 +1,6 @@
 // AxisConstraintPart: one linear row, the relative motion of two anchor points along an axis: distance
-// joints, a slider's sideways rows, its limits and motor. Set up each pass from the poses of that pass
-// (the arms turn with the bodies within a step); keeps its impulse accumulated over the step's passes.
+// joints, a slider's sideways rows, its limits and motor. Set up from the poses a pass sees (the arms turn
+// with the bodies within a step); keeps its impulse accumulated over the step's passes.
 // Owned by one constraint, used by the job solving it.
 #pragma once
 
