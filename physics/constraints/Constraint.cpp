@@ -97,10 +97,7 @@ Constraint::WorldArms Constraint::Arms(const ConstraintBodies& bodies) const {
 
 Constraint::WorldFrames Constraint::Frames(const ConstraintBodies& bodies) const {
   WorldFrames frames;
-  const WorldArms arms = Arms(bodies);
-  frames.r_a = arms.r_a;
-  frames.r_b = arms.r_b;
-  frames.separation = arms.separation;
+  static_cast<WorldArms&>(frames) = Arms(bodies);
   frames.frame_a = bodies.rotation_a * local_.frame_a;
   frames.frame_b = bodies.rotation_b * local_.frame_b;
   frames.axes_a = frames.frame_a.toRotationMatrix();

@@ -150,12 +150,9 @@ class Constraint {
     Vec3 r_b;
     Vec3 separation;  ///< B's anchor minus A's
   };
-  /// The frames now: arms from the centres of mass to the anchors and the joint axes, world.
-  struct WorldFrames {
-    Vec3 r_a;
-    Vec3 r_b;
-    Vec3 separation;  ///< B's anchor minus A's
-    Quat frame_a;     ///< the joint's frame on A, world
+  /// The frames now: the arms and the joint axes, world.
+  struct WorldFrames : WorldArms {
+    Quat frame_a;  ///< the joint's frame on A, world
     Quat frame_b;
     Mat3 axes_a;  ///< frame_a's columns: the joint's x, y, z on A
     Mat3 axes_b;

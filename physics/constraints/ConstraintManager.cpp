@@ -28,6 +28,8 @@ Result<std::unique_ptr<Constraint>> Make(const Settings& settings, const BodyFra
   return std::unique_ptr<Constraint>(std::move(joint.value()));
 }
 
+}  // namespace
+
 Result<std::unique_ptr<Constraint>> MakeJoint(const JointSettings& settings, const BodyFrame& a,
                                               const BodyFrame& b) {
   struct Visitor {
@@ -46,8 +48,6 @@ Result<std::unique_ptr<Constraint>> MakeJoint(const JointSettings& settings, con
   };
   return std::visit(Visitor{a, b}, settings);
 }
-
-}  // namespace
 
 Status ValidateJointSettings(const JointSettings& settings) {
   const Result<std::unique_ptr<Constraint>> joint = MakeJoint(settings, BodyFrame{}, BodyFrame{});

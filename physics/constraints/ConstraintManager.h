@@ -39,6 +39,10 @@ using JointSettings = std::variant<FixedJointSettings, PointJointSettings, Dista
 
 /// Checks settings as Add would, but for bodies where they are (no body is read): the settings alone.
 Status ValidateJointSettings(const JointSettings& settings);
+/// The joint `settings` describe, between bodies at `a` and `b` (not yet bound to a step); the settings'
+/// error if they are bad. Add makes its joints so.
+Result<std::unique_ptr<Constraint>> MakeJoint(const JointSettings& settings, const BodyFrame& a,
+                                              const BodyFrame& b);
 
 class ConstraintManager {
  public:
