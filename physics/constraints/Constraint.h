@@ -120,6 +120,9 @@ class Constraint {
   static constexpr int kMaxRigidRows = 6;
   /// How many rows always hold: the anchor point, the hinge axis, a fixed rotation, a rod's length.
   virtual int RigidRowCount() const = 0;
+  /// Whether those are all its rows (no limit, motor, friction or spring): with them solved by
+  /// ExactJointSolver, SolveVelocity has nothing left to do.
+  virtual bool OnlyRigidRows() const { return false; }
   /// Sets those rows up from the pass's poses and writes them (RigidRowCount() of them).
   virtual void RigidRows(const ConstraintBodies& bodies, JointRow* rows) = 0;
   /// Joins the islands of its two sides when both move this step (after BeginStep), so they are solved,

@@ -25,6 +25,7 @@ ExactJointSolver* ExactJointSolver::Create(BlockArena& arena, std::span<Constrai
   solver->row_count_ = rows;
   solver->rows_ = arena.AllocateArray<Row>(rows);
   solver->first_ = arena.AllocateArray<std::uint32_t>(rows);
+  solver->end_ = arena.AllocateArray<std::uint32_t>(rows);
   solver->scratch_ = arena.AllocateArray<double>(rows);
   // A row couples with every row before it that shares a moving body with it: its skyline starts at the
   // first row that touched either of its bodies (or its joint's first row).
@@ -38,10 +39,12 @@ ExactJointSolver* ExactJointSolver::Create(BlockArena& arena, std::span<Constrai
       if (first_row_of_body[body] == kNoRow) first_row_of_body[body] = joint_first;
       first = std::min(first, first_row_of_body[body]);
     }
-    for (int k = 0; k < joint->RigidRowCount(); ++k, ++row) {
+    const auto count = static_cast<std::uint32_t>(joint->RigidRowCount());
+    for (std::uint32_t k = 0; k < count; ++k, ++row) {
       solver->first_[row] = first;
-      entries += row - first + 1;
+      solver->end_[row] = joint_first + count;
     }
+    entries += count * (joint_first + count - first);
   }
   for (const Constraint* joint : joints)
     for (const std::uint32_t body : {joint->side_a().solver_index, joint->side_b().solver_index})
@@ -50,38 +53,60 @@ ExactJointSolver* ExactJointSolver::Create(BlockArena& arena, std::span<Constrai
   return solver;
 }
 
-double ExactJointSolver::Coupling(const Row& i, const Row& j) const {
-  // Through each body the two rows share: B pushes along a row, A against it.
+void ExactJointSolver::CoupleBlocks(std::uint32_t block_i, std::uint32_t block_j) {
+  // Through each body the two joints share: one's Jacobian on that body times the other's push on it,
+  // negated where the body is A to one and B to the other. Every row of a joint has its bodies, so which
+  // sides meet is settled once for the pair of joints (two at most). Float products are exact in double.
+  const std::uint32_t bodies_i[2] = {rows_[block_i].body_a, rows_[block_i].body_b};
+  const std::uint32_t bodies_j[2] = {rows_[block_j].body_a, rows_[block_j].body_b};
+  int side_i[2] = {0, 0}, side_j[2] = {0, 0};
+  double sign[2] = {0.0, 0.0};
+  int terms = 0;
+  for (int si = 0; si < 2; ++si)
+    for (int sj = 0; sj < 2; ++sj)
+      if (bodies_i[si] != 0 && bodies_i[si] == bodies_j[sj] && terms < 2) {
+        side_i[terms] = si;
+        side_j[terms] = sj;
+        sign[terms++] = si == sj ? 1.0 : -1.0;
+      }
   auto dot = [](const Vec3& a, const Vec3& b) { return a.cast<double>().dot(b.cast<double>()); };
-  double sum = 0.0;
-  if (i.body_a != 0) {
-    if (i.body_a == j.body_a)
-      sum += dot(i.row.linear, j.push_a_linear) + dot(i.row.angular_a, j.push_a_angular);
-    else if (i.body_a == j.body_b)
-      sum -= dot(i.row.linear, j.push_b_linear) + dot(i.row.angular_a, j.push_b_angular);
+  const bool diagonal = block_i == block_j;
+  for (std::uint32_t i = block_i; i < end_[block_i]; ++i) {
+    const Row& row = rows_[i];
+    double* const entries = ldlt_.Row(i);
+    const std::uint32_t last = diagonal ? i + 1 : end_[block_j];
+    for (std::uint32_t j = block_j; j < last; ++j) {
+      const Row& other = rows_[j];
+      double sum = 0.0;
+      for (int t = 0; t < terms; ++t) {
+        const Vec3& angular = side_i[t] == 0 ? row.row.angular_a : row.row.angular_b;
+        const Vec3& push_linear = side_j[t] == 0 ? other.push_a_linear : other.push_b_linear;
+        const Vec3& push_angular = side_j[t] == 0 ? other.push_a_angular : other.push_b_angular;
+        sum += sign[t] * (dot(row.row.linear, push_linear) + dot(angular, push_angular));
+      }
+      entries[j] = sum;
+    }
   }
-  if (i.body_b != 0) {
-    if (i.body_b == j.body_b)
-      sum += dot(i.row.linear, j.push_b_linear) + dot(i.row.angular_b, j.push_b_angular);
-    else if (i.body_b == j.body_a)
-      sum -= dot(i.row.linear, j.push_a_linear) + dot(i.row.angular_b, j.push_a_angular);
-  }
-  return sum;
 }
 
 void ExactJointSolver::Build(SolverBody* bodies, const SolverPose* poses, float elapsed, int pose_version) {
   if (pose_version >= 0 && pose_version == built_version_) return;
   built_version_ = pose_version;
-  std::uint32_t row = 0;
+  // A joint's rows are a block, coupled and factored as soon as they are made (what they couple with was
+  // made just before: one pass over the rows, in cache). Rows whose pivot is lost to rounding (a loop of
+  // joints repeats a constraint) are dropped from the solve.
+  ldlt_.Clear();
   JointRow joint_rows[Constraint::kMaxRigidRows];
   for (Constraint* joint : joints_) {
+    const int count = joint->RigidRowCount();
+    if (count == 0) continue;
     SolverBody stand_in_a, stand_in_b;
     const ConstraintBodies view = joint->BodiesForPass(bodies, poses, elapsed, stand_in_a, stand_in_b);
-    const int count = joint->RigidRowCount();
     joint->RigidRows(view, joint_rows);
     const std::uint32_t body_a = joint->side_a().solver_index, body_b = joint->side_b().solver_index;
-    for (int k = 0; k < count; ++k, ++row) {
-      Row& r = rows_[row];
+    const std::uint32_t block = ldlt_.AddBlock(first_[ldlt_.size()], count);
+    for (int k = 0; k < count; ++k) {
+      Row& r = rows_[block + static_cast<std::uint32_t>(k)];
       r.row = joint_rows[k];
       r.body_a = body_a;
       r.body_b = body_b;
@@ -97,14 +122,8 @@ void ExactJointSolver::Build(SolverBody* bodies, const SolverPose* poses, float 
       r.push_b_linear = body_b != 0 ? Vec3(view.b->inverse_mass * r.row.linear) : Vec3::Zero();
       r.push_b_angular = body_b != 0 ? InverseInertiaTimes(*view.b, r.row.angular_b) : Vec3::Zero();
     }
-  }
-  // Rows whose pivot is lost to rounding (a loop of joints repeats a constraint) are dropped from the solve.
-  ldlt_.Clear();
-  for (std::uint32_t i = 0; i < row_count_; ++i) {
-    double* const entries = ldlt_.AddRow(first_[i]);
-    for (std::uint32_t j = first_[i]; j <= i; ++j) entries[j] = Coupling(rows_[i], rows_[j]);
-    const double diagonal = entries[i];
-    ldlt_.FactorLastRow(diagonal * kRegularization, kTinyPivot * diagonal);
+    for (std::uint32_t other = first_[block]; other <= block; other = end_[other]) CoupleBlocks(block, other);
+    ldlt_.FactorLastBlock(kRegularization, kTinyPivot);
   }
 }
 

@@ -3,17 +3,17 @@
 // along a chain one link per pass and between a 100 kg ball and a 1 kg link a hundredth at a time, so a
 // 100-link chain swung from 60 degrees stretched by 5 cm; the exact solve holds it within 0.1 mm. The
 // rows' coupling matrix J M^-1 J^T is banded for chains and nearly so for trees (joints in the order they
-// were made), so it is factored as a skyline LDL^T: rows couple only through a body they share. Built and
-// factored once per pose version (the poses at a substep's start, those after its integration): the soft
-// velocity passes scale the rigid solution (Box2D's mass and impulse scales, for all rows at once).
-// Allocated in a job's arena for one step; used by the one job that solves its group's joints.
+// were made), so it is factored as a block skyline LDL^T (a joint's rows a block): rows couple only through a
+// body they share. Built and factored once per pose version (the poses at a substep's start, those after its
+// integration): the soft velocity passes scale the rigid solution (Box2D's mass and impulse scales, for all
+// rows at once). Allocated in a job's arena for one step; used by the one job that solves its group's joints.
 #pragma once
 
 #include <cstdint>
 #include <span>
 
+#include "physics/constraints/BlockSkylineLdlt.h"
 #include "physics/constraints/Constraint.h"
-#include "physics/constraints/SkylineLdlt.h"
 #include "physics/core/BlockArena.h"
 
 namespace strata {
@@ -52,13 +52,16 @@ class ExactJointSolver {
     Vec3 push_b_linear;
     Vec3 push_b_angular;
   };
-  double Coupling(const Row& i, const Row& j) const;
+  // Writes the coupling of joint `block_i`'s rows with joint `block_j`'s (each named by its first row; j no
+  // later than i) into the factorization's rows.
+  void CoupleBlocks(std::uint32_t block_i, std::uint32_t block_j);
   float Rate(const SolverBody* bodies, const Row& row) const;
 
   std::span<Constraint* const> joints_;
   Row* rows_ = nullptr;
   std::uint32_t* first_ = nullptr;  // per row: the first row it couples with (its skyline's start)
-  SkylineLdlt ldlt_;                // J M^-1 J^T, factored
+  std::uint32_t* end_ = nullptr;    // per row: one past its joint's last row
+  BlockSkylineLdlt ldlt_;           // J M^-1 J^T, factored a joint's rows at a time
   double* scratch_ = nullptr;       // right-hand side, then impulse changes
   std::uint32_t row_count_ = 0;
   int built_version_ = -1;  // the pose version the rows and factorization are of

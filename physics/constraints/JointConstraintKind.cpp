@@ -38,12 +38,14 @@ void JointConstraintKind::SortJointsByIsland() {
   island_begin_.pop_back();
   // An island's joints go to a ExactJointSolver when one of them needs it (decided per island, so what
   // other islands share its group changes nothing).
-  exact_.assign(joints_.size(), 0);
+  exact_.assign(joints_.size(), kPassesSolve);
   for (std::uint32_t island = 0; island < island_count; ++island) {
     const std::uint32_t begin = island_begin_[island], end = island_begin_[island + 1];
     const bool exact = std::any_of(joints_.begin() + begin, joints_.begin() + end,
                                    [&](const Constraint* joint) { return NeedsExactSolve(*joint); });
-    std::fill(exact_.begin() + begin, exact_.begin() + end, exact ? 1 : 0);
+    if (!exact) continue;
+    for (std::uint32_t k = begin; k < end; ++k)
+      exact_[k] = joints_[k]->OnlyRigidRows() ? kExactOnly : kExactRigidRows;
   }
 }
 
@@ -85,12 +87,13 @@ GroupLayout JointConstraintKind::PrepareGroup(const SolverGroup& solver_group, B
   if (group.joint_count == 0) return layout;
   layout.splits = 1;
   // The islands' joints that are solved exactly, in order.
-  const auto exact = static_cast<std::uint32_t>(std::count(group.exact, group.exact + group.joint_count, 1));
+  const auto exact = static_cast<std::uint32_t>(
+      group.joint_count - std::count(group.exact, group.exact + group.joint_count, kPassesSolve));
   if (exact > 0) {
     Constraint** rows_of = arena.AllocateArray<Constraint*>(exact);
     std::uint32_t n = 0;
     for (std::uint32_t j = 0; j < group.joint_count; ++j)
-      if (group.exact[j] != 0) rows_of[n++] = group.joints[j];
+      if (group.exact[j] != kPassesSolve) rows_of[n++] = group.joints[j];
     group.exact_solver = ExactJointSolver::Create(arena, std::span<Constraint* const>(rows_of, exact),
                                                   jobs_[job].first_row_of_body.data());
   }
@@ -110,7 +113,8 @@ void JointConstraintKind::Run(std::uint32_t group_index, const SolverPass& pass,
   if (pass.kind == SolverPassKind::kPositions) {
     // One joint at a time for those the passes solve, then the exact rows all at once.
     for (std::uint32_t k = 0; k < group.joint_count; ++k)
-      if (group.exact[k] == 0) group.joints[k]->SolvePosition(step_.bodies, step_.poses, pass.elapsed);
+      if (group.exact[k] == kPassesSolve)
+        group.joints[k]->SolvePosition(step_.bodies, step_.poses, pass.elapsed);
     if (exact_solver != nullptr)
       exact_solver->SolvePositions(step_.bodies, step_.poses, pass.elapsed, pass.pose_version);
     return;
@@ -124,6 +128,7 @@ void JointConstraintKind::Run(std::uint32_t group_index, const SolverPass& pass,
   // Alternating the order from pass to pass carries a load along a chain both ways.
   for (std::uint32_t k = 0; k < group.joint_count; ++k) {
     const std::uint32_t index = pass.reverse ? group.joint_count - 1 - k : k;
+    if (pass.kind != SolverPassKind::kWarmStart && group.exact[index] == kExactOnly) continue;
     Constraint& joint = *group.joints[index];
     SolverBody stand_in_a, stand_in_b;
     ConstraintBodies bodies =
@@ -131,7 +136,7 @@ void JointConstraintKind::Run(std::uint32_t group_index, const SolverPass& pass,
     if (pass.kind == SolverPassKind::kWarmStart)
       joint.WarmStart(bodies, context);
     else
-      joint.SolveVelocity(bodies, context, group.exact[index] == 0);
+      joint.SolveVelocity(bodies, context, group.exact[index] == kPassesSolve);
   }
   if (exact_solver == nullptr) return;
   // The rows that always hold last, exactly: limits and drives before them cannot pull a chain apart.

@@ -36,10 +36,13 @@ class JointConstraintKind final : public ConstraintKind {
            std::uint32_t job) override;
 
  private:
+  // Who solves a joint's rows: the passes all of them; ExactJointSolver its rigid rows and the passes the
+  // rest; or ExactJointSolver all of them (the passes only warm start it).
+  static constexpr std::uint8_t kPassesSolve = 0, kExactRigidRows = 1, kExactOnly = 2;
   struct Group {
     Constraint* const* joints = nullptr;  // in island order
     std::uint32_t joint_count = 0;
-    const std::uint8_t* exact = nullptr;  // per joint: its rigid rows are solved by the ExactJointSolver
+    const std::uint8_t* exact = nullptr;  // per joint: kPassesSolve, kExactRigidRows or kExactOnly
     ExactJointSolver* exact_solver = nullptr;
   };
   struct alignas(64) JobScratch {

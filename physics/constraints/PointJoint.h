@@ -22,6 +22,7 @@ class PointJoint final : public Constraint {
   void WarmStart(ConstraintBodies& bodies, const ConstraintPassContext& pass) override;
   void SolveVelocity(ConstraintBodies& bodies, const ConstraintPassContext& pass, bool rigid_rows) override;
   int RigidRowCount() const override;
+  bool OnlyRigidRows() const override { return true; }
   void RigidRows(const ConstraintBodies& bodies, JointRow* rows) override;
 
  private:

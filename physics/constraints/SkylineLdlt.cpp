@@ -4,20 +4,6 @@
 
 namespace strata {
 
-namespace {
-// Sum of x[k] y[k] for k in [begin, end), in two chains so that the adds overlap.
-double Dot(const double* x, const double* y, std::uint32_t begin, std::uint32_t end) {
-  double even = 0.0, odd = 0.0;
-  std::uint32_t k = begin;
-  for (; k + 1 < end; k += 2) {
-    even += x[k] * y[k];
-    odd += x[k + 1] * y[k + 1];
-  }
-  if (k < end) even += x[k] * y[k];
-  return even + odd;
-}
-}  // namespace
-
 void SkylineLdlt::Allocate(BlockArena& arena, std::uint32_t max_rows, std::uint32_t max_entries) {
   lower_ = arena.AllocateArray<double>(max_entries);
   inverse_diagonal_ = arena.AllocateArray<double>(max_rows);
@@ -43,7 +29,8 @@ bool SkylineLdlt::FactorLastRow(double diagonal_extra, double drop_at) {
   const std::uint32_t first = first_[r];
   // The row is first worked out as L(r, c) D(c) (each entry waits only on the dot product before it), then
   // scaled by 1 / D(c), which no other entry of the row waits on.
-  for (std::uint32_t c = first; c < r; ++c) row[c] -= Dot(row, row_[c], std::max(first, first_[c]), c);
+  for (std::uint32_t c = first; c < r; ++c)
+    row[c] -= EnvelopeDot(row, row_[c], std::max(first, first_[c]), c);
   double diagonal = row[r] + diagonal_extra;
   for (std::uint32_t c = first; c < r; ++c) {
     const double scaled = row[c] * inverse_diagonal_[c];
@@ -57,7 +44,7 @@ bool SkylineLdlt::FactorLastRow(double diagonal_extra, double drop_at) {
 }
 
 void SkylineLdlt::Solve(double* x) const {
-  for (std::uint32_t r = 0; r < size_; ++r) x[r] -= Dot(row_[r], x, first_[r], r);
+  for (std::uint32_t r = 0; r < size_; ++r) x[r] -= EnvelopeDot(row_[r], x, first_[r], r);
   for (std::uint32_t r = 0; r < size_; ++r) x[r] *= inverse_diagonal_[r];
   for (std::uint32_t r = size_; r-- > 0;) {
     const double* const row = row_[r];

@@ -11,6 +11,19 @@
 
 namespace strata {
 
+/// Sum of x[k] y[k] for k in [begin, end): an envelope row against a row or a vector, in two chains so that
+/// the adds overlap.
+inline double EnvelopeDot(const double* x, const double* y, std::uint32_t begin, std::uint32_t end) {
+  double even = 0.0, odd = 0.0;
+  std::uint32_t k = begin;
+  for (; k + 1 < end; k += 2) {
+    even += x[k] * y[k];
+    odd += x[k + 1] * y[k + 1];
+  }
+  if (k < end) even += x[k] * y[k];
+  return even + odd;
+}
+
 class SkylineLdlt {
  public:
   /// Room for `max_rows` rows holding `max_entries` envelope entries in all, taken from `arena`.

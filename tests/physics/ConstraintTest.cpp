@@ -108,6 +108,21 @@ TEST(Constraint, ASmallSwingPendulumKeepsItsPeriodWithinOnePercent) {
   }
 }
 
+// The flap's hinge about z at `anchor` (B the flap, A `block`, or the world when invalid): limited to -20 ..
+// 30 degrees when `limits`.
+HingeJointSettings FlapHinge(BodyID block, BodyID flap, const Vec3& anchor, bool limits) {
+  HingeJointSettings settings;
+  settings.body_a = block;
+  settings.body_b = flap;
+  settings.anchor = anchor;
+  settings.axis = Vec3::UnitZ();
+  settings.normal = Vec3::UnitX();
+  settings.limits = limits;
+  settings.min_angle = -20.0f * kDegree;
+  settings.max_angle = 30.0f * kDegree;
+  return settings;
+}
+
 TEST(Constraint, AHingeLimitHoldsWithinOneDegreeUnderLoad) {
   for (const Setting& setting : kSettings) {
     auto world = MakeWorld(With(setting));
@@ -115,14 +130,7 @@ TEST(Constraint, AHingeLimitHoldsWithinOneDegreeUnderLoad) {
     // 400 N: both drive it into its lower limit of -20 degrees.
     const BodyID flap = Add(*world, Bob(Box(0.5f, 0.05f, 0.2f), Vec3(0.5f, 1.0f, 0.0f), 20.0f));
     ASSERT_TRUE(world->bodies().SetAngularVelocity(flap, Vec3(0.0f, 0.0f, -6.0f)).ok());
-    HingeJointSettings settings;
-    settings.body_b = flap;
-    settings.anchor = Vec3(0.0f, 1.0f, 0.0f);
-    settings.axis = Vec3::UnitZ();
-    settings.normal = Vec3::UnitX();
-    settings.limits = true;
-    settings.min_angle = -20.0f * kDegree;
-    settings.max_angle = 30.0f * kDegree;
+    const HingeJointSettings settings = FlapHinge(BodyID(), flap, Vec3(0.0f, 1.0f, 0.0f), true);
     const ConstraintID joint = Join(*world, settings);
     float lowest = 0.0f;
     for (int step = 0; step < static_cast<int>(3.0f / setting.dt); ++step) {
@@ -143,6 +151,48 @@ TEST(Constraint, AHingeLimitHoldsWithinOneDegreeUnderLoad) {
     const Vec3 tip_anchor =
         Position(*world, flap) + *world->bodies().GetRotation(flap) * Vec3(-0.5f, 0.0f, 0.0f);
     EXPECT_LT((tip_anchor - settings.anchor).norm(), 0.01f);
+  }
+}
+
+// The lowest angle over 2 s of a 20 kg flap hinged to a 1 kg block that a weld holds to the world, thrown
+// down at 6 rad/s, with or without a lower limit of -20 degrees. The mass ratio sends the island's rigid
+// rows to the exact solve (all of the weld's), which leaves the hinge's limit to the passes.
+float LowestFlapAngle(const Setting& setting, bool limits) {
+  auto world = MakeWorld(With(setting));
+  const BodyID block = Add(*world, Bob(Box(0.1f, 0.1f, 0.1f), Vec3(0.0f, 1.0f, 0.0f), 1.0f));
+  const BodyID flap = Add(*world, Bob(Box(0.5f, 0.05f, 0.2f), Vec3(0.6f, 1.0f, 0.0f), 20.0f));
+  EXPECT_TRUE(world->bodies().SetAngularVelocity(flap, Vec3(0.0f, 0.0f, -6.0f)).ok());
+  FixedJointSettings weld;
+  weld.body_b = block;
+  weld.anchor = Vec3(0.0f, 1.0f, 0.0f);
+  Join(*world, weld);
+  const ConstraintID joint = Join(*world, FlapHinge(block, flap, Vec3(0.1f, 1.0f, 0.0f), limits));
+  float lowest = 0.0f;
+  for (int step = 0; step < static_cast<int>(2.0f / setting.dt); ++step) {
+    EXPECT_TRUE(world->Step(setting.dt).ok());
+    const Quat block_rotation = *world->bodies().GetRotation(block);
+    const Quat flap_rotation = *world->bodies().GetRotation(flap);
+    EXPECT_TRUE(world->constraints()
+                    .Read(joint,
+                          [&](const Constraint& c) {
+                            lowest = std::min(lowest, static_cast<const HingeJoint&>(c).Angle(block_rotation,
+                                                                                              flap_rotation));
+                          })
+                    .ok());
+  }
+  EXPECT_LT((Position(*world, block) - Vec3(0.0f, 1.0f, 0.0f)).norm(), 0.001f) << "the weld holds";
+  return lowest;
+}
+
+TEST(Constraint, AHingeLimitStillActsInAnIslandTheExactSolveTakes) {
+  // The passes still solve the limit of a joint whose other rows the exact solve takes (they skip only
+  // joints with nothing but rigid rows, as the weld). It does not hold within a degree here: solved by passes
+  // against a 20:1 mass ratio it opens to -40 degrees, at 2 substeps -68 (physics/README, step 6).
+  for (const Setting& setting : kSettings) {
+    const float free = LowestFlapAngle(setting, false);
+    const float limited = LowestFlapAngle(setting, true);
+    EXPECT_LT(free, -90.0f * kDegree) << "dt " << setting.dt << ": without its limit the flap swings down";
+    EXPECT_GT(limited, -75.0f * kDegree) << "dt " << setting.dt << " substeps " << setting.substeps;
   }
 }
 
