@@ -267,6 +267,11 @@ TEST(Cli, BenchSweepsThreadCountsAndWritesJson) {
     const double gap = runs[0]["max_joint_gap_mm"].get<double>();
     const double bound = scene["name"] == "chains" ? 1.0 : scene["name"] == "pyramid" ? 0.0 : 1e9;
     EXPECT_LE(gap, bound) << scene["name"] << ", " << scene["solver"];  // the pyramid has no joints
+    // The widest over the run includes the last step's reading.
+    EXPECT_GE(runs[0]["widest_joint_gap_mm"].get<double>(), gap) << scene["name"];
+    if (scene["name"] == "pyramid") {
+      EXPECT_EQ(runs[0]["widest_joint_gap_mm"].get<double>(), 0.0);
+    }
     ASSERT_GE(runs[0]["stages"].size(), 6u);
     std::set<std::string> names;
     for (const auto& stage : runs[0]["stages"]) {

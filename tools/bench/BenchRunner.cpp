@@ -42,9 +42,14 @@ void AddProfile(const StepProfile& profile, EngineResult& result) {
   }
 }
 
+struct JointGaps {
+  double max_mm = 0.0;
+  double mean_mm = 0.0;
+};
+
 // Each joint's anchor, carried along by body a and by body b (a static body or the world keeps it in place),
 // and how far apart the two ends up.
-void SummarizeJointGaps(const BenchScene& scene, const std::vector<FinalPose>& poses, EngineResult& result) {
+JointGaps MeasureJointGaps(const BenchScene& scene, const std::vector<FinalPose>& poses) {
   std::vector<int> dynamic_index(scene.bodies.size(), -1);
   int next = 0;
   for (std::size_t i = 0; i < scene.bodies.size(); ++i)
@@ -55,19 +60,36 @@ void SummarizeJointGaps(const BenchScene& scene, const std::vector<FinalPose>& p
     const FinalPose& end = poses[static_cast<std::size_t>(dynamic_index[static_cast<std::size_t>(body)])];
     return Vec3(end.rotation * (start.rotation.conjugate() * (anchor - start.position)) + end.position);
   };
+  JointGaps gaps;
   double sum = 0.0;
-  result.max_joint_gap_mm = 0.0;
   for (const JointDescription& joint : scene.joints) {
     const double gap =
         1000.0 * static_cast<double>(
                      (carried(joint.body_a, joint.anchor) - carried(joint.body_b, joint.anchor)).norm());
-    result.max_joint_gap_mm = std::max(result.max_joint_gap_mm, gap);
+    gaps.max_mm = std::max(gaps.max_mm, gap);
     sum += gap;
   }
-  result.mean_joint_gap_mm = scene.joints.empty() ? 0.0 : sum / static_cast<double>(scene.joints.size());
+  gaps.mean_mm = scene.joints.empty() ? 0.0 : sum / static_cast<double>(scene.joints.size());
+  return gaps;
+}
+
+std::vector<FinalPose> StrataPoses(PhysicsSystem& world, const std::vector<BodyID>& dynamic_ids) {
+  std::vector<FinalPose> poses;
+  poses.reserve(dynamic_ids.size());
+  for (const BodyID id : dynamic_ids)
+    poses.push_back({*world.bodies().GetPosition(id), *world.bodies().GetRotation(id)});
+  return poses;
 }
 
 }  // namespace
+
+bool ReadsJointGapsAfter(const BenchScene& scene, int step) {
+  return !scene.joints.empty() && ((step + 1) % kJointGapSampleSteps == 0 || step + 1 == scene.steps);
+}
+
+void WidenJointGap(const BenchScene& scene, const std::vector<FinalPose>& poses, EngineResult& result) {
+  result.widest_joint_gap_mm = std::max(result.widest_joint_gap_mm, MeasureJointGaps(scene, poses).max_mm);
+}
 
 float BenchMass(const BenchScene& scene, const BodyDescription& body) {
   if (body.mass > 0.0f) return body.mass;
@@ -75,7 +97,9 @@ float BenchMass(const BenchScene& scene, const BodyDescription& body) {
 }
 
 void Summarize(const BenchScene& scene, const std::vector<FinalPose>& poses, EngineResult& result) {
-  SummarizeJointGaps(scene, poses, result);
+  const JointGaps gaps = MeasureJointGaps(scene, poses);
+  result.max_joint_gap_mm = gaps.max_mm;
+  result.mean_joint_gap_mm = gaps.mean_mm;
   result.state_hash = 1469598103934665603ull;
   result.bodies_in_footprint = 0;
   for (const FinalPose& pose : poses) {
@@ -158,6 +182,7 @@ EngineResult RunStrata(const BenchScene& scene, int threads, JobSystemKind job_s
     AddProfile(world.last_step_profile(), result);
     pairs += world.last_step_stats().pairs;
     replayed += world.last_step_stats().pairs_replayed;
+    if (ReadsJointGapsAfter(scene, step)) WidenJointGap(scene, StrataPoses(world, dynamic_ids), result);
   }
   for (int s = 0; s < result.stage_count; ++s) {
     result.stages[s].wall_ms /= scene.steps;
@@ -167,10 +192,7 @@ EngineResult RunStrata(const BenchScene& scene, int threads, JobSystemKind job_s
   result.contact_events_per_step = static_cast<double>(events) / std::max(scene.steps, 1);
   result.threads = world.job_system().ThreadCount();
   SummarizeTimes(std::move(times), result);
-  std::vector<FinalPose> poses;
-  for (const BodyID id : dynamic_ids)
-    poses.push_back({*world.bodies().GetPosition(id), *world.bodies().GetRotation(id)});
-  Summarize(scene, poses, result);
+  Summarize(scene, StrataPoses(world, dynamic_ids), result);
   result.bodies = static_cast<int>(scene.bodies.size());
   result.peak_memory_kb = PeakMemoryKb();
   result.ok = true;

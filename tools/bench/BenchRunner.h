@@ -44,6 +44,9 @@ struct EngineResult {
   /// chain stretched. 0 for a scene without joints.
   double max_joint_gap_mm = 0.0;
   double mean_joint_gap_mm = 0.0;
+  /// The widest any joint's anchor opened over the run, read every kJointGapSampleSteps steps and after the
+  /// last, between the timed steps (mm): a swinging chain's gap after one chosen step says little.
+  double widest_joint_gap_mm = 0.0;
 
   double StepsPerSecond() const { return total_seconds > 0.0 ? steps / total_seconds : 0.0; }
 };
@@ -57,6 +60,13 @@ struct FinalPose {
 /// Fills the footprint count, hash and joint gaps of `result` from the final dynamic poses (in the scene's
 /// order of its dynamic bodies).
 void Summarize(const BenchScene& scene, const std::vector<FinalPose>& poses, EngineResult& result);
+/// Steps between two readings of the joint gaps over a run.
+constexpr int kJointGapSampleSteps = 10;
+/// Whether the joint gaps are read after step `step` (0-based): a scene with joints, every
+/// kJointGapSampleSteps steps and after the last.
+bool ReadsJointGapsAfter(const BenchScene& scene, int step);
+/// Widens `result.widest_joint_gap_mm` to the widest joint gap of `poses` (as Summarize takes them).
+void WidenJointGap(const BenchScene& scene, const std::vector<FinalPose>& poses, EngineResult& result);
 /// Median and max of per-step times (seconds) into `result`.
 void SummarizeTimes(std::vector<double> step_seconds, EngineResult& result);
 /// Peak resident set size of this process (kB), from /proc/self/status.

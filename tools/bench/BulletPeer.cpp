@@ -56,16 +56,10 @@ class BulletScene {
       const auto start = std::chrono::steady_clock::now();
       world_.stepSimulation(scene_.dt, 0, scene_.dt);  // exactly one fixed step, no interpolation
       times.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+      if (ReadsJointGapsAfter(scene_, step)) WidenJointGap(scene_, Poses(), result);
     }
     SummarizeTimes(std::move(times), result);
-    std::vector<FinalPose> poses;
-    for (btRigidBody* body : dynamic_bodies_) {
-      const btTransform& transform = body->getWorldTransform();
-      const btQuaternion q = transform.getRotation();
-      poses.push_back({Vec3(transform.getOrigin().x(), transform.getOrigin().y(), transform.getOrigin().z()),
-                       Quat(q.w(), q.x(), q.y(), q.z())});
-    }
-    Summarize(scene_, poses, result);
+    Summarize(scene_, Poses(), result);
     result.bodies = static_cast<int>(scene_.bodies.size());
     result.peak_memory_kb = PeakMemoryKb();
     result.ok = true;
@@ -73,6 +67,18 @@ class BulletScene {
   }
 
  private:
+  std::vector<FinalPose> Poses() const {
+    std::vector<FinalPose> poses;
+    poses.reserve(dynamic_bodies_.size());
+    for (const btRigidBody* body : dynamic_bodies_) {
+      const btTransform& transform = body->getWorldTransform();
+      const btQuaternion q = transform.getRotation();
+      poses.push_back({Vec3(transform.getOrigin().x(), transform.getOrigin().y(), transform.getOrigin().z()),
+                       Quat(q.w(), q.x(), q.y(), q.z())});
+    }
+    return poses;
+  }
+
   btCollisionShape* ShapeFor(const BodyDescription& body) {
     switch (body.shape) {
       case SceneShape::kBox:
