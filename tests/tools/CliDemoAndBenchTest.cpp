@@ -283,11 +283,35 @@ TEST(Cli, BenchSweepsThreadCountsAndWritesJson) {
   }
   std::filesystem::remove(json);
   // Bad options are refused before anything runs.
+  EXPECT_EQ(RunCli("bench --steps 2 --runs 0"), 2);
   EXPECT_EQ(RunCli("bench --steps 2 --threads 0"), 2);
   EXPECT_EQ(RunCli("bench --steps 2 --threads 1,x"), 2);
   EXPECT_EQ(RunCli("bench --steps 2 --job-system fibers"), 2);
   EXPECT_EQ(RunCli("bench --steps 2 --solver bullet"), 2);
   EXPECT_EQ(RunCli("bench --steps 2 --json " + (TempPath("no-such-dir") / "bench.json").string()), 2);
+}
+
+TEST(Cli, BenchTakesTurnsAndReportsTheMedianRunAndRatio) {
+  const std::filesystem::path json = TempPath("bench-runs.json");
+  std::string output;
+  ASSERT_EQ(RunCliCapture(
+                "bench --scene chains --solver strata --steps 6 --threads 1 --runs 3 --json " + json.string(),
+                output),
+            0);
+  EXPECT_NE(output.find("each row the median of 3 runs"), std::string::npos) << output;
+  const nlohmann::json document = ReadJson(json);
+  ASSERT_EQ(document["scenes"].size(), 1u);
+  const nlohmann::json& scene = document["scenes"][0];
+  EXPECT_EQ(scene["runs"], 3);
+  ASSERT_EQ(scene["strata"].size(), 1u);  // the median run of each thread count, not every run
+  EXPECT_GT(scene["strata"][0]["steps_per_second"].get<double>(), 0.0);
+  if (scene.contains("bullet")) {  // built with the Bullet peer
+    ASSERT_EQ(scene["strata_over_bullet"].size(), 1u);
+    EXPECT_EQ(scene["strata_over_bullet"][0]["threads"], 1);
+    EXPECT_GT(scene["strata_over_bullet"][0]["steps_per_second"].get<double>(), 0.0);
+    EXPECT_NE(output.find("median of the turns' ratios"), std::string::npos);
+  }
+  std::filesystem::remove(json);
 }
 
 TEST(Cli, ShardedBakeMergesIntoTheFileOfOneBake) {

@@ -1,9 +1,10 @@
 // `strata bench [--scene pyramid|convex_vs_mesh|all] [--steps N] [--threads 1,2,4,8,16] [--json FILE]
 // [--solver strata|jolt|both] [--job-system default|pool] [--pair-cache-mm MM] [--pair-cache-degrees DEG]
-// [--no-bullet]`: runs the benchmark scenes in Strata at each thread count and, when built with Bullet, in
-// Bullet (one thread) in the same run, each run in its own child process, at Strata's default solver passes
-// and at Jolt's. Prints one table per scene and solver budget with a speedup column, then where a step's time
-// goes, stage by stage.
+// [--runs N] [--no-bullet]`: runs the benchmark scenes in Strata at each thread count and, when built with
+// Bullet, in Bullet (one thread) in the same run, each run in its own child process, at Strata's default
+// solver passes and at Jolt's. With --runs N the engines take turns N times and each row is its engine's
+// median run: on a noisy machine a ratio is only as good as the runs it compares. Prints one table per scene
+// and solver budget with a speedup column, then where a step's time goes, stage by stage.
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
@@ -33,6 +34,7 @@ struct BenchOptions {
   std::string job_system = "default";
   std::string solver = "both";
   bool bullet = true;
+  int runs = 1;                                 // alternated runs of every engine per scene
   std::optional<float> pair_cache_distance_mm;  // unset: the scene's own
   std::optional<float> pair_cache_angle;
 };
@@ -155,61 +157,103 @@ std::string SolverText(const bench::BenchScene& scene, bench::SolverBudget budge
   return text;
 }
 
-void PrintSceneHeader(const bench::BenchScene& scene, const std::string& solver) {
-  std::printf("%s: %zu bodies, %d steps of %.4f s, solver %s, sleeping %s, pair cache %.2f mm / %.1f deg\n",
+void PrintSceneHeader(const bench::BenchScene& scene, const std::string& solver, int runs) {
+  std::printf("%s: %zu bodies, %d steps of %.4f s, solver %s, sleeping %s, pair cache %.2f mm / %.1f deg",
               scene.name.c_str(), scene.bodies.size(), scene.steps, scene.dt, solver.c_str(),
               scene.sleeping ? "on" : "off", scene.pair_cache_max_distance * 1000.0f,
               scene.pair_cache_max_angle);
+  if (runs > 1) std::printf("; each row the median of %d runs, the engines taking turns", runs);
+  std::printf("\n");
   std::printf("  %-7s %7s %9s %10s %9s %9s %9s %6s %-12s %s\n", "engine", "threads", "steps/s", "ms median",
               "ms max", "MiB peak", "speedup", "bodies", "", "state hash");
 }
 
-// Bullet's run of the scene beside Strata's, with the ratios (when Bullet was built and not turned off).
-void RunBulletBeside(const bench::BenchScene& scene, const std::vector<bench::EngineResult>& runs,
-                     bool bullet, RunProgress& run, nlohmann::json& scene_json) {
-#ifdef STRATA_HAVE_BULLET
-  if (!bullet) return;
-  const bench::EngineResult result = run([&] { return bench::RunBullet(scene); });
+// The run whose steps/s is the median of `runs` (the lower middle one of an even count).
+bench::EngineResult MedianRun(std::vector<bench::EngineResult> runs) {
+  std::sort(runs.begin(), runs.end(), [](const bench::EngineResult& a, const bench::EngineResult& b) {
+    return a.StepsPerSecond() < b.StepsPerSecond();
+  });
+  return runs[(runs.size() - 1) / 2];
+}
+
+// The median over the alternated runs of Strata's steps/s over Bullet's in the same turn.
+double MedianRatio(const std::vector<bench::EngineResult>& strata,
+                   const std::vector<bench::EngineResult>& bullet) {
+  std::vector<double> ratios;
+  for (std::size_t r = 0; r < strata.size() && r < bullet.size(); ++r)
+    if (strata[r].ok && bullet[r].ok)
+      ratios.push_back(strata[r].StepsPerSecond() / bullet[r].StepsPerSecond());
+  if (ratios.empty()) return 0.0;
+  std::sort(ratios.begin(), ratios.end());
+  return ratios[(ratios.size() - 1) / 2];
+}
+
+// Bullet's median run beside Strata's, with the ratios (when Bullet ran).
+void PrintBulletBeside(const bench::BenchScene& scene,
+                       const std::vector<std::vector<bench::EngineResult>>& strata,
+                       const std::vector<bench::EngineResult>& bullet, nlohmann::json& scene_json) {
+  if (bullet.empty()) return;
+  const bench::EngineResult result = MedianRun(bullet);
   PrintRow("bullet", scene, result, 1.0);
   scene_json["bullet"] = ToJson(result, 1.0);
   if (!result.ok) return;
-  for (const bench::EngineResult& strata : runs)
-    if (strata.ok)
-      std::printf("  strata/bullet at %d thread%s: %.2fx steps/s, %.2fx peak memory\n", strata.threads,
-                  strata.threads == 1 ? "" : "s", strata.StepsPerSecond() / result.StepsPerSecond(),
-                  static_cast<double>(strata.peak_memory_kb) / static_cast<double>(result.peak_memory_kb));
-#else
-  (void)scene, (void)runs, (void)run, (void)scene_json;
-  if (bullet) std::printf("  bullet   not built (install libbullet-dev and reconfigure)\n");
-#endif
+  nlohmann::json ratios = nlohmann::json::array();
+  for (const std::vector<bench::EngineResult>& turns : strata) {
+    const bench::EngineResult median = MedianRun(turns);
+    if (!median.ok) continue;
+    const double ratio = MedianRatio(turns, bullet);
+    ratios.push_back({{"threads", median.threads}, {"steps_per_second", ratio}});
+    std::printf("  strata/bullet at %d thread%s: %.2fx steps/s%s, %.2fx peak memory\n", median.threads,
+                median.threads == 1 ? "" : "s", ratio,
+                bullet.size() > 1 ? " (median of the turns' ratios)" : "",
+                static_cast<double>(median.peak_memory_kb) / static_cast<double>(result.peak_memory_kb));
+  }
+  scene_json["strata_over_bullet"] = ratios;
 }
 
-// One scene at every thread count (and Bullet beside it); false if a run failed.
+// One scene at every thread count (and Bullet beside it), `options.runs` times in turn; false if a run
+// failed.
 bool RunScene(const bench::BenchScene& scene, const std::string& solver, const BenchOptions& options,
-              bench::JobSystemKind job_system, RunProgress& run, nlohmann::json& document) {
-  PrintSceneHeader(scene, solver);
-  std::vector<bench::EngineResult> runs;
+              bench::JobSystemKind job_system, bool with_bullet, RunProgress& run, nlohmann::json& document) {
+  PrintSceneHeader(scene, solver, options.runs);
   nlohmann::json scene_json = {{"name", scene.name},
                                {"solver", solver},
                                {"bodies", scene.bodies.size()},
                                {"steps", scene.steps},
+                               {"runs", options.runs},
                                {"pair_cache_mm", scene.pair_cache_max_distance * 1000.0f},
                                {"pair_cache_degrees", scene.pair_cache_max_angle}};
+  std::vector<std::vector<bench::EngineResult>> strata(options.threads.size());
+  std::vector<bench::EngineResult> bullet;
+  for (int turn = 0; turn < options.runs; ++turn) {
+    for (std::size_t t = 0; t < options.threads.size(); ++t)
+      strata[t].push_back(run([&] { return bench::RunStrata(scene, options.threads[t], job_system); }));
+#ifdef STRATA_HAVE_BULLET
+    if (with_bullet) bullet.push_back(run([&] { return bench::RunBullet(scene); }));
+#endif
+  }
+  std::vector<bench::EngineResult> runs;
   nlohmann::json strata_json = nlohmann::json::array();
-  for (const int threads : options.threads) {
-    runs.push_back(run([&] { return bench::RunStrata(scene, threads, job_system); }));
+  for (const std::vector<bench::EngineResult>& turns : strata) {
+    runs.push_back(MedianRun(turns));
     const double base = runs.front().StepsPerSecond();
     const double speedup = base > 0.0 ? runs.back().StepsPerSecond() / base : 0.0;
     PrintRow("strata", scene, runs.back(), speedup);
     strata_json.push_back(ToJson(runs.back(), speedup));
-    std::fflush(stdout);
   }
   scene_json["strata"] = strata_json;
-  RunBulletBeside(scene, runs, options.bullet, run, scene_json);
+  PrintBulletBeside(scene, strata, bullet, scene_json);
+#ifndef STRATA_HAVE_BULLET
+  (void)with_bullet;
+  if (options.bullet) std::printf("  bullet   not built (install libbullet-dev and reconfigure)\n");
+#endif
   PrintStages(runs);
   document["scenes"].push_back(scene_json);
   std::fflush(stdout);
-  return std::all_of(runs.begin(), runs.end(), [](const bench::EngineResult& r) { return r.ok; });
+  const auto all_ok = [](const std::vector<bench::EngineResult>& turns) {
+    return std::all_of(turns.begin(), turns.end(), [](const bench::EngineResult& r) { return r.ok; });
+  };
+  return std::all_of(strata.begin(), strata.end(), all_ok);
 }
 
 int RunBench(BenchOptions options) {
@@ -243,7 +287,8 @@ int RunBench(BenchOptions options) {
   with_bullet = options.bullet;
 #endif
   std::printf("strata bench: built for %s\n", bench::InstructionSet().c_str());
-  RunProgress run(names.size() * budgets.size() * (options.threads.size() + (with_bullet ? 1 : 0)));
+  RunProgress run(names.size() * budgets.size() * static_cast<std::size_t>(options.runs) *
+                  (options.threads.size() + (with_bullet ? 1 : 0)));
   for (const std::string& name : names) {
     bench::BenchScene scene = bench::MakeBenchScene(name);
     if (scene.bodies.empty()) {
@@ -257,7 +302,8 @@ int RunBench(BenchOptions options) {
     if (options.pair_cache_angle) scene.pair_cache_max_angle = *options.pair_cache_angle;
     for (const bench::SolverBudget budget : budgets) {
       const bench::BenchScene budgeted = bench::WithSolverBudget(scene, budget);
-      if (!RunScene(budgeted, SolverText(budgeted, budget), options, job_system, run, document)) return 1;
+      if (!RunScene(budgeted, SolverText(budgeted, budget), options, job_system, with_bullet, run, document))
+        return 1;
     }
   }
   if (!options.json.empty() && !bench::WriteJsonReport(options.json, document).ok()) {
@@ -298,6 +344,11 @@ std::function<int()> AddBenchCommand(CLI::App& app) {
       ->add_option("--pair-cache-degrees", options->pair_cache_angle,
                    "Body-pair cache: ...and turned less than this (degrees; default 2, as Jolt)")
       ->check(CLI::Range(0.0f, 180.0f));
+  command
+      ->add_option("--runs", options->runs,
+                   "Runs per scene, the engines taking turns; each row is its engine's median run and the "
+                   "ratio the median of the turns' ratios (default 1)")
+      ->check(CountIn(1, 101, "--runs"));
   command->add_flag("!--no-bullet", options->bullet, "Skip the Bullet peer");
   return [options] { return RunBench(*options); };
 }
