@@ -125,6 +125,26 @@ class Constraint {
   virtual bool OnlyRigidRows() const { return false; }
   /// Sets those rows up from the pass's poses and writes them (RigidRowCount() of them).
   virtual void RigidRows(const ConstraintBodies& bodies, JointRow* rows) = 0;
+  /// The most directions a joint's other rows (limits, motors, friction, springs) act along.
+  static constexpr int kMaxFreeRows = 2;
+  /// Sets the joint up from the pass's poses, as its passes would, and writes one row per direction its
+  /// other rows act along (a hinge's limits and motor share its axis), in an order of its own; returns how
+  /// many.
+  virtual int FreeRows(const ConstraintBodies& /*bodies*/, const ConstraintPassContext& /*pass*/,
+                       JointRow* /*rows*/) {
+    return 0;
+  }
+  /// The most rows a joint solves along those directions.
+  static constexpr int kMaxFreeRowPasses = 3;
+  /// After FreeRows at the pass's poses: the rows the pass solves along those directions, in the order
+  /// SolveVelocity solves them; returns how many. ExactJointSolver solves them against the island's rigid
+  /// rows: against its two bodies alone, a limit between a heavy flap and a light block welded in place
+  /// would move the flap a thousandth of the way per pass, the rest going to the block, which the rigid rows
+  /// then hold still.
+  virtual int FreeRowPasses(const ConstraintPassContext& /*pass*/, FreeRowPass* /*rows*/) { return 0; }
+  /// What SolveVelocity has left when ExactJointSolver solves the rigid rows and FreeRowPasses (a
+  /// swing-twist's friction, whose three rows share one 3 x 3 effective mass).
+  virtual void SolveUnreducibleRows(ConstraintBodies& /*bodies*/, const ConstraintPassContext& /*pass*/) {}
   /// Joins the islands of its two sides when both move this step (after BeginStep), so they are solved,
   /// sleep and wake together.
   void LinkIslands(IslandBuilder& islands) const;

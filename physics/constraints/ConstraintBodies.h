@@ -100,6 +100,17 @@ inline RowTarget SpringTarget(float error, const SoftSpring& spring) {
   return {spring.bias_rate * error, spring.stiffness / denominator, 1.0f / denominator};
 }
 
+/// One row a joint solves along a direction it shares with others (a hinge's drive and both limits act on
+/// its angle), as ExactJointSolver takes it to solve against an island's rigid rows.
+struct FreeRowPass {
+  int direction = 0;  ///< which of the joint's directions (Constraint::FreeRows)
+  float sign = 1.0f;  ///< -1: the row acts against the direction (an upper limit)
+  RowTarget target;
+  float low = 0.0f;  ///< bounds of the accumulated impulse
+  float high = 0.0f;
+  float* impulse = nullptr;  ///< the part's accumulated impulse
+};
+
 /// The impulse change of a row: Box2D's soft update, with the accumulated impulse kept in [low, high].
 inline float RowImpulse(float velocity_error, const RowTarget& target, float effective_mass,
                         float& accumulated, float low, float high) {

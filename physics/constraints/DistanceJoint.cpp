@@ -5,6 +5,10 @@
 
 namespace strata {
 
+namespace {
+constexpr float kUnbounded = std::numeric_limits<float>::infinity();
+}  // namespace
+
 Result<std::unique_ptr<DistanceJoint>> DistanceJoint::Create(const DistanceJointSettings& settings,
                                                              const BodyFrame& a, const BodyFrame& b) {
   if (Status valid = settings.ValidateBase(); !valid) return valid.error();
@@ -72,7 +76,6 @@ void DistanceJoint::WarmStart(ConstraintBodies& bodies, const ConstraintPassCont
 
 void DistanceJoint::SolveVelocity(ConstraintBodies& bodies, const ConstraintPassContext& pass,
                                   bool rigid_rows) {
-  constexpr float kUnbounded = std::numeric_limits<float>::infinity();
   if (rigid()) {
     if (!rigid_rows) return;
     SetUp(bodies, pass);
@@ -80,13 +83,27 @@ void DistanceJoint::SolveVelocity(ConstraintBodies& bodies, const ConstraintPass
     return;
   }
   SetUp(bodies, pass);
+  FreeRowPass rows[kMaxFreeRowPasses];
+  AxisConstraintPart* parts[kMaxFreeRowPasses];
+  const int count = SoftRows(pass, rows, parts);
+  for (int k = 0; k < count; ++k) parts[k]->Solve(bodies, rows[k].target, rows[k].low, rows[k].high);
+}
+
+int DistanceJoint::SoftRows(const ConstraintPassContext& pass, FreeRowPass* rows,
+                            AxisConstraintPart** parts) {
+  int count = 0;
+  auto add = [&](AxisConstraintPart& part, float sign, const RowTarget& target, float low) {
+    parts[count] = &part;
+    rows[count++] = {0, sign, target, low, kUnbounded, part.Row(0.0f).impulse};
+  };
   if (spring_hertz_ > 0.0f) {
     const SoftSpring spring = MakeSoftSpring(spring_hertz_, spring_damping_ratio_, pass.h);
-    spring_.Solve(bodies, SpringTarget(distance_ - rest_length_, spring), -kUnbounded, kUnbounded);
+    add(spring_, 1.0f, SpringTarget(distance_ - rest_length_, spring), -kUnbounded);
   }
   if (min_distance_ > 0.0f)  // a distance is never below 0: a rope needs no lower row
-    lower_.Solve(bodies, LimitTarget(distance_ - min_distance_, pass), 0.0f, kUnbounded);
-  upper_.Solve(bodies, LimitTarget(max_distance_ - distance_, pass), 0.0f, kUnbounded);
+    add(lower_, 1.0f, LimitTarget(distance_ - min_distance_, pass), 0.0f);
+  add(upper_, -1.0f, LimitTarget(max_distance_ - distance_, pass), 0.0f);
+  return count;
 }
 
 int DistanceJoint::RigidRowCount() const {
@@ -99,6 +116,22 @@ void DistanceJoint::RigidRows(const ConstraintBodies& bodies, JointRow* rows) {
   const float distance = Axis(arms.separation);
   spring_.Prepare(bodies, arms.r_a, arms.r_b, axis_);
   rows[0] = spring_.Row(distance - rest_length_);
+}
+
+// A rod's one row is rigid; otherwise the spring and both limits share one row (the upper limit's the other
+// way).
+int DistanceJoint::FreeRows(const ConstraintBodies& bodies, const ConstraintPassContext& pass,
+                            JointRow* rows) {
+  if (rigid()) return 0;
+  SetUp(bodies, pass);
+  rows[0] = lower_.Row(0.0f);
+  return 1;
+}
+
+int DistanceJoint::FreeRowPasses(const ConstraintPassContext& pass, FreeRowPass* rows) {
+  if (rigid()) return 0;
+  AxisConstraintPart* parts[kMaxFreeRowPasses];
+  return SoftRows(pass, rows, parts);
 }
 
 Constraint::Impulses DistanceJoint::AccumulatedImpulses() const {

@@ -31,6 +31,8 @@ class DistanceJoint final : public Constraint {
   void SolveVelocity(ConstraintBodies& bodies, const ConstraintPassContext& pass, bool rigid_rows) override;
   int RigidRowCount() const override;
   void RigidRows(const ConstraintBodies& bodies, JointRow* rows) override;
+  int FreeRows(const ConstraintBodies& bodies, const ConstraintPassContext& pass, JointRow* rows) override;
+  int FreeRowPasses(const ConstraintPassContext& pass, FreeRowPass* rows) override;
 
   float rest_length() const { return rest_length_; }
   float min_distance() const { return min_distance_; }
@@ -45,6 +47,9 @@ class DistanceJoint final : public Constraint {
   float Axis(const Vec3& separation);
   // The rows and the distance at the pass's poses (see NeedsSetUp).
   void SetUp(const ConstraintBodies& bodies, const ConstraintPassContext& pass);
+  // The rows of a distance that is not rigid a pass solves (spring, lower and upper limit) and their parts;
+  // returns how many.
+  int SoftRows(const ConstraintPassContext& pass, FreeRowPass* rows, AxisConstraintPart** parts);
   bool rigid() const { return spring_hertz_ <= 0.0f && min_distance_ == max_distance_; }
 
   float rest_length_;

@@ -10,6 +10,9 @@ namespace {
 // diagonal is dropped.
 constexpr double kRegularization = 1e-9;
 constexpr double kTinyPivot = 1e-12;
+// A free row whose effective inverse mass with the rigid rows holding is below this share of its own is held
+// by them alone (its own would be a rounding error's).
+constexpr double kTinyReducedShare = 1e-7;
 // Constraint::kPositionFraction of the error per position step: the whole error at once (a Newton step)
 // tore a 100-link chain with a 100 kg end apart when it was dropped level and whipped (84 cm; half the error:
 // 4 cm); a fifth keeps every joint within 0.5 mm there, 0.1 mm in a 60-degree swing.
@@ -27,6 +30,45 @@ ExactJointSolver* ExactJointSolver::Create(BlockArena& arena, std::span<Constrai
   solver->first_ = arena.AllocateArray<std::uint32_t>(rows);
   solver->end_ = arena.AllocateArray<std::uint32_t>(rows);
   solver->scratch_ = arena.AllocateArray<double>(rows);
+  // The island's moving bodies, numbered here in the order the joints meet them (the scratch maps solver
+  // index to that number meanwhile).
+  std::uint32_t* const local_of_body = first_row_of_body;
+  auto* const local = arena.AllocateArray<std::uint32_t>(2 * joints.size());
+  auto* const island_body = arena.AllocateArray<std::uint32_t>(2 * joints.size());
+  std::uint32_t body_count = 0;
+  for (std::size_t j = 0; j < joints.size(); ++j) {
+    const std::uint32_t sides[2] = {joints[j]->side_a().solver_index, joints[j]->side_b().solver_index};
+    for (int side = 0; side < 2; ++side) {
+      local[2 * j + side] = kNoRow;
+      if (sides[side] == 0) continue;
+      if (local_of_body[sides[side]] == kNoRow) {
+        island_body[body_count] = sides[side];
+        local_of_body[sides[side]] = body_count++;
+      }
+      local[2 * j + side] = local_of_body[sides[side]];
+    }
+  }
+  for (const Constraint* joint : joints)
+    for (const std::uint32_t body : {joint->side_a().solver_index, joint->side_b().solver_index})
+      if (body != 0) local_of_body[body] = kNoRow;
+  // Room for every joint that has more than rigid rows to have all its free directions, each with the
+  // rigid rows' impulses and the bodies' velocities it causes.
+  const auto free_joints = static_cast<std::uint32_t>(std::count_if(
+      joints.begin(), joints.end(), [](const Constraint* joint) { return !joint->OnlyRigidRows(); }));
+  const std::uint32_t directions = free_joints * Constraint::kMaxFreeRows;
+  const std::uint64_t per_direction = rows + std::uint64_t{kBodyResponseSize} * body_count;
+  if (free_joints > 0 && rows > 0 && directions * per_direction <= kMaxReducedEntries) {
+    solver->body_count_ = body_count;
+    solver->local_body_ = local;
+    solver->island_body_ = island_body;
+    solver->free_begin_ = arena.AllocateArray<std::uint32_t>(joints.size() + 1);
+    solver->directions_ = arena.AllocateArray<FreeDirection>(directions);
+    solver->responses_ = arena.AllocateArray<float>(std::size_t{directions} * rows);
+    solver->body_responses_ =
+        arena.AllocateArray<float>(std::size_t{directions} * kBodyResponseSize * body_count);
+    solver->coupling_ = arena.AllocateArray<double>(rows);
+    solver->body_scratch_ = arena.AllocateArray<double>(std::size_t{kBodyResponseSize} * body_count);
+  }
   // A row couples with every row before it that shares a moving body with it: its skyline starts at the
   // first row that touched either of its bodies (or its joint's first row).
   std::uint32_t row = 0;
@@ -53,44 +95,83 @@ ExactJointSolver* ExactJointSolver::Create(BlockArena& arena, std::span<Constrai
   return solver;
 }
 
+namespace {
+
+double Dot(const Vec3& a, const Vec3& b) {
+  return a.cast<double>().dot(b.cast<double>());
+}
+
+// Which sides of two rows (0 = A, 1 = B) are the same moving body, and the sign of their coupling through it
+// (negative where it is A to one and B to the other). Returns how many (two at most).
+template <class RowType>
+int SharedSides(const RowType& row, const RowType& other, int (&side)[2], int (&other_side)[2],
+                double (&sign)[2]) {
+  const std::uint32_t bodies[2] = {row.body_a, row.body_b};
+  const std::uint32_t other_bodies[2] = {other.body_a, other.body_b};
+  int shared = 0;
+  for (int s = 0; s < 2; ++s)
+    for (int o = 0; o < 2; ++o)
+      if (bodies[s] != 0 && bodies[s] == other_bodies[o] && shared < 2) {
+        side[shared] = s;
+        other_side[shared] = o;
+        sign[shared++] = s == o ? 1.0 : -1.0;
+      }
+  return shared;
+}
+
+// One row's Jacobian on its side `side` times another row's push on its side `other_side`. Float products
+// are exact in double.
+template <class RowType>
+double SideCoupling(const RowType& row, int side, const RowType& other, int other_side) {
+  const Vec3& angular = side == 0 ? row.row.angular_a : row.row.angular_b;
+  const Vec3& push_linear = other_side == 0 ? other.push_a_linear : other.push_b_linear;
+  const Vec3& push_angular = other_side == 0 ? other.push_a_angular : other.push_b_angular;
+  return Dot(row.row.linear, push_linear) + Dot(angular, push_angular);
+}
+
+}  // namespace
+
 void ExactJointSolver::CoupleBlocks(std::uint32_t block_i, std::uint32_t block_j) {
-  // Through each body the two joints share: one's Jacobian on that body times the other's push on it,
-  // negated where the body is A to one and B to the other. Every row of a joint has its bodies, so which
-  // sides meet is settled once for the pair of joints (two at most). Float products are exact in double.
-  const std::uint32_t bodies_i[2] = {rows_[block_i].body_a, rows_[block_i].body_b};
-  const std::uint32_t bodies_j[2] = {rows_[block_j].body_a, rows_[block_j].body_b};
+  // Through each body the two joints share: one's Jacobian on that body times the other's push on it. Every
+  // row of a joint has its bodies, so which sides meet is settled once for the pair of joints.
   int side_i[2] = {0, 0}, side_j[2] = {0, 0};
   double sign[2] = {0.0, 0.0};
-  int terms = 0;
-  for (int si = 0; si < 2; ++si)
-    for (int sj = 0; sj < 2; ++sj)
-      if (bodies_i[si] != 0 && bodies_i[si] == bodies_j[sj] && terms < 2) {
-        side_i[terms] = si;
-        side_j[terms] = sj;
-        sign[terms++] = si == sj ? 1.0 : -1.0;
-      }
-  auto dot = [](const Vec3& a, const Vec3& b) { return a.cast<double>().dot(b.cast<double>()); };
+  const int terms = SharedSides(rows_[block_i], rows_[block_j], side_i, side_j, sign);
   const bool diagonal = block_i == block_j;
   for (std::uint32_t i = block_i; i < end_[block_i]; ++i) {
     const Row& row = rows_[i];
     double* const entries = ldlt_.Row(i);
     const std::uint32_t last = diagonal ? i + 1 : end_[block_j];
     for (std::uint32_t j = block_j; j < last; ++j) {
-      const Row& other = rows_[j];
       double sum = 0.0;
-      for (int t = 0; t < terms; ++t) {
-        const Vec3& angular = side_i[t] == 0 ? row.row.angular_a : row.row.angular_b;
-        const Vec3& push_linear = side_j[t] == 0 ? other.push_a_linear : other.push_b_linear;
-        const Vec3& push_angular = side_j[t] == 0 ? other.push_a_angular : other.push_b_angular;
-        sum += sign[t] * (dot(row.row.linear, push_linear) + dot(angular, push_angular));
-      }
+      for (int t = 0; t < terms; ++t) sum += sign[t] * SideCoupling(row, side_i[t], rows_[j], side_j[t]);
       entries[j] = sum;
     }
   }
 }
 
-void ExactJointSolver::Build(SolverBody* bodies, const SolverPose* poses, float elapsed, int pose_version) {
-  if (pose_version >= 0 && pose_version == built_version_) return;
+ExactJointSolver::Row ExactJointSolver::MakeRow(const ConstraintBodies& view, const JointRow& joint_row,
+                                                std::uint32_t body_a, std::uint32_t body_b) {
+  Row r;
+  r.row = joint_row;
+  r.body_a = body_a;
+  r.body_b = body_b;
+  r.fixed_rate = 0.0f;
+  if (body_a == 0)
+    r.fixed_rate -= r.row.linear.dot(ToVec3(view.a->linear_velocity)) +
+                    r.row.angular_a.dot(ToVec3(view.a->angular_velocity));
+  if (body_b == 0)
+    r.fixed_rate += r.row.linear.dot(ToVec3(view.b->linear_velocity)) +
+                    r.row.angular_b.dot(ToVec3(view.b->angular_velocity));
+  r.push_a_linear = body_a != 0 ? Vec3(view.a->inverse_mass * r.row.linear) : Vec3::Zero();
+  r.push_a_angular = body_a != 0 ? InverseInertiaTimes(*view.a, r.row.angular_a) : Vec3::Zero();
+  r.push_b_linear = body_b != 0 ? Vec3(view.b->inverse_mass * r.row.linear) : Vec3::Zero();
+  r.push_b_angular = body_b != 0 ? InverseInertiaTimes(*view.b, r.row.angular_b) : Vec3::Zero();
+  return r;
+}
+
+bool ExactJointSolver::Build(SolverBody* bodies, const SolverPose* poses, float elapsed, int pose_version) {
+  if (pose_version >= 0 && pose_version == built_version_) return false;
   built_version_ = pose_version;
   // A joint's rows are a block, coupled and factored as soon as they are made (what they couple with was
   // made just before: one pass over the rows, in cache). Rows whose pivot is lost to rounding (a loop of
@@ -105,25 +186,126 @@ void ExactJointSolver::Build(SolverBody* bodies, const SolverPose* poses, float 
     joint->RigidRows(view, joint_rows);
     const std::uint32_t body_a = joint->side_a().solver_index, body_b = joint->side_b().solver_index;
     const std::uint32_t block = ldlt_.AddBlock(first_[ldlt_.size()], count);
-    for (int k = 0; k < count; ++k) {
-      Row& r = rows_[block + static_cast<std::uint32_t>(k)];
-      r.row = joint_rows[k];
-      r.body_a = body_a;
-      r.body_b = body_b;
-      r.fixed_rate = 0.0f;
-      if (body_a == 0)
-        r.fixed_rate -= r.row.linear.dot(ToVec3(view.a->linear_velocity)) +
-                        r.row.angular_a.dot(ToVec3(view.a->angular_velocity));
-      if (body_b == 0)
-        r.fixed_rate += r.row.linear.dot(ToVec3(view.b->linear_velocity)) +
-                        r.row.angular_b.dot(ToVec3(view.b->angular_velocity));
-      r.push_a_linear = body_a != 0 ? Vec3(view.a->inverse_mass * r.row.linear) : Vec3::Zero();
-      r.push_a_angular = body_a != 0 ? InverseInertiaTimes(*view.a, r.row.angular_a) : Vec3::Zero();
-      r.push_b_linear = body_b != 0 ? Vec3(view.b->inverse_mass * r.row.linear) : Vec3::Zero();
-      r.push_b_angular = body_b != 0 ? InverseInertiaTimes(*view.b, r.row.angular_b) : Vec3::Zero();
-    }
+    for (int k = 0; k < count; ++k)
+      rows_[block + static_cast<std::uint32_t>(k)] = MakeRow(view, joint_rows[k], body_a, body_b);
     for (std::uint32_t other = first_[block]; other <= block; other = end_[other]) CoupleBlocks(block, other);
     ldlt_.FactorLastBlock(kRegularization, kTinyPivot);
+  }
+  return true;
+}
+
+void ExactJointSolver::ReduceFreeRows(SolverBody* bodies, const SolverPose* poses,
+                                      const ConstraintPassContext& pass, float elapsed) {
+  if (!solves_free_rows()) return;
+  JointRow joint_rows[Constraint::kMaxFreeRows];
+  std::uint32_t direction = 0;
+  for (std::size_t j = 0; j < joints_.size(); ++j) {
+    free_begin_[j] = direction;
+    Constraint& joint = *joints_[j];
+    if (joint.OnlyRigidRows()) continue;
+    SolverBody stand_in_a, stand_in_b;
+    const ConstraintBodies view = joint.BodiesForPass(bodies, poses, elapsed, stand_in_a, stand_in_b);
+    const int count = joint.FreeRows(view, pass, joint_rows);
+    for (int k = 0; k < count; ++k, ++direction) {
+      const Row free = MakeRow(view, joint_rows[k], joint.side_a().solver_index, joint.side_b().solver_index);
+      directions_[direction] = Reduce(
+          free, local_body_[2 * j], local_body_[2 * j + 1], responses_ + std::size_t{direction} * row_count_,
+          body_responses_ + std::size_t{direction} * kBodyResponseSize * body_count_);
+    }
+  }
+  free_begin_[joints_.size()] = direction;
+}
+
+ExactJointSolver::FreeDirection ExactJointSolver::Reduce(const Row& free, std::uint32_t local_a,
+                                                         std::uint32_t local_b, float* response,
+                                                         float* body_response) {
+  const double alone = (free.body_a != 0 ? SideCoupling(free, 0, free, 0) : 0.0) +
+                       (free.body_b != 0 ? SideCoupling(free, 1, free, 1) : 0.0);
+  // b: only the rows of joints that share a body with this one couple with it.
+  for (std::uint32_t block = 0; block < row_count_; block = end_[block]) {
+    int side[2] = {0, 0}, free_side[2] = {0, 0};
+    double sign[2] = {0.0, 0.0};
+    const int terms = SharedSides(rows_[block], free, side, free_side, sign);
+    for (std::uint32_t i = block; i < end_[block]; ++i) {
+      double sum = 0.0;
+      for (int t = 0; t < terms; ++t) sum += sign[t] * SideCoupling(rows_[i], side[t], free, free_side[t]);
+      coupling_[i] = sum;
+      scratch_[i] = sum;
+    }
+  }
+  ldlt_.Solve(scratch_);
+  // The bodies' velocities per unit impulse: the row's push on its two bodies less the rigid rows' answer,
+  // summed in double (the two nearly cancel on a light body the rigid rows hold), then rounded once.
+  std::fill(body_scratch_, body_scratch_ + std::size_t{kBodyResponseSize} * body_count_, 0.0);
+  AddPush(free, local_a, local_b, 1.0);
+  double held = 0.0;
+  std::uint32_t row = 0;
+  for (std::size_t j = 0; j < joints_.size(); ++j) {
+    const auto count = static_cast<std::uint32_t>(joints_[j]->RigidRowCount());
+    for (std::uint32_t end = row + count; row < end; ++row) {
+      held += coupling_[row] * scratch_[row];
+      response[row] = static_cast<float>(scratch_[row]);
+      if (scratch_[row] != 0.0)
+        AddPush(rows_[row], local_body_[2 * j], local_body_[2 * j + 1], -scratch_[row]);
+    }
+  }
+  FreeDirection direction{free, 0.0f, body_count_, 0};
+  for (std::uint32_t body = 0; body < body_count_; ++body) {
+    const double* const from = body_scratch_ + std::size_t{kBodyResponseSize} * body;
+    float* const to = body_response + std::size_t{kBodyResponseSize} * body;
+    bool moves = false;
+    for (int k = 0; k < kBodyResponseSize; ++k) {
+      to[k] = static_cast<float>(from[k]);
+      moves = moves || to[k] != 0.0f;
+    }
+    if (!moves) continue;
+    direction.body_begin = std::min(direction.body_begin, body);
+    direction.body_end = body + 1;
+  }
+  direction.body_begin = std::min(direction.body_begin, direction.body_end);
+  const double reduced = alone - held;
+  // A direction the rigid rows hold all but alone (to rounding) needs nothing from the free rows.
+  if (reduced > kTinyReducedShare * alone) direction.effective_mass = static_cast<float>(1.0 / reduced);
+  return direction;
+}
+
+void ExactJointSolver::AddPush(const Row& row, std::uint32_t local_a, std::uint32_t local_b, double scale) {
+  auto add = [&](std::uint32_t body, const Vec3& linear, const Vec3& angular, double sign) {
+    double* const to = body_scratch_ + std::size_t{kBodyResponseSize} * body;
+    for (int k = 0; k < 3; ++k) {
+      to[k] += sign * scale * linear[k];
+      to[3 + k] += sign * scale * angular[k];
+    }
+  };
+  if (row.body_a != 0) add(local_a, row.push_a_linear, row.push_a_angular, -1.0);
+  if (row.body_b != 0) add(local_b, row.push_b_linear, row.push_b_angular, 1.0);
+}
+
+void ExactJointSolver::SolveFreeRows(SolverBody* bodies, const ConstraintPassContext& pass) {
+  if (!solves_free_rows()) return;
+  FreeRowPass passes[Constraint::kMaxFreeRowPasses];
+  for (std::size_t j = 0; j < joints_.size(); ++j) {
+    if (free_begin_[j] == free_begin_[j + 1]) continue;
+    const int count = joints_[j]->FreeRowPasses(pass, passes);
+    for (int k = 0; k < count; ++k) {
+      const FreeRowPass& row = passes[k];
+      const std::uint32_t direction = free_begin_[j] + static_cast<std::uint32_t>(row.direction);
+      const FreeDirection& free = directions_[direction];
+      const float change = RowImpulse(row.sign * Rate(bodies, free.row), row.target, free.effective_mass,
+                                      *row.impulse, row.low, row.high);
+      if (change == 0.0f) continue;
+      // The rigid rows answer at once, so the next row sees velocities they hold.
+      const float along = row.sign * change;
+      const float* const response = responses_ + std::size_t{direction} * row_count_;
+      for (std::uint32_t i = 0; i < row_count_; ++i) *rows_[i].row.impulse -= along * response[i];
+      const float* const moves = body_responses_ + std::size_t{direction} * kBodyResponseSize * body_count_;
+      for (std::uint32_t body = free.body_begin; body < free.body_end; ++body) {
+        const float* const move = moves + std::size_t{kBodyResponseSize} * body;
+        SolverBody& target = bodies[island_body_[body]];
+        target.linear_velocity += ToVec4(along * Vec3(move[0], move[1], move[2]));
+        target.angular_velocity += ToVec4(along * Vec3(move[3], move[4], move[5]));
+      }
+    }
   }
 }
 
@@ -164,7 +346,8 @@ void ExactJointSolver::Solve(SolverBody* bodies, const ConstraintPassContext& pa
   if (row_count_ == 0) return;
   // Box2D's soft update for all rows at once: with A = J M^-1 J^T, the change is
   // mass_scale * A^-1 (-(rate + bias)) - impulse_scale * impulse; a relax pass is the rigid A^-1 (-rate).
-  const RowTarget soft = EqualityTarget(1.0f, pass);
+  RowTarget soft = EqualityTarget(1.0f, pass);
+  if (solves_free_rows()) soft = {soft.bias, 1.0f, 0.0f};
   for (std::uint32_t i = 0; i < row_count_; ++i)
     scratch_[i] = -static_cast<double>(Rate(bodies, rows_[i]) + soft.bias * rows_[i].row.error);
   ldlt_.Solve(scratch_);
@@ -173,16 +356,20 @@ void ExactJointSolver::Solve(SolverBody* bodies, const ConstraintPassContext& pa
     const float change =
         soft.mass_scale * static_cast<float>(scratch_[i]) - soft.impulse_scale * *row.row.impulse;
     *row.row.impulse += change;
-    if (row.body_a != 0) {
-      SolverBody& a = bodies[row.body_a];
-      a.linear_velocity -= ToVec4(change * row.push_a_linear);
-      a.angular_velocity -= ToVec4(change * row.push_a_angular);
-    }
-    if (row.body_b != 0) {
-      SolverBody& b = bodies[row.body_b];
-      b.linear_velocity += ToVec4(change * row.push_b_linear);
-      b.angular_velocity += ToVec4(change * row.push_b_angular);
-    }
+    ApplyRow(bodies, row, change);
+  }
+}
+
+void ExactJointSolver::ApplyRow(SolverBody* bodies, const Row& row, float change) {
+  if (row.body_a != 0) {
+    SolverBody& a = bodies[row.body_a];
+    a.linear_velocity -= ToVec4(change * row.push_a_linear);
+    a.angular_velocity -= ToVec4(change * row.push_a_angular);
+  }
+  if (row.body_b != 0) {
+    SolverBody& b = bodies[row.body_b];
+    b.linear_velocity += ToVec4(change * row.push_b_linear);
+    b.angular_velocity += ToVec4(change * row.push_b_angular);
   }
 }
 

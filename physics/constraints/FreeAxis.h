@@ -68,17 +68,24 @@ class FreeAxis {
   /// The drive first and the limits after it, so a motor cannot push through a limit. `coordinate` is the
   /// angle or position now (read only when there are limits).
   void Solve(ConstraintBodies& bodies, const ConstraintPassContext& pass, float coordinate) {
-    constexpr float kUnbounded = std::numeric_limits<float>::infinity();
-    if (motor_.enabled) {
-      const float most = motor_.max_torque * pass.h;
-      drive_.Solve(bodies, RowTarget{-motor_.target_speed, 1.0f, 0.0f}, -most, most);
-    } else if (max_friction_ > 0.0f) {
-      const float most = max_friction_ * pass.h;
-      drive_.Solve(bodies, RowTarget{}, -most, most);
-    }
-    if (!limits_) return;
-    lower_.Solve(bodies, LimitTarget(coordinate - min_, pass), 0.0f, kUnbounded);
-    upper_.Solve(bodies, LimitTarget(max_ - coordinate, pass), 0.0f, kUnbounded);
+    ForEachRow(pass, coordinate, [&](Part& part, float, const RowTarget& target, float low, float high) {
+      part.Solve(bodies, target, low, high);
+    });
+  }
+  /// After Prepare: the row the limits and the drive share (the upper limit's is the other way), in
+  /// `rows[0]`; 0 rows when there are neither.
+  int FreeRows(JointRow* rows) {
+    if (!limits_ && !drives()) return 0;
+    rows[0] = limits_ ? lower_.Row(0.0f) : drive_.Row(0.0f);
+    return 1;
+  }
+  /// What Solve would solve, as rows along FreeRows' row (its direction `direction`); returns how many.
+  int Passes(const ConstraintPassContext& pass, float coordinate, int direction, FreeRowPass* rows) {
+    int count = 0;
+    ForEachRow(pass, coordinate, [&](Part& part, float sign, const RowTarget& target, float low, float high) {
+      rows[count++] = {direction, sign, target, low, high, part.Row(0.0f).impulse};
+    });
+    return count;
   }
   void ScaleImpulses(float ratio) {
     lower_.ScaleImpulse(ratio);
@@ -91,6 +98,21 @@ class FreeAxis {
 
  private:
   bool drives() const { return motor_.enabled || max_friction_ > 0.0f; }
+  // Calls visit(part, sign along the lower limit's row, target, low, high) for the rows a pass solves.
+  template <class Visit>
+  void ForEachRow(const ConstraintPassContext& pass, float coordinate, Visit&& visit) {
+    constexpr float kUnbounded = std::numeric_limits<float>::infinity();
+    if (motor_.enabled) {
+      const float most = motor_.max_torque * pass.h;
+      visit(drive_, 1.0f, RowTarget{-motor_.target_speed, 1.0f, 0.0f}, -most, most);
+    } else if (max_friction_ > 0.0f) {
+      const float most = max_friction_ * pass.h;
+      visit(drive_, 1.0f, RowTarget{}, -most, most);
+    }
+    if (!limits_) return;
+    visit(lower_, 1.0f, LimitTarget(coordinate - min_, pass), 0.0f, kUnbounded);
+    visit(upper_, -1.0f, LimitTarget(max_ - coordinate, pass), 0.0f, kUnbounded);
+  }
 
   bool limits_;
   float min_;

@@ -88,6 +88,15 @@ void HingeJoint::RigidRows(const ConstraintBodies& bodies, JointRow* rows) {
   rotation_.Rows(rows + 3);
 }
 
+int HingeJoint::FreeRows(const ConstraintBodies& bodies, const ConstraintPassContext& pass, JointRow* rows) {
+  SetUp(bodies, pass);
+  return free_.FreeRows(rows);
+}
+
+int HingeJoint::FreeRowPasses(const ConstraintPassContext& pass, FreeRowPass* rows) {
+  return free_.Passes(pass, angle_, 0, rows);
+}
+
 Constraint::Impulses HingeJoint::AccumulatedImpulses() const {
   return {point_.impulse(), rotation_.AngularImpulse() + free_.lower().AngularImpulse() +
                                 free_.upper().AngularImpulse() + free_.drive().AngularImpulse()};

@@ -34,6 +34,8 @@ class HingeJoint final : public Constraint {
   void SolveVelocity(ConstraintBodies& bodies, const ConstraintPassContext& pass, bool rigid_rows) override;
   int RigidRowCount() const override;
   void RigidRows(const ConstraintBodies& bodies, JointRow* rows) override;
+  int FreeRows(const ConstraintBodies& bodies, const ConstraintPassContext& pass, JointRow* rows) override;
+  int FreeRowPasses(const ConstraintPassContext& pass, FreeRowPass* rows) override;
 
   /// B's angle about the axis relative to A (rad, (-pi, pi]), from the two bodies' poses.
   float Angle(const Quat& rotation_a, const Quat& rotation_b) const;

@@ -125,6 +125,14 @@ void JointConstraintKind::Run(std::uint32_t group_index, const SolverPass& pass,
   context.rigid_spring = rigid_spring_;
   context.use_bias = pass.kind == SolverPassKind::kVelocity;
   context.pose_version = pass.pose_version;
+  // The exact solve's rows first, built from the poses the pass sees: at the substep's start for warm start
+  // and velocity passes, after its integration for relax passes (a whipping chain's links turn enough in a
+  // substep that stale rows let it drift apart). A relax pass's build serves the next substep's passes too:
+  // they see its poses. Built before the joints' own rows, so their limits and drives solve against the
+  // masses the rigid rows leave them from the first pass that sees the poses.
+  if (exact_solver != nullptr &&
+      exact_solver->Build(step_.bodies, step_.poses, pass.elapsed, pass.pose_version))
+    exact_solver->ReduceFreeRows(step_.bodies, step_.poses, context, pass.elapsed);
   // Alternating the order from pass to pass carries a load along a chain both ways.
   for (std::uint32_t k = 0; k < group.joint_count; ++k) {
     const std::uint32_t index = pass.reverse ? group.joint_count - 1 - k : k;
@@ -135,16 +143,18 @@ void JointConstraintKind::Run(std::uint32_t group_index, const SolverPass& pass,
         joint.BodiesForPass(step_.bodies, step_.poses, pass.elapsed, stand_in_a, stand_in_b);
     if (pass.kind == SolverPassKind::kWarmStart)
       joint.WarmStart(bodies, context);
+    else if (group.exact[index] == kPassesSolve)
+      joint.SolveVelocity(bodies, context, true);
+    else if (exact_solver->solves_free_rows())
+      joint.SolveUnreducibleRows(bodies, context);
     else
-      joint.SolveVelocity(bodies, context, group.exact[index] == kPassesSolve);
+      joint.SolveVelocity(bodies, context, false);
   }
-  if (exact_solver == nullptr) return;
-  // The rows that always hold last, exactly: limits and drives before them cannot pull a chain apart.
-  // Built from the poses the pass sees: at the substep's start for warm start and velocity passes, after
-  // its integration for relax passes (a whipping chain's links turn enough in a substep that stale rows
-  // let it drift apart). A relax pass's build serves the next substep's passes too: they see its poses.
-  exact_solver->Build(step_.bodies, step_.poses, pass.elapsed, pass.pose_version);
-  if (pass.kind != SolverPassKind::kWarmStart) exact_solver->Solve(step_.bodies, context);
+  if (exact_solver == nullptr || pass.kind == SolverPassKind::kWarmStart) return;
+  // The limits and drives of the exact solve's joints against its rigid rows, then those rows last,
+  // exactly: limits and drives before them cannot pull a chain apart.
+  exact_solver->SolveFreeRows(step_.bodies, context);
+  exact_solver->Solve(step_.bodies, context);
 }
 
 }  // namespace strata

@@ -1,8 +1,9 @@
 // JointConstraintKind: the step's joints (Constraint) as one kind of constraint of the ConstraintSolver. A
 // group's joints are one sequential split, solved one joint at a time after the contacts in every warm-start,
 // velocity and relax round, in alternating order; the rows that always hold of islands that need it (a
-// heavy body on a light one) are solved exactly by a ExactJointSolver after each pass, and after the last
-// substep a position round removes part of the joints' drift. Threading as ConstraintKind.
+// heavy body on a light one) are solved exactly by a ExactJointSolver after each pass (with those joints'
+// limits and drives solved against them), and after the last substep a position round removes part of the
+// joints' drift. Threading as ConstraintKind.
 #pragma once
 
 #include <cstdint>

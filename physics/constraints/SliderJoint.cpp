@@ -91,6 +91,15 @@ void SliderJoint::RigidRows(const ConstraintBodies& bodies, JointRow* rows) {
   }
 }
 
+int SliderJoint::FreeRows(const ConstraintBodies& bodies, const ConstraintPassContext& pass, JointRow* rows) {
+  SetUp(bodies, pass);
+  return free_.FreeRows(rows);
+}
+
+int SliderJoint::FreeRowPasses(const ConstraintPassContext& pass, FreeRowPass* rows) {
+  return free_.Passes(pass, position_, 0, rows);
+}
+
 Constraint::Impulses SliderJoint::AccumulatedImpulses() const {
   return {side_[0].LinearImpulse() + side_[1].LinearImpulse() + free_.lower().LinearImpulse() +
               free_.upper().LinearImpulse() + free_.drive().LinearImpulse(),

@@ -32,6 +32,8 @@ class SliderJoint final : public Constraint {
   void SolveVelocity(ConstraintBodies& bodies, const ConstraintPassContext& pass, bool rigid_rows) override;
   int RigidRowCount() const override;
   void RigidRows(const ConstraintBodies& bodies, JointRow* rows) override;
+  int FreeRows(const ConstraintBodies& bodies, const ConstraintPassContext& pass, JointRow* rows) override;
+  int FreeRowPasses(const ConstraintPassContext& pass, FreeRowPass* rows) override;
 
   /// B's anchor along the axis from A's (m).
   float Position(const BodyFrame& a, const BodyFrame& b) const;

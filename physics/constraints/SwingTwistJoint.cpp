@@ -94,15 +94,35 @@ void SwingTwistJoint::SolveVelocity(ConstraintBodies& bodies, const ConstraintPa
                                     bool rigid_rows) {
   SetUp(bodies, pass);
   if (max_friction_torque_ > 0.0f) friction_.SolveFriction(bodies, max_friction_torque_ * pass.h);
-  if (swing_axis_valid_ && cone_half_angle_ < kPi)
-    swing_row_.Solve(bodies, LimitTarget(cone_half_angle_ - swing_, pass), 0.0f, kUnbounded);
-  else
-    swing_row_.ResetImpulse();
-  twist_lower_.Solve(bodies, LimitTarget(twist_ - min_twist_, pass), 0.0f, kUnbounded);
-  twist_upper_.Solve(bodies, LimitTarget(max_twist_ - twist_, pass), 0.0f, kUnbounded);
+  FreeRowPass rows[kMaxFreeRowPasses];
+  AngleConstraintPart* parts[kMaxFreeRowPasses];
+  const int count = LimitRows(pass, rows, parts);
+  for (int k = 0; k < count; ++k) parts[k]->Solve(bodies, rows[k].target, rows[k].low, rows[k].high);
   if (!rigid_rows) return;
   const RowTarget target = EqualityTarget(1.0f, pass);
   point_.Solve(bodies, target.bias * separation_, target);
+}
+
+void SwingTwistJoint::SolveUnreducibleRows(ConstraintBodies& bodies, const ConstraintPassContext& pass) {
+  SetUp(bodies, pass);
+  if (max_friction_torque_ > 0.0f) friction_.SolveFriction(bodies, max_friction_torque_ * pass.h);
+}
+
+int SwingTwistJoint::LimitRows(const ConstraintPassContext& pass, FreeRowPass* rows,
+                               AngleConstraintPart** parts) {
+  int count = 0;
+  auto add = [&](AngleConstraintPart& part, int direction, float sign, const RowTarget& target) {
+    parts[count] = &part;
+    rows[count++] = {direction, sign, target, 0.0f, kUnbounded, part.Row(0.0f).impulse};
+  };
+  int twist_direction = 0;
+  if (SwingLimited())
+    add(swing_row_, twist_direction++, 1.0f, LimitTarget(cone_half_angle_ - swing_, pass));
+  else
+    swing_row_.ResetImpulse();
+  add(twist_lower_, twist_direction, 1.0f, LimitTarget(twist_ - min_twist_, pass));
+  add(twist_upper_, twist_direction, -1.0f, LimitTarget(max_twist_ - twist_, pass));
+  return count;
 }
 
 int SwingTwistJoint::RigidRowCount() const {
@@ -113,6 +133,26 @@ void SwingTwistJoint::RigidRows(const ConstraintBodies& bodies, JointRow* rows) 
   const WorldArms arms = Arms(bodies);
   point_.Prepare(arms.r_a, arms.r_b);
   point_.Rows(arms.separation, rows);
+}
+
+bool SwingTwistJoint::SwingLimited() const {
+  return swing_axis_valid_ && cone_half_angle_ < kPi;
+}
+
+// The swing row while the passes solve it, then the twist (its limits share a row). The friction's three
+// rows keep their own 3 x 3 effective mass.
+int SwingTwistJoint::FreeRows(const ConstraintBodies& bodies, const ConstraintPassContext& pass,
+                              JointRow* rows) {
+  SetUp(bodies, pass);
+  int count = 0;
+  if (SwingLimited()) rows[count++] = swing_row_.Row(0.0f);
+  rows[count++] = twist_lower_.Row(0.0f);
+  return count;
+}
+
+int SwingTwistJoint::FreeRowPasses(const ConstraintPassContext& pass, FreeRowPass* rows) {
+  AngleConstraintPart* parts[kMaxFreeRowPasses];
+  return LimitRows(pass, rows, parts);
 }
 
 Constraint::Impulses SwingTwistJoint::AccumulatedImpulses() const {

@@ -32,6 +32,9 @@ class SwingTwistJoint final : public Constraint {
   void SolveVelocity(ConstraintBodies& bodies, const ConstraintPassContext& pass, bool rigid_rows) override;
   int RigidRowCount() const override;
   void RigidRows(const ConstraintBodies& bodies, JointRow* rows) override;
+  int FreeRows(const ConstraintBodies& bodies, const ConstraintPassContext& pass, JointRow* rows) override;
+  int FreeRowPasses(const ConstraintPassContext& pass, FreeRowPass* rows) override;
+  void SolveUnreducibleRows(ConstraintBodies& bodies, const ConstraintPassContext& pass) override;
 
   /// The angle between the two twist axes (rad, [0, pi]).
   float SwingAngle(const Quat& rotation_a, const Quat& rotation_b) const;
@@ -44,6 +47,10 @@ class SwingTwistJoint final : public Constraint {
   void ScaleImpulses(float ratio) override;
   // The rows and angles at the pass's poses (see NeedsSetUp).
   void SetUp(const ConstraintBodies& bodies, const ConstraintPassContext& pass);
+  // Whether the passes solve the swing row: it has a direction, and the cone is narrower than all round.
+  bool SwingLimited() const;
+  // The limit rows a pass solves (swing, then twist lower and upper) and their parts; returns how many.
+  int LimitRows(const ConstraintPassContext& pass, FreeRowPass* rows, AngleConstraintPart** parts);
 
   float cone_half_angle_;
   float min_twist_;
