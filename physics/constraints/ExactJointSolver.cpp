@@ -347,7 +347,7 @@ void ExactJointSolver::Solve(SolverBody* bodies, const ConstraintPassContext& pa
   // Box2D's soft update for all rows at once: with A = J M^-1 J^T, the change is
   // mass_scale * A^-1 (-(rate + bias)) - impulse_scale * impulse; a relax pass is the rigid A^-1 (-rate).
   RowTarget soft = EqualityTarget(1.0f, pass);
-  if (solves_free_rows()) soft = {soft.bias, 1.0f, 0.0f};
+  if (solves_free_rows() && free_begin_[joints_.size()] > 0) soft = {soft.bias, 1.0f, 0.0f};
   for (std::uint32_t i = 0; i < row_count_; ++i)
     scratch_[i] = -static_cast<double>(Rate(bodies, rows_[i]) + soft.bias * rows_[i].row.error);
   ldlt_.Solve(scratch_);

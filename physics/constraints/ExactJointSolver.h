@@ -50,8 +50,9 @@ class ExactJointSolver {
   static constexpr std::uint32_t kMaxReducedEntries = 1u << 18;
   /// One exact solve of the rows against the velocities now, with the drift bias in velocity passes
   /// (`pass.use_bias`). Soft in those passes (Box2D's mass and impulse scales), but rigid when it solves
-  /// free rows: their effective masses assume the rigid rows hold, and a soft solve would hand a tenth of a
-  /// limit's load back to the light body each pass (a flap on a welded block broke loose in 25 steps).
+  /// free rows (a joint has a limit, drive or spring): their effective masses assume the rigid rows hold, and
+  /// a soft solve would hand a tenth of a limit's load back to the light body each pass (a flap on a welded
+  /// block broke loose in 25 steps).
   void Solve(SolverBody* bodies, const ConstraintPassContext& pass);
 
   /// After the step's last substep: moves the bodies (poses and their motion since the step began, not
