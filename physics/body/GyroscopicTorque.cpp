@@ -8,7 +8,6 @@ namespace strata {
 namespace {
 constexpr int kMaxNewtonIterations = 8;
 constexpr float kMaxTurnPerStep = 0.5f;  // radians per midpoint step
-constexpr int kMaxPieces = 64;           // 32 radians a step: 1,920 rad/s at 60 Hz
 
 Mat3 CrossMatrix(const Vec3& v) {
   Mat3 m;
@@ -92,14 +91,16 @@ bool IsDiagonal(const Mat3& m) {
 }
 }  // namespace
 
+int SpinPieces(float spin_speed, float dt) {
+  // Pieces of at most kMaxTurnPerStep radians, where Newton converges. NaN fails the comparison.
+  const float turns = spin_speed * dt / kMaxTurnPerStep;
+  return turns < static_cast<float>(kMaxSpinPieces) ? std::max(1, static_cast<int>(std::ceil(turns)))
+                                                    : kMaxSpinPieces;
+}
+
 Vec3 SpinWithoutTorque(const Mat3& inertia, const Quat& rotation, const Vec3& angular_velocity, float dt) {
   Vec3 spin = rotation.conjugate() * angular_velocity;
-  // Fast spin is split into pieces of at most kMaxTurnPerStep radians, where Newton converges; at most
-  // kMaxPieces of them, so a spin no body reaches (from a solver that blew up, or not finite: NaN fails the
-  // comparison) costs bounded work, not billions of pieces.
-  const float turns = spin.norm() * dt / kMaxTurnPerStep;
-  const int pieces =
-      turns < static_cast<float>(kMaxPieces) ? std::max(1, static_cast<int>(std::ceil(turns))) : kMaxPieces;
+  const int pieces = SpinPieces(spin.norm(), dt);
   const float h = dt / static_cast<float>(pieces);
   if (IsDiagonal(inertia)) {
     const Vec3 diagonal = inertia.diagonal();

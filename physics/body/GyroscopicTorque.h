@@ -17,4 +17,10 @@ bool HasGyroscopicTorque(const Mat3& inertia);
 /// the exact motion and stays stable at any spin, where an explicit step gains energy.
 Vec3 SpinWithoutTorque(const Mat3& inertia, const Quat& rotation, const Vec3& angular_velocity, float dt);
 
+/// How many midpoint pieces SpinWithoutTorque takes for a spin of `spin_speed` rad/s over `dt`: one per half
+/// radian, at most kMaxSpinPieces, so a spin no body reaches (from a solver that blew up, or not finite)
+/// costs bounded work, not billions of pieces.
+inline constexpr int kMaxSpinPieces = 64;  // 32 radians a step: 1,920 rad/s at 60 Hz
+int SpinPieces(float spin_speed, float dt);
+
 }  // namespace strata
