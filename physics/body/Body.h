@@ -79,11 +79,13 @@ class Body {
                                 kValidateContacts = 8;
   /// Key shared by the bodies of a sleeping island (meaningful only while sleeping).
   std::uint32_t sleep_island() const { return sleep_island_; }
-  /// How far any point of the body may move in `dt` at its current velocities (0 unless active).
-  float MotionBound(float dt) const {
+  /// How far the centre of mass moves in `dt` at the current velocity (zero unless active).
+  Vec3 LinearTravel(float dt) const { return IsActive() ? Vec3(linear_velocity_ * dt) : Vec3::Zero(); }
+  /// How far any point of the body may move in `dt` by its current spin alone (0 unless active).
+  float TurnBound(float dt) const {
     if (!IsActive()) return 0.0f;
     const float radius = local_bounds_.HalfExtents().norm() + center_of_mass_local_.norm();
-    return (linear_velocity_.norm() + angular_velocity_.norm() * radius) * dt;
+    return angular_velocity_.norm() * radius * dt;
   }
   const AABB& world_bounds() const { return world_bounds_; }
   std::uint64_t user_data() const { return user_data_; }

@@ -17,6 +17,7 @@
 #include "physics/broadphase/TreeGenerations.h"
 #include "physics/core/FixedSizeFreeList.h"
 #include "physics/math/AABB.h"
+#include "physics/math/Overlap4.h"
 
 namespace strata {
 
@@ -123,6 +124,11 @@ class QuadTree {
   /// slot order at distance 0, without the sort. `visit(body_index, distance)` returns false to stop.
   template <class ChildTest, class BodyVisitor>
   void Walk(std::uint32_t root, ChildTest&& test, BodyVisitor&& visit) const;
+  /// Walk with an overlap test against `box`, in the same order, for the broad phase's most frequent query
+  /// (every active body's pairs, every step): the box is loaded once, and children are pushed without a
+  /// branch per child. `visit(body_index, 0.0f)` returns false to stop.
+  template <class BodyVisitor>
+  void WalkOverlapping(std::uint32_t root, const AABB& box, BodyVisitor&& visit) const;
 
   /// The bounds of one node's 4 children, loaded for a 4-wide test.
   struct ChildBounds {
@@ -174,6 +180,43 @@ inline QuadTree::ChildBounds LoadChildBounds(const QuadTreeNode& node) {
   }
 #endif
   return b;
+}
+
+template <class BodyVisitor>
+void QuadTree::WalkOverlapping(std::uint32_t root, const AABB& box, BodyVisitor&& visit) const {
+  if (root == kInvalid) return;
+  // Up to 3 entries stay per level and a degraded tree can be deep: grow past the inline stack.
+  std::array<std::uint32_t, 128> inline_stack;
+  std::vector<std::uint32_t> overflow;
+  std::uint32_t* stack = inline_stack.data();
+  std::size_t capacity = inline_stack.size();
+  std::size_t size = 0;
+  stack[size++] = root;
+  while (size > 0) {
+    const std::uint32_t entry = stack[--size];
+    if (entry & kBodyTag) {
+      if (!visit(entry & ~kBodyTag, 0.0f)) return;
+      continue;
+    }
+    const QuadTreeNode& current = node(entry);
+    const ChildBounds bounds = LoadChildBounds(current);
+    const int mask =
+        OverlapMask4(bounds.min_x, bounds.min_y, bounds.min_z, bounds.max_x, bounds.max_y, bounds.max_z, box);
+    if (mask == 0) continue;
+    if (size + 4 > capacity) {
+      if (overflow.empty()) overflow.assign(inline_stack.begin(), inline_stack.begin() + size);
+      overflow.resize(2 * capacity);
+      stack = overflow.data();
+      capacity = overflow.size();
+    }
+    // Last slot first, so slot 0 is entered first (Walk's order). A slot being emptied may still show its
+    // old bounds with no child: it is written but not kept.
+    for (int slot = 3; slot >= 0; --slot) {
+      const std::uint32_t child = current.children[slot].load(std::memory_order_acquire);
+      stack[size] = child;
+      size += static_cast<std::size_t>(((mask >> slot) & 1) != 0 && child != kInvalid);
+    }
+  }
 }
 
 template <class ChildTest, class BodyVisitor>

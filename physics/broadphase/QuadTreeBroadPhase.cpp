@@ -26,10 +26,6 @@ std::uint64_t LayerBit(ObjectLayer layer) {
 }
 
 // The 4-wide child tests over the structure-of-arrays bounds.
-int OverlapMask(const ChildBounds& b, const AABB& box) {
-  return OverlapMask4(b.min_x, b.min_y, b.min_z, b.max_x, b.max_y, b.max_z, box);
-}
-
 int SphereMask(const ChildBounds& b, const Vec3& center, float radius_squared) {
   int mask = 0;
   for (int i = 0; i < 4; ++i) {
@@ -396,29 +392,30 @@ void QuadTreeBroadPhase::WalkTrees(const BroadPhasePin& pin, const QueryFilter& 
   for (std::size_t t = 0; t < trees_.size(); ++t) {
     if ((tree_layer_mask_[t] & filter.object_layers) == 0) continue;
     bool stopped = false;
-    trees_[t].Walk(generations_.Root(pin.record(), static_cast<std::uint32_t>(t)), test,
-                   [&](std::uint32_t body, float distance) {
-                     const BodyLocation& location = locations_[body];
-                     if (location.claimed.load(std::memory_order_acquire) == 0 ||
-                         body == filter.ignore_body_index ||
-                         !filter.AcceptsLayer(location.layer.load(kRelaxed)))
-                       return true;
-                     stopped = !visit(BodyID{body, location.generation.load(kRelaxed)}, location, distance);
-                     return !stopped;
-                   });
+    auto visit_body = [&](std::uint32_t body, float distance) {
+      const BodyLocation& location = locations_[body];
+      if (location.claimed.load(std::memory_order_acquire) == 0 || body == filter.ignore_body_index ||
+          !filter.AcceptsLayer(location.layer.load(kRelaxed)))
+        return true;
+      stopped = !visit(BodyID{body, location.generation.load(kRelaxed)}, location, distance);
+      return !stopped;
+    };
+    const std::uint32_t root = generations_.Root(pin.record(), static_cast<std::uint32_t>(t));
+    if constexpr (std::is_same_v<std::decay_t<ChildTest>, AABB>)
+      trees_[t].WalkOverlapping(root, test, visit_body);
+    else
+      trees_[t].Walk(root, test, visit_body);
     if (stopped) return;
   }
 }
 
 void QuadTreeBroadPhase::CollideAABB(const BroadPhasePin& pin, const AABB& box, const QueryFilter& filter,
                                      BroadPhaseCollector& collector) const {
-  WalkTrees(
-      pin, filter, [&](const ChildBounds& b) { return OverlapMask(b, box); },
-      [&](BodyID id, const BodyLocation& location, float) {
-        const AABB bounds = location.Bounds();
-        if (bounds.Overlaps(box)) collector.AddOverlap(id, bounds);
-        return !collector.ShouldStop();
-      });
+  WalkTrees(pin, filter, box, [&](BodyID id, const BodyLocation& location, float) {
+    const AABB bounds = location.Bounds();
+    if (bounds.Overlaps(box)) collector.AddOverlap(id, bounds);
+    return !collector.ShouldStop();
+  });
 }
 
 void QuadTreeBroadPhase::CollideSphere(const BroadPhasePin& pin, const Vec3& center, float radius,
@@ -465,16 +462,14 @@ void QuadTreeBroadPhase::FindPairs(std::span<const BodyID> active, std::span<con
     QueryFilter filter;
     filter.object_layers = own_layers ? collides_with_layers_[layer_a] : ~std::uint64_t{0};
     filter.ignore_body_index = a.index;
-    WalkTrees(
-        pin, filter, [&](const ChildBounds& b) { return OverlapMask(b, box); },
-        [&](BodyID b, const BodyLocation& other, float) {
-          if (active_flags[b.index] && b.index < a.index) return true;  // reported from b's side
-          if (!other.Bounds().Overlaps(box)) return true;
-          // The filter's layer mask already said yes, and it is exact for our own table of up to 64 layers.
-          if (!layer_mask_exact && !layers.ShouldCollide(layer_a, other.layer.load(kRelaxed))) return true;
-          out.push_back({a, b});
-          return true;
-        });
+    WalkTrees(pin, filter, box, [&](BodyID b, const BodyLocation& other, float) {
+      if (active_flags[b.index] && b.index < a.index) return true;  // reported from b's side
+      if (!other.Bounds().Overlaps(box)) return true;
+      // The filter's layer mask already said yes, and it is exact for our own table of up to 64 layers.
+      if (!layer_mask_exact && !layers.ShouldCollide(layer_a, other.layer.load(kRelaxed))) return true;
+      out.push_back({a, b});
+      return true;
+    });
   }
 }
 

@@ -75,7 +75,8 @@ class QuadTreeBroadPhase final : public BroadPhase {
   // built.
   bool AnyTreeChanged();
   Status CheckPresent(BodyID id) const;
-  /// Walks every tree the filter can accept bodies from, in the pinned generation.
+  /// Walks every tree the filter can accept bodies from, in the pinned generation. `test` is a child test
+  /// (QuadTree::Walk) or the AABB to overlap (QuadTree::WalkOverlapping).
   template <class ChildTest, class BodyVisitor>
   void WalkTrees(const BroadPhasePin& pin, const QueryFilter& filter, ChildTest&& test,
                  BodyVisitor&& visit) const;

@@ -433,12 +433,17 @@ void ManifoldsToWorld(const Pose& pose_mesh, std::size_t first, std::vector<Cont
 // (QueryBox, Vertex, Normal, ActiveEdges): the mesh and the height field.
 template <class TriangleShape>
 void CollideConvexTriangles(const ConvexShape& a, const Pose& pose_a, const TriangleShape& mesh,
-                            const Pose& pose_mesh, float max_separation, const ContactManifold& prototype,
-                            std::vector<ContactManifold>& out, CollisionScratch& scratch) {
+                            const Pose& pose_mesh, const ContactReach& reach,
+                            const ContactManifold& prototype, std::vector<ContactManifold>& out,
+                            CollisionScratch& scratch) {
   // Everything runs in the mesh's frame, so the triangles are used as stored; the convex is posed there
   // once and the manifolds go back to world space at the end.
   const Quat to_mesh = pose_mesh.rotation.conjugate();
   const Pose local_a{to_mesh * (pose_a.position - pose_mesh.position), to_mesh * pose_a.rotation};
+  const ContactReach local_reach{reach.distance, to_mesh * reach.travel};
+  const float max_separation = local_reach.Max();
+  // All round by the whole reach: a box sliding over a flat mesh swept only forwards lost the triangles
+  // behind it, and with them, for a step now and then, its support.
   const AABB local_box = a.WorldBounds(local_a).Expanded(max_separation);
   std::vector<std::uint32_t>& triangles = scratch.triangles;
   triangles.clear();
@@ -453,7 +458,8 @@ void CollideConvexTriangles(const ConvexShape& a, const Pose& pose_a, const Tria
   for (std::uint32_t t : triangles) {
     const Vec3 face_normal = mesh.Normal(t);
     const TriangleSupport triangle(mesh.Vertex(t, 0), mesh.Vertex(t, 1), mesh.Vertex(t, 2));
-    if (!convex.Reaches(face_normal, triangle.vertex(0), max_separation)) continue;
+    // The contact's normal is not known yet, but no point of the triangle comes nearer than its plane.
+    if (!convex.Reaches(face_normal, triangle.vertex(0), local_reach.Along(-face_normal))) continue;
     ContactManifold manifold = prototype;
     manifold.sub_shape_b = t;
     Vec3 normal;
@@ -507,57 +513,57 @@ void AppendPair(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& 
 }  // namespace
 
 void CollideConvexByGjk(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b,
-                        float max_separation, const ContactManifold& prototype,
+                        const ContactReach& reach, const ContactManifold& prototype,
                         std::vector<ContactManifold>& out, CollisionScratch& scratch) {
   ContactManifold manifold = prototype;
-  if (CollideByGjk(AsConvex(a), pose_a, AsConvex(b), pose_b, max_separation, manifold, scratch))
+  if (CollideByGjk(AsConvex(a), pose_a, AsConvex(b), pose_b, reach.Max(), manifold, scratch))
     out.push_back(manifold);
 }
 
 void CollideSpherePair(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b,
-                       float max_separation, const ContactManifold& prototype,
+                       const ContactReach& reach, const ContactManifold& prototype,
                        std::vector<ContactManifold>& out, CollisionScratch& /*scratch*/) {
-  AppendPair<SphereShape, SphereShape, CollideSpheres>(a, pose_a, b, pose_b, max_separation, prototype, out);
+  AppendPair<SphereShape, SphereShape, CollideSpheres>(a, pose_a, b, pose_b, reach.Max(), prototype, out);
 }
 
 void CollideSphereWithBox(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b,
-                          float max_separation, const ContactManifold& prototype,
+                          const ContactReach& reach, const ContactManifold& prototype,
                           std::vector<ContactManifold>& out, CollisionScratch& scratch) {
   if (AsConvex(b).CoreIsExact()) {
-    CollideConvexByGjk(a, pose_a, b, pose_b, max_separation, prototype, out, scratch);
+    CollideConvexByGjk(a, pose_a, b, pose_b, reach, prototype, out, scratch);
     return;
   }
-  AppendPair<SphereShape, BoxShape, CollideSphereBox>(a, pose_a, b, pose_b, max_separation, prototype, out);
+  AppendPair<SphereShape, BoxShape, CollideSphereBox>(a, pose_a, b, pose_b, reach.Max(), prototype, out);
 }
 
 void CollideBoxPair(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b,
-                    float max_separation, const ContactManifold& prototype, std::vector<ContactManifold>& out,
-                    CollisionScratch& scratch) {
+                    const ContactReach& reach, const ContactManifold& prototype,
+                    std::vector<ContactManifold>& out, CollisionScratch& scratch) {
   if (Rounded(AsConvex(a)) || Rounded(AsConvex(b))) {
-    CollideConvexByGjk(a, pose_a, b, pose_b, max_separation, prototype, out, scratch);
+    CollideConvexByGjk(a, pose_a, b, pose_b, reach, prototype, out, scratch);
     return;
   }
-  AppendPair<BoxShape, BoxShape, CollideBoxes>(a, pose_a, b, pose_b, max_separation, prototype, out);
+  AppendPair<BoxShape, BoxShape, CollideBoxes>(a, pose_a, b, pose_b, reach.Max(), prototype, out);
 }
 
 void CollidePolyhedronPair(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b,
-                           float max_separation, const ContactManifold& prototype,
+                           const ContactReach& reach, const ContactManifold& prototype,
                            std::vector<ContactManifold>& out, CollisionScratch& scratch) {
   thread_local Polyhedron polyhedron_a, polyhedron_b;
   if (Rounded(AsConvex(a)) || Rounded(AsConvex(b)) || !MakePolyhedron(AsConvex(a), pose_a, polyhedron_a) ||
       !MakePolyhedron(AsConvex(b), pose_b, polyhedron_b)) {
-    CollideConvexByGjk(a, pose_a, b, pose_b, max_separation, prototype, out, scratch);
+    CollideConvexByGjk(a, pose_a, b, pose_b, reach, prototype, out, scratch);
     return;
   }
   ContactManifold manifold = prototype;
-  if (CollidePolyhedra(polyhedron_a, polyhedron_b, max_separation, manifold)) out.push_back(manifold);
+  if (CollidePolyhedra(polyhedron_a, polyhedron_b, reach.Max(), manifold)) out.push_back(manifold);
 }
 
 void CollideConvexWithMesh(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b,
-                           float max_separation, const ContactManifold& prototype,
+                           const ContactReach& reach, const ContactManifold& prototype,
                            std::vector<ContactManifold>& out, CollisionScratch& scratch) {
-  CollideConvexMesh(AsConvex(a), pose_a, static_cast<const TriangleMeshShape&>(b), pose_b, max_separation,
-                    prototype, out, scratch);
+  CollideConvexMesh(AsConvex(a), pose_a, static_cast<const TriangleMeshShape&>(b), pose_b, reach, prototype,
+                    out, scratch);
 }
 
 bool CollideConvexConvex(const ConvexShape& a, const Pose& pose_a, const ConvexShape& b, const Pose& pose_b,
@@ -571,7 +577,8 @@ bool CollideConvexConvex(const ConvexShape& a, const Pose& pose_a, const ConvexS
   // Reused, so a warm caller allocates nothing; a convex pair gives one manifold at most.
   thread_local std::vector<ContactManifold> found;
   found.clear();
-  CollisionDispatch::Default().Collide(a, pose_a, b, pose_b, max_separation, manifold, found, scratch);
+  CollisionDispatch::Default().Collide(a, pose_a, b, pose_b, ContactReach{max_separation}, manifold, found,
+                                       scratch);
   if (found.empty()) return false;
   manifold = found.front();
   return true;
@@ -585,15 +592,21 @@ void CollideConvexMesh(const ConvexShape& a, const Pose& pose_a, const TriangleM
 }
 
 void CollideConvexMesh(const ConvexShape& a, const Pose& pose_a, const TriangleMeshShape& mesh,
+                       const Pose& pose_mesh, const ContactReach& reach, const ContactManifold& prototype,
+                       std::vector<ContactManifold>& out, CollisionScratch& scratch) {
+  CollideConvexTriangles(a, pose_a, mesh, pose_mesh, reach, prototype, out, scratch);
+}
+
+void CollideConvexMesh(const ConvexShape& a, const Pose& pose_a, const TriangleMeshShape& mesh,
                        const Pose& pose_mesh, float max_separation, const ContactManifold& prototype,
                        std::vector<ContactManifold>& out, CollisionScratch& scratch) {
-  CollideConvexTriangles(a, pose_a, mesh, pose_mesh, max_separation, prototype, out, scratch);
+  CollideConvexTriangles(a, pose_a, mesh, pose_mesh, ContactReach{max_separation}, prototype, out, scratch);
 }
 
 void CollideConvexWithHeightField(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b,
-                                  float max_separation, const ContactManifold& prototype,
+                                  const ContactReach& reach, const ContactManifold& prototype,
                                   std::vector<ContactManifold>& out, CollisionScratch& scratch) {
-  CollideConvexTriangles(AsConvex(a), pose_a, static_cast<const HeightFieldShape&>(b), pose_b, max_separation,
+  CollideConvexTriangles(AsConvex(a), pose_a, static_cast<const HeightFieldShape&>(b), pose_b, reach,
                          prototype, out, scratch);
 }
 
@@ -605,9 +618,16 @@ void CollideShapes(const Shape& a, const Pose& pose_a, const Shape& b, const Pos
 }
 
 void CollideShapes(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b,
+                   const ContactReach& reach, const ContactManifold& prototype,
+                   std::vector<ContactManifold>& out, CollisionScratch& scratch) {
+  CollisionDispatch::Default().Collide(a, pose_a, b, pose_b, reach, prototype, out, scratch);
+}
+
+void CollideShapes(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b,
                    float max_separation, const ContactManifold& prototype, std::vector<ContactManifold>& out,
                    CollisionScratch& scratch) {
-  CollisionDispatch::Default().Collide(a, pose_a, b, pose_b, max_separation, prototype, out, scratch);
+  CollisionDispatch::Default().Collide(a, pose_a, b, pose_b, ContactReach{max_separation}, prototype, out,
+                                       scratch);
 }
 
 }  // namespace strata

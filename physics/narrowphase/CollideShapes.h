@@ -30,7 +30,11 @@ bool CollideConvexConvex(const ConvexShape& a, const Pose& pose_a, const ConvexS
                          float max_separation, ContactManifold& manifold);
 
 /// Contacts between a convex shape (A) and a triangle mesh (B): one manifold per distinct normal, keyed
-/// by the first triangle that produced it. Appends to `out`; each new manifold starts as `prototype`.
+/// by the first triangle that produced it. Appends to `out`; each new manifold starts as `prototype`. A
+/// triangle whose plane the convex cannot reach along `reach`'s travel is passed over.
+void CollideConvexMesh(const ConvexShape& a, const Pose& pose_a, const TriangleMeshShape& mesh,
+                       const Pose& pose_mesh, const ContactReach& reach, const ContactManifold& prototype,
+                       std::vector<ContactManifold>& out, CollisionScratch& scratch);
 void CollideConvexMesh(const ConvexShape& a, const Pose& pose_a, const TriangleMeshShape& mesh,
                        const Pose& pose_mesh, float max_separation, const ContactManifold& prototype,
                        std::vector<ContactManifold>& out, CollisionScratch& scratch);
@@ -39,7 +43,11 @@ void CollideConvexMesh(const ConvexShape& a, const Pose& pose_a, const TriangleM
                        std::vector<ContactManifold>& out);
 
 /// Contacts between any two shapes, through CollisionDispatch::Default() (either order; two triangle shapes
-/// give nothing). The forms without scratch use buffers of their own.
+/// give nothing): those within `reach` (the step's), or within `max_separation` whatever the normal (a
+/// query's). The forms without scratch use buffers of their own.
+void CollideShapes(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b,
+                   const ContactReach& reach, const ContactManifold& prototype,
+                   std::vector<ContactManifold>& out, CollisionScratch& scratch);
 void CollideShapes(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b,
                    float max_separation, const ContactManifold& prototype, std::vector<ContactManifold>& out,
                    CollisionScratch& scratch);
@@ -52,31 +60,31 @@ void CollideShapes(const Shape& a, const Pose& pose_a, const Shape& b, const Pos
 /// Any two convex shapes: GJK on the cores (EPA on the exact shapes when the cores overlap), the closed form
 /// for two sphere or capsule cores.
 void CollideConvexByGjk(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b,
-                        float max_separation, const ContactManifold& prototype,
+                        const ContactReach& reach, const ContactManifold& prototype,
                         std::vector<ContactManifold>& out, CollisionScratch& scratch);
 /// Two spheres in closed form.
 void CollideSpherePair(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b,
-                       float max_separation, const ContactManifold& prototype,
+                       const ContactReach& reach, const ContactManifold& prototype,
                        std::vector<ContactManifold>& out, CollisionScratch& scratch);
 /// A sphere (A) and a box (B) in closed form.
 void CollideSphereWithBox(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b,
-                          float max_separation, const ContactManifold& prototype,
+                          const ContactReach& reach, const ContactManifold& prototype,
                           std::vector<ContactManifold>& out, CollisionScratch& scratch);
 /// Two boxes by the separating-axis test (CollideBoxes).
 void CollideBoxPair(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b,
-                    float max_separation, const ContactManifold& prototype, std::vector<ContactManifold>& out,
-                    CollisionScratch& scratch);
+                    const ContactReach& reach, const ContactManifold& prototype,
+                    std::vector<ContactManifold>& out, CollisionScratch& scratch);
 /// Two polyhedra (boxes, hulls) by the separating-axis test; GJK for a hull too large to take part.
 void CollidePolyhedronPair(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b,
-                           float max_separation, const ContactManifold& prototype,
+                           const ContactReach& reach, const ContactManifold& prototype,
                            std::vector<ContactManifold>& out, CollisionScratch& scratch);
 /// A convex shape (A) and a height field (B): as a mesh of the same triangles.
 void CollideConvexWithHeightField(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b,
-                                  float max_separation, const ContactManifold& prototype,
+                                  const ContactReach& reach, const ContactManifold& prototype,
                                   std::vector<ContactManifold>& out, CollisionScratch& scratch);
 /// A convex shape (A) and a triangle mesh (B): CollideConvexMesh.
 void CollideConvexWithMesh(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b,
-                           float max_separation, const ContactManifold& prototype,
+                           const ContactReach& reach, const ContactManifold& prototype,
                            std::vector<ContactManifold>& out, CollisionScratch& scratch);
 
 }  // namespace strata

@@ -83,19 +83,24 @@ void CollisionDispatch::RegisterCollide(ShapeType a, ShapeType b, CollideFunctio
 }
 
 void CollisionDispatch::Collide(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b,
-                                float max_separation, const ContactManifold& prototype,
+                                const ContactReach& reach, const ContactManifold& prototype,
                                 std::vector<ContactManifold>& out, CollisionScratch& scratch) const {
   const Slot& slot = Entry(a.type(), b.type());
   if (slot.collide == nullptr) return;
-  if (slot.source != Source::kSwapped) {
-    slot.collide(a, pose_a, b, pose_b, max_separation, prototype, out, scratch);
-    return;
-  }
-  ContactManifold swapped = prototype;
-  TurnRound(swapped);
   const std::size_t first = out.size();
-  slot.collide(b, pose_b, a, pose_a, max_separation, swapped, out, scratch);
-  for (std::size_t m = first; m < out.size(); ++m) TurnRound(out[m]);
+  if (slot.source != Source::kSwapped) {
+    slot.collide(a, pose_a, b, pose_b, reach, prototype, out, scratch);
+  } else {
+    ContactManifold swapped = prototype;
+    TurnRound(swapped);
+    slot.collide(b, pose_b, a, pose_a, reach.Reversed(), swapped, out, scratch);
+    for (std::size_t m = first; m < out.size(); ++m) TurnRound(out[m]);
+  }
+  if (reach.travel.isZero()) return;  // the reach is the same along every normal
+  const auto beyond = [&](const ContactManifold& manifold) {
+    return manifold.MinSeparation() > reach.Along(manifold.normal);
+  };
+  out.erase(std::remove_if(out.begin() + static_cast<std::ptrdiff_t>(first), out.end(), beyond), out.end());
 }
 
 std::optional<ShapeCastHit> CollisionDispatch::Cast(const ConvexShape& shape, const Pose& start,

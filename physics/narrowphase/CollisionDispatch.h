@@ -16,7 +16,7 @@ namespace strata {
 
 /// Appends the contacts between `a` and `b` (each new manifold starts as `prototype`) to `out`.
 using CollideFunction = void (*)(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b,
-                                 float max_separation, const ContactManifold& prototype,
+                                 const ContactReach& reach, const ContactManifold& prototype,
                                  std::vector<ContactManifold>& out, CollisionScratch& scratch);
 /// Where `shape` swept from `start` by `displacement` first touches `target` (see CastConvexShape).
 using CastFunction = std::optional<ShapeCastHit> (*)(const ConvexShape& shape, const Pose& start,
@@ -51,9 +51,11 @@ class CollisionDispatch {
   /// swapped and the manifolds turned round, unless a form was registered for (b, a) itself.
   void RegisterCollide(ShapeType a, ShapeType b, CollideFunction collide);
 
-  /// Contacts between `a` and `b`; nothing for a pair no shape registered (two triangle shapes).
-  void Collide(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b, float max_separation,
-               const ContactManifold& prototype, std::vector<ContactManifold>& out,
+  /// Contacts between `a` and `b` within `reach` along their normals (a function tests within its Max and
+  /// this drops what lies beyond the reach along the normal found); nothing for a pair no shape registered
+  /// (two triangle shapes).
+  void Collide(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b,
+               const ContactReach& reach, const ContactManifold& prototype, std::vector<ContactManifold>& out,
                CollisionScratch& scratch) const;
   /// First touch of `shape` swept against `target`; nullopt when none, or when the target type has no cast.
   std::optional<ShapeCastHit> Cast(const ConvexShape& shape, const Pose& start, const Vec3& displacement,

@@ -2,12 +2,29 @@
 // output and the solver's input. Plain data, written by one narrow-phase job and read by the solver.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 
 #include "physics/BodyID.h"
 #include "physics/math/Math.h"
 
 namespace strata {
+
+/// How far apart two shapes may be and still get a contact (a speculative one): `distance` whatever the
+/// direction, and further by as much as B closes on A along the contact's normal over the step (`travel`:
+/// B's motion relative to A, world space). A contact beyond that cannot close within the step, so the step
+/// gets no impulse from it and it is not made.
+struct ContactReach {
+  float distance = 0.0f;
+  Vec3 travel = Vec3::Zero();
+
+  /// The reach along a contact normal (from A towards B).
+  float Along(const Vec3& normal) const { return distance + std::max(0.0f, -travel.dot(normal)); }
+  /// The reach whatever the normal: what a test must allow before it knows the normal.
+  float Max() const { return distance + travel.norm(); }
+  /// The same reach with A and B the other way round.
+  ContactReach Reversed() const { return {distance, -travel}; }
+};
 
 /// One contact point as a pair of surface points; separation < 0 means the bodies overlap there.
 struct ContactPoint {

@@ -33,7 +33,7 @@ std::optional<SweepContact> StartContact(const ConvexShape& shape, const Pose& s
                                          CollisionScratch& scratch) {
   std::vector<ContactManifold>& manifolds = scratch.manifolds;
   manifolds.clear();
-  CollisionDispatch::Default().Collide(shape, start, target, target_pose, settings.tolerance,
+  CollisionDispatch::Default().Collide(shape, start, target, target_pose, ContactReach{settings.tolerance},
                                        ContactManifold{}, manifolds, scratch);
   std::optional<SweepContact> deepest;
   float deepest_separation = settings.tolerance;

@@ -221,10 +221,13 @@ void CollisionFinder::CollidePair(BodyPair pair, BodyPairCache::PreviousPairs& p
     ReplayManifolds(*previous, a, b, entry, job_index);
     return;
   }
-  const float max_separation =
-      input_.settings->speculative_distance + a.body->MotionBound(input_.dt) + b.body->MotionBound(input_.dt);
+  // Speculative contacts for what the bodies can close over the step: all round by their spin, and along
+  // their relative travel.
+  const ContactReach reach{
+      input_.settings->speculative_distance + a.body->TurnBound(input_.dt) + b.body->TurnBound(input_.dt),
+      b.body->LinearTravel(input_.dt) - a.body->LinearTravel(input_.dt)};
   if (previous != nullptr &&
-      SlideManifold(pair, *previous, a, b, delta_position, delta_rotation, max_separation, job_index)) {
+      SlideManifold(pair, *previous, a, b, delta_position, delta_rotation, reach.Max(), job_index)) {
     ++job.stats.pairs_slid;
     return;
   }
@@ -234,7 +237,7 @@ void CollisionFinder::CollidePair(BodyPair pair, BodyPairCache::PreviousPairs& p
   prototype.body_a = a.body->id();
   prototype.body_b = b.body->id();
   job.manifolds.clear();
-  CollideShapes(*a.body->shape(), a.body->pose(), *b.body->shape(), b.body->pose(), max_separation, prototype,
+  CollideShapes(*a.body->shape(), a.body->pose(), *b.body->shape(), b.body->pose(), reach, prototype,
                 job.manifolds, job.scratch);
   for (const ContactManifold& manifold : job.manifolds) {
     const CachedManifold* match = nullptr;

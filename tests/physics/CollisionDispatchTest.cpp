@@ -1,9 +1,10 @@
 // The narrow phase's dispatch table: every pair of built-in shapes (the height field too) has a way to
 // collide and every target a cast, either order of a pair gives the same contact turned round, a shape added
-// by kind gets GJK, casts and the triangle shapes at once, and a kinematic mesh (the owner of its pairs, so
-// A) carries boxes.
+// by kind gets GJK, casts and the triangle shapes at once, a step's reach (ContactReach) makes contacts only
+// along the way the shapes close, and a kinematic mesh (the owner of its pairs, so A) carries boxes.
 #include <algorithm>
 #include <array>
+#include <string>
 
 #include "TestWorld.h"
 #include "physics/narrowphase/CollisionDispatch.h"
@@ -56,7 +57,7 @@ std::vector<ContactManifold> Contacts(const ShapeRef& a, const Pose& pose_a, con
   prototype.body_b = BodyID{2, 1};
   std::vector<ContactManifold> out;
   CollisionScratch scratch;
-  CollisionDispatch::Default().Collide(*a, pose_a, *b, pose_b, 0.02f, prototype, out, scratch);
+  CollisionDispatch::Default().Collide(*a, pose_a, *b, pose_b, ContactReach{0.02f}, prototype, out, scratch);
   return out;
 }
 
@@ -155,7 +156,7 @@ TEST(CollisionDispatch, AMeshAsAHasItsTriangleOnItsOwnSide) {
 // Counts its calls and reports one contact whose normal tells which way round it was called.
 int g_calls = 0;
 void MarkedContact(const Shape& a, const Pose& pose_a, const Shape& /*b*/, const Pose& pose_b,
-                   float /*max_separation*/, const ContactManifold& prototype,
+                   const ContactReach& /*reach*/, const ContactManifold& prototype,
                    std::vector<ContactManifold>& out, CollisionScratch& /*scratch*/) {
   ++g_calls;
   ContactManifold manifold = prototype;
@@ -186,7 +187,7 @@ TEST(CollisionDispatch, AShapeAddedByKindGetsEveryPairAndARegisteredPairServesBo
   prototype.body_b = BodyID{2, 1};
   std::vector<ContactManifold> out;
   CollisionScratch scratch;
-  table.Collide(*capsule, resting, *ground, Pose{}, 0.02f, prototype, out, scratch);
+  table.Collide(*capsule, resting, *ground, Pose{}, ContactReach{0.02f}, prototype, out, scratch);
   ASSERT_FALSE(out.empty());
   EXPECT_LT(out.front().normal.y(), -0.999f);
   std::vector<Triangle> triangles;
@@ -201,8 +202,8 @@ TEST(CollisionDispatch, AShapeAddedByKindGetsEveryPairAndARegisteredPairServesBo
   g_calls = 0;
   out.clear();
   const Pose at_capsule{Vec3(1, 0, 0), Quat::Identity()}, at_box{Vec3(0, 2, 0), Quat::Identity()};
-  table.Collide(*capsule, at_capsule, *box, at_box, 0.02f, prototype, out, scratch);
-  table.Collide(*box, at_box, *capsule, at_capsule, 0.02f, prototype, out, scratch);
+  table.Collide(*capsule, at_capsule, *box, at_box, ContactReach{0.02f}, prototype, out, scratch);
+  table.Collide(*box, at_box, *capsule, at_capsule, ContactReach{0.02f}, prototype, out, scratch);
   EXPECT_EQ(g_calls, 2);
   ASSERT_EQ(out.size(), 2u);
   EXPECT_EQ(out[0].normal, Vec3::UnitX());
@@ -219,9 +220,74 @@ TEST(CollisionDispatch, AShapeAddedByKindGetsEveryPairAndARegisteredPairServesBo
   table.RegisterCollide(ShapeType::kBox, ShapeType::kCapsule, CollideConvexByGjk);
   g_calls = 0;
   out.clear();
-  table.Collide(*box, at_box, *capsule, at_capsule, 0.02f, prototype, out, scratch);
-  table.Collide(*capsule, at_capsule, *box, at_box, 0.02f, prototype, out, scratch);
+  table.Collide(*box, at_box, *capsule, at_capsule, ContactReach{0.02f}, prototype, out, scratch);
+  table.Collide(*capsule, at_capsule, *box, at_box, ContactReach{0.02f}, prototype, out, scratch);
   EXPECT_EQ(g_calls, 1);
+}
+
+// What Collide finds with a step's reach: `travel` is B's motion relative to A over the step.
+std::vector<ContactManifold> ContactsWithin(const ShapeRef& a, const Pose& pose_a, const ShapeRef& b,
+                                            const Pose& pose_b, const Vec3& travel) {
+  std::vector<ContactManifold> out;
+  CollisionScratch scratch;
+  CollisionDispatch::Default().Collide(*a, pose_a, *b, pose_b, ContactReach{0.02f, travel}, ContactManifold{},
+                                       out, scratch);
+  return out;
+}
+
+TEST(CollisionDispatch, AStepsReachRunsAlongTheWayTheShapesCloseAndNoFurtherAnywhereElse) {
+  // Each convex shape 0.1 to 0.3 m above each kind of floor (top at y = 0), in both orders of the pair.
+  const std::vector<ShapeRef> floors = {Box(5.0f, 0.5f, 5.0f), Ground(5.0f), Terrain(5.0f)};
+  const std::vector<Vec3> floor_origins = {Vec3(0.0f, -0.5f, 0.0f), Vec3::Zero(), Vec3(-5.0f, 0.0f, -5.0f)};
+  const std::vector<ShapeRef> movers = {Sphere(0.5f), Box(0.5f, 0.5f, 0.5f), Capsule(0.3f, 0.3f), Hull()};
+  const Pose above{Vec3(0.0f, 0.7f, 0.0f), Quat::Identity()};
+  const float closing = 0.35f;  // further than any of the gaps
+  for (std::size_t f = 0; f < floors.size(); ++f) {
+    const Pose floor_pose{floor_origins[f], Quat::Identity()};
+    for (const ShapeRef& mover : movers) {
+      const std::string which = std::string(ToString(mover->type())) + " over " + ToString(floors[f]->type());
+      // Falling onto the floor: the floor comes up towards the shape by more than the gap.
+      const auto falling = ContactsWithin(mover, above, floors[f], floor_pose, Vec3(0.0f, closing, 0.0f));
+      ASSERT_FALSE(falling.empty()) << which;
+      for (const ContactManifold& manifold : falling) {
+        EXPECT_LT(manifold.normal.y(), -0.99f) << which;
+        EXPECT_GT(manifold.MinSeparation(), 0.05f) << which;
+        EXPECT_LT(manifold.MinSeparation(), closing) << which;
+      }
+      // The same pair the other way round: the shape comes down towards the floor.
+      const auto turned = ContactsWithin(floors[f], floor_pose, mover, above, Vec3(0.0f, -closing, 0.0f));
+      ASSERT_EQ(turned.size(), falling.size()) << which;
+      EXPECT_GT(turned[0].normal.y(), 0.99f) << which;
+      // Rising away or sliding sideways, it closes nothing along the normal: only the 2 cm all round, which
+      // the gap exceeds.
+      for (const Vec3& travel :
+           {Vec3(0.0f, -closing, 0.0f), Vec3(closing, 0.0f, 0.0f), Vec3(0.0f, 0.0f, -closing)})
+        EXPECT_TRUE(ContactsWithin(mover, above, floors[f], floor_pose, travel).empty())
+            << which << ", travel " << travel.transpose();
+    }
+  }
+}
+
+TEST(CollisionDispatch, AMeshWallIsReachedOnlyWhenAShapeTravelsTowardsIt) {
+  // A wall of two triangles facing -x, 0.3 m beyond a box's side: further than the box's bounds reach.
+  const std::vector<Vec3> vertices = {
+      {0.6f, -2.0f, -2.0f}, {0.6f, 2.0f, -2.0f}, {0.6f, 2.0f, 2.0f}, {0.6f, -2.0f, 2.0f}};
+  const std::vector<TriangleMeshShape::Indices> triangles = {{0, 2, 1}, {0, 3, 2}};
+  const ShapeRef wall = *TriangleMeshShape::Create(vertices, triangles);
+  const ShapeRef box = Box(0.3f, 0.3f, 0.3f);
+  const Pose origin{Vec3::Zero(), Quat::Identity()};
+  // The box moves 0.4 m towards the wall over the step: the wall comes 0.4 m closer in the box's frame.
+  const auto towards = ContactsWithin(box, origin, wall, Pose{}, Vec3(-0.4f, 0.0f, 0.0f));
+  ASSERT_EQ(towards.size(), 1u);
+  EXPECT_GT(towards[0].normal.x(), 0.999f);
+  EXPECT_NEAR(towards[0].MinSeparation(), 0.3f, 1e-3f);
+  // Moving away, or along the wall, the box cannot reach it this step.
+  EXPECT_TRUE(ContactsWithin(box, origin, wall, Pose{}, Vec3(0.4f, 0.0f, 0.0f)).empty());
+  EXPECT_TRUE(ContactsWithin(box, origin, wall, Pose{}, Vec3(0.0f, 0.4f, 0.0f)).empty());
+  // A reach as a query gives it, the same all round, finds the wall whichever way: 0.4 m in every direction.
+  std::vector<ContactManifold> all_round;
+  CollideShapes(*box, origin, *wall, Pose{}, 0.4f, ContactManifold{}, all_round);
+  EXPECT_EQ(all_round.size(), 1u);
 }
 
 TEST(CollisionDispatch, AKinematicMeshPlatformCarriesABoxItOwnsThePairOf) {
