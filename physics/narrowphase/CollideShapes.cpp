@@ -188,7 +188,10 @@ void TriangleFace(const TriangleSupport& triangle, const Vec3& face_normal, cons
 template <class TriangleShape>
 Vec3 CorrectTriangleNormal(const TriangleShape& mesh, std::uint32_t triangle, const Vec3& face_normal,
                            const TriangleSupport& world, const Vec3& point_on_triangle, const Vec3& normal) {
-  if (std::abs(normal.dot(face_normal)) > 0.9995f) return normal;
+  // Only a normal that is the face's to rounding passes unchecked: a rounded core overhanging an internal
+  // corner tilts GJK's normal by a degree or two, and that tilt, opening a manifold, pushed a box sliding
+  // over a flat mesh sideways and up.
+  if (std::abs(normal.dot(face_normal)) > 0.999999f) return normal;
   const Vec3 v0 = world.vertex(1) - world.vertex(0), v1 = world.vertex(2) - world.vertex(0);
   const Vec3 v2 = point_on_triangle - world.vertex(0);
   const float d00 = v0.dot(v0), d01 = v0.dot(v1), d11 = v1.dot(v1), d20 = v2.dot(v0), d21 = v2.dot(v1);
