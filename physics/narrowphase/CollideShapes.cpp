@@ -445,8 +445,8 @@ void CollideConvexTriangles(const ConvexShape& a, const Pose& pose_a, const Tria
   const Pose local_a{to_mesh * (pose_a.position - pose_mesh.position), to_mesh * pose_a.rotation};
   const ContactReach local_reach{reach.distance, to_mesh * reach.travel};
   const float max_separation = local_reach.Max();
-  // All round by the whole reach: a box sliding over a flat mesh swept only forwards lost the triangles
-  // behind it, and with them, for a step now and then, its support.
+  // The triangles all round by the whole reach: a box swept along the travel alone measured no faster (the
+  // triangles' planes below cull the rest).
   const AABB local_box = a.WorldBounds(local_a).Expanded(max_separation);
   std::vector<std::uint32_t>& triangles = scratch.triangles;
   triangles.clear();
