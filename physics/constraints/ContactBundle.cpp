@@ -103,6 +103,7 @@ ContactBundle* AllocateBundle(BlockArena& arena, std::span<ContactConstraint* co
   auto* bundle = new (arena.Allocate(bytes, alignof(ContactBundle))) ContactBundle;
   bundle->point_count = points;
   bundle->reports = reports;
+  bundle->fixed_b = true;
   bundle->reported_impulses = nullptr;
   for (int lane = 0; lane < kLanes; ++lane) {
     const bool used = lane < static_cast<int>(constraints.size());
@@ -112,6 +113,7 @@ ContactBundle* AllocateBundle(BlockArena& arena, std::span<ContactConstraint* co
     bundle->body_b[lane] = c ? c->body_b : 0;
     bundle->dynamic_a[lane] = c && c->dynamic_a;
     bundle->dynamic_b[lane] = c && c->dynamic_b;
+    bundle->fixed_b = bundle->fixed_b && bundle->body_b[lane] == 0;
   }
   return bundle;
 }
@@ -158,7 +160,7 @@ void SetupBundle(ContactBundle& bundle, const SolverBody* bodies, const SubstepC
   bundle.inverse_mass_a = WideFloat::Load(inverse_mass_a);
   bundle.inverse_mass_b = WideFloat::Load(inverse_mass_b);
   bundle.inverse_inertia_a = GatherInertia(bodies, bundle.body_a);
-  bundle.inverse_inertia_b = GatherInertia(bodies, bundle.body_b);
+  bundle.inverse_inertia_b = bundle.fixed_b ? WideSymmetric3::Zero() : GatherInertia(bodies, bundle.body_b);
   bundle.bias_rate = WideFloat::Load(bias_rate);
   bundle.mass_scale = WideFloat::Load(mass_scale);
   bundle.impulse_scale = WideFloat::Load(impulse_scale);
@@ -187,9 +189,13 @@ void SetupBundle(ContactBundle& bundle, const SolverBody* bodies, const SubstepC
     rows.arm_b = r_b.Load();
     WideFloat masses[3];
     for (int axis = 0; axis < 3; ++axis) {
-      const WideVec3 angular_a = Cross(rows.arm_a, axes[axis]), angular_b = Cross(rows.arm_b, axes[axis]);
-      masses[axis] = SafeInverse(inverse_masses + Dot(angular_a, bundle.inverse_inertia_a.Times(angular_a)) +
-                                 Dot(angular_b, bundle.inverse_inertia_b.Times(angular_b)));
+      const WideVec3 angular_a = Cross(rows.arm_a, axes[axis]);
+      WideFloat k = inverse_masses + Dot(angular_a, bundle.inverse_inertia_a.Times(angular_a));
+      if (!bundle.fixed_b) {
+        const WideVec3 angular_b = Cross(rows.arm_b, axes[axis]);
+        k = k + Dot(angular_b, bundle.inverse_inertia_b.Times(angular_b));
+      }
+      masses[axis] = SafeInverse(k);
     }
     // An absent point has zero arms and masses, so it changes nothing in its lane.
     rows.normal_mass = masses[kNormal];
@@ -207,33 +213,45 @@ void SetupBundle(ContactBundle& bundle, const SolverBody* bodies, const SubstepC
 
 namespace {
 
-// The velocities of the bundle's bodies, one per lane, and how an impulse changes them.
+// The velocities of the bundle's bodies, one per lane, and how an impulse changes them. With kFixedB every
+// lane's B is the fixed body: it has no velocity and takes no impulse, so its side is left out.
+template <bool kFixedB>
 struct LaneBodies {
   WideVec3 va, wa, vb, wb;
 
   LaneBodies(const SolverBody* bodies, const ContactBundle& bundle) {
     GatherVelocities(bodies, bundle.body_a, va, wa);
-    GatherVelocities(bodies, bundle.body_b, vb, wb);
+    if constexpr (kFixedB)
+      vb = wb = WideVec3::Zero();
+    else
+      GatherVelocities(bodies, bundle.body_b, vb, wb);
   }
   void Scatter(SolverBody* bodies, const ContactBundle& bundle) const {
     ScatterVelocities(bodies, bundle.body_a, bundle.dynamic_a, va, wa);
-    ScatterVelocities(bodies, bundle.body_b, bundle.dynamic_b, vb, wb);
+    if constexpr (!kFixedB) ScatterVelocities(bodies, bundle.body_b, bundle.dynamic_b, vb, wb);
   }
   /// Velocity of the point on B relative to the point on A.
   WideVec3 Relative(const ContactBundleRows& p) const {
-    return vb - va + Cross(wb, p.arm_b) - Cross(wa, p.arm_a);
+    if constexpr (kFixedB)
+      return WideVec3::Zero() - va - Cross(wa, p.arm_a);
+    else
+      return vb - va + Cross(wb, p.arm_b) - Cross(wa, p.arm_a);
   }
   /// Applies `impulse` (world) at the point: against A, along it on B.
   void Apply(const ContactBundle& bundle, const ContactBundleRows& p, const WideVec3& impulse) {
     va -= bundle.inverse_mass_a * impulse;
     wa -= bundle.inverse_inertia_a.Times(Cross(p.arm_a, impulse));
-    vb += bundle.inverse_mass_b * impulse;
-    wb += bundle.inverse_inertia_b.Times(Cross(p.arm_b, impulse));
+    if constexpr (!kFixedB) {
+      vb += bundle.inverse_mass_b * impulse;
+      wb += bundle.inverse_inertia_b.Times(Cross(p.arm_b, impulse));
+    }
   }
 };
 
 // Accumulates `impulse` into the point's normal impulse (never pulling) and applies the change.
-void PushNormal(const ContactBundle& bundle, ContactBundleRows& p, LaneBodies& lanes, WideFloat impulse) {
+template <bool kFixedB>
+void PushNormal(const ContactBundle& bundle, ContactBundleRows& p, LaneBodies<kFixedB>& lanes,
+                WideFloat impulse) {
   const WideFloat old_impulse = p.normal_impulse;
   p.normal_impulse = Max(WideFloat::Zero(), old_impulse + impulse);
   const WideFloat applied = p.normal_impulse - old_impulse;
@@ -241,10 +259,9 @@ void PushNormal(const ContactBundle& bundle, ContactBundleRows& p, LaneBodies& l
   lanes.Apply(bundle, p, applied * bundle.normal);
 }
 
-}  // namespace
-
-void WarmStartBundle(const ContactBundle& bundle, SolverBody* bodies) {
-  LaneBodies lanes(bodies, bundle);
+template <bool kFixedB>
+void WarmStart(const ContactBundle& bundle, SolverBody* bodies) {
+  LaneBodies<kFixedB> lanes(bodies, bundle);
   for (std::uint32_t j = 0; j < bundle.point_count; ++j) {
     const ContactBundleRows& p = bundle.rows()[j];
     lanes.Apply(
@@ -255,13 +272,15 @@ void WarmStartBundle(const ContactBundle& bundle, SolverBody* bodies) {
   lanes.Scatter(bodies, bundle);
 }
 
-void SolveBundleVelocity(ContactBundle& bundle, SolverBody* bodies, const SubstepContext& context,
-                         bool use_bias, bool reverse, float* deepest) {
-  LaneBodies lanes(bodies, bundle);
+template <bool kFixedB>
+void SolveVelocity(ContactBundle& bundle, SolverBody* bodies, const SubstepContext& context, bool use_bias,
+                   bool reverse, float* deepest) {
+  LaneBodies<kFixedB> lanes(bodies, bundle);
   const WideFloat elapsed(context.elapsed);
-  WideVec3 moved_a, turned_a, moved_b, turned_b;
+  WideVec3 moved_a, turned_a, moved_b = WideVec3::Zero(), turned_b = WideVec3::Zero();
   GatherMotion(bodies, bundle.body_a, bundle.moving_a, lanes.va, lanes.wa, elapsed, moved_a, turned_a);
-  GatherMotion(bodies, bundle.body_b, bundle.moving_b, lanes.vb, lanes.wb, elapsed, moved_b, turned_b);
+  if constexpr (!kFixedB)
+    GatherMotion(bodies, bundle.body_b, bundle.moving_b, lanes.vb, lanes.wb, elapsed, moved_b, turned_b);
   const WideFloat moved_apart = Dot(bundle.normal, moved_b - moved_a);
   const int count = static_cast<int>(bundle.point_count);
   ContactBundleRows* rows = bundle.rows();
@@ -271,8 +290,9 @@ void SolveBundleVelocity(ContactBundle& bundle, SolverBody* bodies, const Subste
   for (int k = 0; k < count; ++k) {
     ContactBundleRows& p = rows[reverse ? count - 1 - k : k];
     // Separation now: at the start of the step plus how the bodies moved and turned since (first order).
-    const WideFloat separation = p.separation + moved_apart + Dot(turned_b, Cross(p.arm_b, bundle.normal)) -
-                                 Dot(turned_a, Cross(p.arm_a, bundle.normal));
+    WideFloat separation = p.separation + moved_apart;
+    if constexpr (!kFixedB) separation = separation + Dot(turned_b, Cross(p.arm_b, bundle.normal));
+    separation = separation - Dot(turned_a, Cross(p.arm_a, bundle.normal));
     lowest = Min(lowest, separation);
     const WideFloat gap = Greater(separation, WideFloat::Zero());
     // A gap may close within this substep and no further; overlap is pushed out softly.
@@ -313,8 +333,9 @@ void SolveBundleVelocity(ContactBundle& bundle, SolverBody* bodies, const Subste
   *deepest = std::min(*deepest, *std::min_element(lanes_lowest, lanes_lowest + kLanes));
 }
 
-void ApplyBundleRestitution(ContactBundle& bundle, SolverBody* bodies, const SubstepContext& context) {
-  LaneBodies lanes(bodies, bundle);
+template <bool kFixedB>
+void ApplyRestitution(ContactBundle& bundle, SolverBody* bodies, const SubstepContext& context) {
+  LaneBodies<kFixedB> lanes(bodies, bundle);
   const WideFloat threshold(-context.restitution_threshold);
   for (std::uint32_t j = 0; j < bundle.point_count; ++j) {
     ContactBundleRows& p = bundle.rows()[j];
@@ -331,6 +352,30 @@ void ApplyBundleRestitution(ContactBundle& bundle, SolverBody* bodies, const Sub
     PushNormal(bundle, p, lanes, Select(bounces, impulse, WideFloat::Zero()));
   }
   lanes.Scatter(bodies, bundle);
+}
+
+}  // namespace
+
+void WarmStartBundle(const ContactBundle& bundle, SolverBody* bodies) {
+  if (bundle.fixed_b)
+    WarmStart<true>(bundle, bodies);
+  else
+    WarmStart<false>(bundle, bodies);
+}
+
+void SolveBundleVelocity(ContactBundle& bundle, SolverBody* bodies, const SubstepContext& context,
+                         bool use_bias, bool reverse, float* deepest) {
+  if (bundle.fixed_b)
+    SolveVelocity<true>(bundle, bodies, context, use_bias, reverse, deepest);
+  else
+    SolveVelocity<false>(bundle, bodies, context, use_bias, reverse, deepest);
+}
+
+void ApplyBundleRestitution(ContactBundle& bundle, SolverBody* bodies, const SubstepContext& context) {
+  if (bundle.fixed_b)
+    ApplyRestitution<true>(bundle, bodies, context);
+  else
+    ApplyRestitution<false>(bundle, bodies, context);
 }
 
 void AddBundleReportedImpulses(ContactBundle& bundle) {

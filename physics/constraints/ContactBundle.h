@@ -37,6 +37,10 @@ struct ContactBundleRows {
 /// A symmetric 3x3 matrix per lane: an inverse inertia in world space.
 struct WideSymmetric3 {
   WideFloat xx, xy, xz, yy, yz, zz;
+  static WideSymmetric3 Zero() {
+    const WideFloat zero = WideFloat::Zero();
+    return {zero, zero, zero, zero, zero, zero};
+  }
   WideVec3 Times(const WideVec3& v) const {
     return {MulAdd(xx, v.x, MulAdd(xy, v.y, xz * v.z)), MulAdd(xy, v.x, MulAdd(yy, v.y, yz * v.z)),
             MulAdd(xz, v.x, MulAdd(yz, v.y, zz * v.z))};
@@ -65,6 +69,10 @@ struct alignas(alignof(WideFloat)) ContactBundle {
   bool dynamic_a[kLanes];
   bool dynamic_b[kLanes];
   std::uint32_t point_count;  ///< most points of any lane
+  /// Every lane's B is the fixed body (a body on the ground, on a level mesh): B's side is never gathered,
+  /// moved or scattered. The splitter puts such constraints first in each split, so most bundles are one
+  /// kind or the other.
+  bool fixed_b;
   /// A lane's constraint reports contact events: the bundle sums each point's normal impulse over the step in
   /// `reported_impulses` (one row a point; null in bundles without such a lane). They lie apart from the
   /// bundles (AllocateReportedImpulses), so that the solver's passes stream the bundles alone.
