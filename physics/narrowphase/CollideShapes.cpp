@@ -307,12 +307,13 @@ bool CollideByGjk(const ConvexShape& a, const Pose& pose_a, const ConvexShape& b
 // the cores for the rest) and its supporting faces.
 class ConvexInMesh {
  public:
-  ConvexInMesh(const ConvexShape& shape, const Pose& pose)
+  ConvexInMesh(const ConvexShape& shape, const Pose& pose, float max_separation)
       : shape_(shape),
         pose_(pose),
         rotation_(pose.rotation.toRotationMatrix()),
         core_(shape, pose_.position, rotation_, true),
-        exact_(shape, pose_.position, rotation_, false) {
+        exact_(shape, pose_.position, rotation_, false),
+        reach_bounds_(shape.LocalBounds().Expanded(max_separation)) {
     use_sat_ = IsPolyhedron(shape) && !shape.CoreIsExact() && MakePolyhedron(shape, pose_, polyhedron_);
     if (shape.type() != ShapeType::kCapsule) return;
     const Vec3 half_axis = rotation_.col(1) * static_cast<const CapsuleShape&>(shape).half_height();
@@ -323,6 +324,20 @@ class ConvexInMesh {
   ConvexInMesh& operator=(const ConvexInMesh&) = delete;
 
   bool use_sat() const { return use_sat_; }
+  /// Whether the triangle's box in the convex's own frame meets the convex's bounds there grown by the
+  /// reach: if not, no point of it comes within reach (as Jolt culls a mesh's triangles). The mesh query's
+  /// box is the world box of the turned convex, which takes in triangles beside a turned box's faces.
+  bool NearBounds(const MeshTriangle& triangle) const {
+    const Mat3 to_local = rotation_.transpose();
+    Vec3 low = to_local * (triangle.corners[0] - pose_.position), high = low;
+    for (int i = 1; i < 3; ++i) {
+      const Vec3 corner = to_local * (triangle.corners[i] - pose_.position);
+      low = low.cwiseMin(corner);
+      high = high.cwiseMax(corner);
+    }
+    return (low.array() <= reach_bounds_.max.array()).all() &&
+           (high.array() >= reach_bounds_.min.array()).all();
+  }
   /// Whether the convex's deepest point below the triangle's plane comes within `max_separation` of it: if
   /// not, no feature of the triangle can come closer. Keeps that point and its height for Contact.
   bool Reaches(const Vec3& face_normal, const Vec3& corner, float max_separation) {
@@ -410,6 +425,7 @@ class ConvexInMesh {
   const Pose pose_;
   const Mat3 rotation_;
   const PosedConvex core_, exact_;
+  const AABB reach_bounds_;  // local bounds grown by the pair's reach
   const bool rounded_ = Rounded(shape_);
   bool use_sat_ = false;
   Vec3 lowest_ = Vec3::Zero();
@@ -422,12 +438,15 @@ thread_local Polyhedron ConvexInMesh::polyhedron_;
 
 // Manifolds found in the mesh's frame, from `first` on, back to world space.
 void ManifoldsToWorld(const Pose& pose_mesh, std::size_t first, std::vector<ContactManifold>& out) {
+  if (first == out.size()) return;
+  // The rotation as a matrix once: a quaternion turns each of up to 9 vectors at twice a matrix's cost.
+  const Mat3 rotation = pose_mesh.rotation.toRotationMatrix();
   for (std::size_t m = first; m < out.size(); ++m) {
     ContactManifold& manifold = out[m];
-    manifold.normal = pose_mesh.rotation * manifold.normal;
+    manifold.normal = rotation * manifold.normal;
     for (int i = 0; i < manifold.count; ++i) {
-      manifold.points[i].position_a = pose_mesh.ToWorld(manifold.points[i].position_a);
-      manifold.points[i].position_b = pose_mesh.ToWorld(manifold.points[i].position_b);
+      manifold.points[i].position_a = rotation * manifold.points[i].position_a + pose_mesh.position;
+      manifold.points[i].position_b = rotation * manifold.points[i].position_b + pose_mesh.position;
     }
   }
 }
@@ -456,18 +475,19 @@ void CollideConvexTriangles(const ConvexShape& a, const Pose& pose_a, const Tria
   // of a hierarchy: the same triangles collide the same whatever shape holds them (a mesh and its height
   // field), and on every run.
   std::sort(triangles.begin(), triangles.end());
-  ConvexInMesh convex(a, local_a);
+  ConvexInMesh convex(a, local_a, max_separation);
   const std::size_t first = out.size();
   for (std::uint32_t t : triangles) {
     const Vec3 face_normal = mesh.Normal(t);
     const TriangleSupport triangle(mesh.Vertex(t, 0), mesh.Vertex(t, 1), mesh.Vertex(t, 2));
     // The contact's normal is not known yet, but no point of the triangle comes nearer than its plane.
     if (!convex.Reaches(face_normal, triangle.vertex(0), local_reach.Along(-face_normal))) continue;
+    const MeshTriangle corners{{triangle.vertex(0), triangle.vertex(1), triangle.vertex(2)}, face_normal};
+    if (!convex.NearBounds(corners)) continue;
     ContactManifold manifold = prototype;
     manifold.sub_shape_b = t;
     Vec3 normal;
     ContactPoint deepest;
-    const MeshTriangle corners{{triangle.vertex(0), triangle.vertex(1), triangle.vertex(2)}, face_normal};
     if (!convex.Contact(triangle, corners, max_separation, scratch.epa, manifold, normal, deepest)) continue;
     // A normal along the front face normal would pull the body through the triangle from behind.
     if (normal.dot(face_normal) > 0.0f) continue;

@@ -68,12 +68,14 @@ bool OriginOutsideFace(const Vec3d& a, const Vec3d& b, const Vec3d& c, const Vec
 }
 
 void Keep(SimplexVertex* simplex, int& count, float* weights, const double* all_weights, int mask) {
-  SimplexVertex kept[4];
-  float kept_weights[4];
+  // In place: the kept vertices keep their order, so each moves down or stays. Most calls keep the whole
+  // simplex or drop its last vertices, and move nothing.
   int n = 0;
-  for (int i = 0; i < count; ++i)
-    if (mask & (1 << i)) kept[n] = simplex[i], kept_weights[n++] = static_cast<float>(all_weights[i]);
-  for (int i = 0; i < n; ++i) simplex[i] = kept[i], weights[i] = kept_weights[i];
+  for (int i = 0; i < count; ++i) {
+    if ((mask & (1 << i)) == 0) continue;
+    if (n != i) simplex[n] = simplex[i];
+    weights[n++] = static_cast<float>(all_weights[i]);
+  }
   count = n;
 }
 
