@@ -315,6 +315,21 @@ TEST(Cli, BenchTakesTurnsAndReportsTheMedianRunAndRatio) {
   std::filesystem::remove(json);
 }
 
+TEST(Cli, BenchInProcessRunsTheSameSimulationAsInAChild) {
+  // For profilers that do not follow a fork: the same steps, the same end state, without a child process.
+  const std::filesystem::path child = TempPath("bench-child.json"), here = TempPath("bench-here.json");
+  const std::string run =
+      "bench --scene convex_vs_mesh --solver jolt --steps 20 --threads 1 --no-bullet --json ";
+  ASSERT_EQ(RunCli(run + child.string()), 0);
+  ASSERT_EQ(RunCli(run + here.string() + " --in-process"), 0);
+  const nlohmann::json forked = ReadJson(child)["scenes"][0]["strata"][0];
+  const nlohmann::json in_process = ReadJson(here)["scenes"][0]["strata"][0];
+  EXPECT_GT(in_process["steps_per_second"].get<double>(), 0.0);
+  EXPECT_EQ(in_process["state_hash"], forked["state_hash"]);
+  std::filesystem::remove(child);
+  std::filesystem::remove(here);
+}
+
 TEST(Cli, ShardedBakeMergesIntoTheFileOfOneBake) {
   const std::string level = (kLevels / "courtyard.obj").string();
   const auto whole = TempPath("whole.bin"), merged = TempPath("merged.bin");

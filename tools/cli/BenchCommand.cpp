@@ -1,7 +1,8 @@
 // `strata bench [--scene pyramid|convex_vs_mesh|all] [--steps N] [--threads 1,2,4,8,16] [--json FILE]
 // [--solver strata|jolt|both] [--job-system default|pool] [--pair-cache-mm MM] [--pair-cache-degrees DEG]
-// [--runs N] [--no-bullet]`: runs the benchmark scenes in Strata at each thread count and, when built with
-// Bullet, in Bullet (one thread) in the same run, each run in its own child process, at Strata's default
+// [--runs N] [--no-bullet] [--in-process]`: runs the benchmark scenes in Strata at each thread count and,
+// when built with Bullet, in Bullet (one thread) in the same run, each run in its own child process (or, with
+// --in-process, in this one: for profilers that do not follow a fork), at Strata's default
 // solver passes and at Jolt's. With --runs N the engines take turns N times and each row is its engine's
 // median run: on a noisy machine a ratio is only as good as the runs it compares. Prints one table per scene
 // and solver budget with a speedup column, then where a step's time goes, stage by stage.
@@ -35,6 +36,7 @@ struct BenchOptions {
   std::string solver = "both";
   bool bullet = true;
   int runs = 1;                                 // alternated runs of every engine per scene
+  bool isolate = true;                          // each run in a child process (its own peak memory)
   std::optional<float> pair_cache_distance_mm;  // unset: the scene's own
   std::optional<float> pair_cache_angle;
 };
@@ -128,11 +130,12 @@ nlohmann::json ToJson(const bench::EngineResult& r, double speedup) {
 // Counts the runs and keeps the progress bar on the one in progress (the rows print as runs end).
 class RunProgress {
  public:
-  explicit RunProgress(std::size_t total) : progress_("strata bench", "runs"), total_(total) {}
+  RunProgress(std::size_t total, bool isolate)
+      : progress_("strata bench", "runs"), total_(total), isolate_(isolate) {}
   template <class Run>
   bench::EngineResult operator()(Run&& run) {
     progress_.Update(done_, total_);
-    bench::EngineResult result = bench::RunIsolated(std::forward<Run>(run));
+    bench::EngineResult result = isolate_ ? bench::RunIsolated(std::forward<Run>(run)) : run();
     progress_.Hide();
     ++done_;
     return result;
@@ -144,6 +147,7 @@ class RunProgress {
  private:
   bench::Progress progress_;
   std::size_t total_;
+  bool isolate_;
   std::size_t done_ = 0;
 };
 
@@ -288,7 +292,8 @@ int RunBench(BenchOptions options) {
 #endif
   std::printf("strata bench: built for %s\n", bench::InstructionSet().c_str());
   RunProgress run(names.size() * budgets.size() * static_cast<std::size_t>(options.runs) *
-                  (options.threads.size() + (with_bullet ? 1 : 0)));
+                      (options.threads.size() + (with_bullet ? 1 : 0)),
+                  options.isolate);
   for (const std::string& name : names) {
     bench::BenchScene scene = bench::MakeBenchScene(name);
     if (scene.bodies.empty()) {
@@ -350,6 +355,9 @@ std::function<int()> AddBenchCommand(CLI::App& app) {
                    "ratio the median of the turns' ratios (default 1)")
       ->check(CountIn(1, 101, "--runs"));
   command->add_flag("!--no-bullet", options->bullet, "Skip the Bullet peer");
+  command->add_flag("!--in-process", options->isolate,
+                    "Run every engine in this process, not each run in a child: for profilers that do not "
+                    "follow a fork (valgrind --tool=callgrind); peak memory then includes the runs before");
   return [options] { return RunBench(*options); };
 }
 
