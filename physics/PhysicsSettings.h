@@ -70,12 +70,16 @@ struct PhysicsSettings {
   /// and 2 degrees; there a stack of eight boxes at ten velocity passes sways 2 cm in ten seconds against
   /// 0.9 cm at these defaults (0.7 cm without reuse), while a resting pyramid still reuses 97% of its pairs.
   float body_pair_cache_max_distance = 0.25e-3f;
-  float body_pair_cache_max_angle = 1.0f;  ///< ...and turned less than this (degrees, [0, 180])
+  float body_pair_cache_max_angle = 1.0f;  ///< ...and turned less than this (degrees, [0, 180]; 0: no reuse)
   /// A box's face lying on another box's face (all four corners on it, none cut by its sides) is carried
   /// along however far it slides, while the pair turned less than the angle above and every corner stays
   /// on the face: the corners are then the contact a new test would find. A distance limit of 0 turns this
   /// off as well.
   bool body_pair_cache_slides = true;
+  /// Two convex shapes a test found apart are passed over while their extents along the axis it found them
+  /// apart along still leave a gap beyond the reach: a test would find them apart too, so no result changes.
+  /// A distance limit of 0 turns this off as well, so that every pair is tested every step.
+  bool body_pair_cache_separating_axis = true;
   float time_before_sleep = 0.5f;        ///< seconds a body must rest before its island sleeps
   float sleep_linear_velocity = 0.05f;   ///< m/s
   float sleep_angular_velocity = 0.05f;  ///< rad/s

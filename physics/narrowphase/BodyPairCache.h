@@ -61,6 +61,9 @@ struct CachedBodyPair {
   CachedManifold* manifolds = nullptr;
   Vec3 delta_position;  ///< B's centre of mass relative to A's, in A's frame
   Quat delta_rotation;  ///< A's rotation inverted times B's
+  /// Two convex shapes found apart beyond the reach: a unit direction in A's frame, from A towards B, that
+  /// they were apart along (zero otherwise), for GapAlong to try first next step.
+  Vec3 separating_axis = Vec3::Zero();
 };
 
 /// Last step's and this step's body-pair entries.

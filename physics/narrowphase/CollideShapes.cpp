@@ -20,7 +20,8 @@ namespace {
 
 // Normal (A to B) and deepest point pair of two convex supports. The cores carry radii; exact supports are
 // used when the cores overlap, and where `corner_slack` (CornerSlack) says the cores fall short of sharp
-// exact shapes.
+// exact shapes. False when they are apart beyond `max_separation`; `normal` is then a direction (not unit)
+// from A towards B that the search found them apart along, or zero.
 // A template over the support mappings (final classes), so that GJK calls them directly.
 template <class SupportA, class SupportB>
 bool FindContact(const SupportA& core_a, const SupportA& exact_a, float radius_a, const SupportB& core_b,
@@ -28,6 +29,7 @@ bool FindContact(const SupportA& core_a, const SupportA& exact_a, float radius_a
                  Vec3& normal, ContactPoint& deepest, EpaScratch& scratch) {
   const float core_reach = max_separation + radius_a + radius_b + corner_slack;
   const GjkResult core = GjkClosestPointsOf(core_a, core_b, core_reach);
+  normal = -core.nearest_difference;
   if (!core.overlapping && core.distance > core_reach) return false;
   if (!core.overlapping && core.distance > 1e-5f) {
     normal = (core.point_b - core.point_a) / core.distance;
@@ -42,9 +44,9 @@ bool FindContact(const SupportA& core_a, const SupportA& exact_a, float radius_a
     return true;
   }
   const GjkResult exact = GjkClosestPointsOf(exact_a, exact_b, max_separation);
+  normal = -exact.nearest_difference;
   if (!exact.overlapping && exact.distance > max_separation) return false;
   if (!exact.overlapping && exact.distance > 1e-6f) {
-    if (exact.distance > max_separation) return false;
     normal = (exact.point_b - exact.point_a) / exact.distance;
     deepest = {exact.point_a, exact.point_b, exact.distance};
     return true;
@@ -272,7 +274,10 @@ bool CollideByGjk(const ConvexShape& a, const Pose& pose_a, const ConvexShape& b
     const float distance = offset.norm();
     if (distance > 1e-6f) {
       const float separation = distance - a.core_radius() - b.core_radius();
-      if (separation > max_separation) return false;
+      if (separation > max_separation) {
+        scratch.separating_axis = offset;
+        return false;
+      }
       normal = offset / distance;
       deepest = {on_a + a.core_radius() * normal, on_b - b.core_radius() * normal, separation};
       found = true;
@@ -286,8 +291,10 @@ bool CollideByGjk(const ConvexShape& a, const Pose& pose_a, const ConvexShape& b
     const PosedConvex core_a(a, pose_a.position, rotation_a, true),
         core_b(b, pose_b.position, rotation_b, true);
     if (!FindContact(core_a, exact_a, a.core_radius(), core_b, exact_b, b.core_radius(),
-                     CornerSlack(a) + CornerSlack(b), max_separation, normal, deepest, scratch.epa))
+                     CornerSlack(a) + CornerSlack(b), max_separation, normal, deepest, scratch.epa)) {
+      scratch.separating_axis = normal;
       return false;
+    }
   }
   SupportingFace face_a, face_b;
   WorldFace(a, pose_a.position, rotation_a, normal, face_a);
@@ -541,6 +548,13 @@ void CollideConvexByGjk(const Shape& a, const Pose& pose_a, const Shape& b, cons
   ContactManifold manifold = prototype;
   if (CollideByGjk(AsConvex(a), pose_a, AsConvex(b), pose_b, reach.Max(), manifold, scratch))
     out.push_back(manifold);
+}
+
+float GapAlong(const ConvexShape& a, const Vec3& position_a, const Mat3& rotation_a, const ConvexShape& b,
+               const Vec3& position_b, const Mat3& rotation_b, const Vec3& axis) {
+  const Vec3 along_a = rotation_a.transpose() * axis, against_b = rotation_b.transpose() * -axis;
+  return axis.dot(position_b - position_a) - along_a.dot(a.Support(along_a)) -
+         against_b.dot(b.Support(against_b));
 }
 
 void CollideSpherePair(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b,

@@ -19,7 +19,17 @@ struct CollisionScratch {
   EpaScratch epa;
   std::vector<ContactManifold>
       manifolds;  ///< for callers that collide on their way to something else (sweeps)
+  /// Left by a convex pair's test that found the shapes apart beyond the reach: a direction (not unit) from A
+  /// towards B that they are apart along; zero when the last test left none. The narrow phase keeps it in
+  /// the body-pair cache to pass the pair over next step while it still separates them (GapAlong).
+  Vec3 separating_axis = Vec3::Zero();
 };
+
+/// How far apart two convex shapes at their poses lie along the unit world `axis` (from A towards B): the
+/// least extent of B along it minus the greatest of A, negative where their shadows on it overlap. Never
+/// more than their distance: a gap beyond the reach along any axis rules out every contact.
+float GapAlong(const ConvexShape& a, const Vec3& position_a, const Mat3& rotation_a, const ConvexShape& b,
+               const Vec3& position_b, const Mat3& rotation_b, const Vec3& axis);
 
 /// Contact between two convex shapes, by the form CollisionDispatch holds for the pair. Returns true and
 /// fills `manifold` (normal and points; body ids are left as they were) when the shapes are closer than

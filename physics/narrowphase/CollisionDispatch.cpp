@@ -85,6 +85,7 @@ void CollisionDispatch::RegisterCollide(ShapeType a, ShapeType b, CollideFunctio
 void CollisionDispatch::Collide(const Shape& a, const Pose& pose_a, const Shape& b, const Pose& pose_b,
                                 const ContactReach& reach, const ContactManifold& prototype,
                                 std::vector<ContactManifold>& out, CollisionScratch& scratch) const {
+  scratch.separating_axis = Vec3::Zero();
   const Slot& slot = Entry(a.type(), b.type());
   if (slot.collide == nullptr) return;
   const std::size_t first = out.size();
@@ -95,6 +96,7 @@ void CollisionDispatch::Collide(const Shape& a, const Pose& pose_a, const Shape&
     TurnRound(swapped);
     slot.collide(b, pose_b, a, pose_a, reach.Reversed(), swapped, out, scratch);
     for (std::size_t m = first; m < out.size(); ++m) TurnRound(out[m]);
+    scratch.separating_axis = -scratch.separating_axis;
   }
   if (reach.travel.isZero()) return;  // the reach is the same along every normal
   const auto beyond = [&](const ContactManifold& manifold) {

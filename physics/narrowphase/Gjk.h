@@ -20,6 +20,9 @@ struct GjkResult {
   float distance = 0.0f;     ///< distance between the shapes when not overlapping
   Vec3 point_a = Vec3::Zero();
   Vec3 point_b = Vec3::Zero();
+  /// When not overlapping: the point of A - B nearest the origin that the search reached; its opposite points
+  /// from A towards B, and the shapes are apart along it (by `distance`, or more when stopped early).
+  Vec3 nearest_difference = Vec3::Zero();
   SimplexVertex simplex[4];
   int simplex_count = 0;
 };
@@ -57,6 +60,7 @@ GjkResult GjkClosestPointsOf(const SupportA& a, const SupportB& b, float max_dis
     if (progress > 0.0f && progress * progress > max_distance * max_distance * v_length2 &&
         result.simplex_count > 0) {
       result.distance = std::sqrt(progress * progress / v_length2);
+      result.nearest_difference = v;
       return result;
     }
     // No more progress towards the origin: v is the closest point.
@@ -89,6 +93,7 @@ GjkResult GjkClosestPointsOf(const SupportA& a, const SupportB& b, float max_dis
     v = closest;
   }
   result.distance = v.norm();
+  result.nearest_difference = v;
   result.point_a = Vec3::Zero();
   result.point_b = Vec3::Zero();
   for (int i = 0; i < result.simplex_count; ++i) {

@@ -54,6 +54,9 @@ void CollisionFinder::BeginStep(const Input& input, std::uint32_t job_count) {
   replay_max_distance_squared_ =
       settings.body_pair_cache_max_distance * settings.body_pair_cache_max_distance;
   slides_ = settings.body_pair_cache_slides && settings.body_pair_cache_max_distance > 0.0f;
+  keeps_apart_ = settings.body_pair_cache_separating_axis && settings.body_pair_cache_max_distance > 0.0f;
+  // A limit of 0 degrees allows no turn, but the product of two equal unit quaternions may round above 1.
+  replays_ = settings.body_pair_cache_max_distance > 0.0f && settings.body_pair_cache_max_angle > 0.0f;
   // Quaternions measure half the angle. (A cosine is a fair share of a small world's step: only on a change.)
   if (settings.body_pair_cache_max_angle != replay_max_angle_) {
     replay_max_angle_ = settings.body_pair_cache_max_angle;
@@ -185,11 +188,6 @@ bool CollisionFinder::ClaimConstraint(Job& job) {
   return true;
 }
 
-bool CollisionFinder::Jointed(std::uint32_t a, std::uint32_t b) const {
-  const std::uint64_t key = (static_cast<std::uint64_t>(std::min(a, b)) << 32) | std::max(a, b);
-  return std::binary_search(input_.jointed_pairs.begin(), input_.jointed_pairs.end(), key);
-}
-
 void CollisionFinder::CollidePair(BodyPair pair, BodyPairCache::PreviousPairs& previous_pairs,
                                   std::uint32_t job_index) {
   Job& job = jobs_[job_index];
@@ -199,7 +197,7 @@ void CollisionFinder::CollidePair(BodyPair pair, BodyPairCache::PreviousPairs& p
   if (!second.in_world() || second.id() != pair.b) return;
   if (!first.IsDynamic() && !second.IsDynamic()) return;  // kinematic vs static or kinematic: no contact
   if (((first.event_flags() | second.event_flags()) & Body::kSensor) != 0) return;  // sensors never collide
-  if (!input_.jointed_pairs.empty() && Jointed(pair.a.index, pair.b.index)) return;
+  if (input_.jointed_pairs != nullptr && input_.jointed_pairs->Contains(pair.a.index, pair.b.index)) return;
   ++job.stats.pairs;
   // The owner is A; the dispatch table takes either order of shapes.
   const Side a = MakeSide(first);
@@ -210,13 +208,14 @@ void CollisionFinder::CollidePair(BodyPair pair, BodyPairCache::PreviousPairs& p
   const Quat delta_rotation = inverse_a * b.rotation;
   const CachedBodyPair* previous = previous_pairs.Find(pair.b);
   const bool replay =
-      previous != nullptr &&
+      replays_ && previous != nullptr &&
       (delta_position - previous->delta_position).squaredNorm() < replay_max_distance_squared_ &&
       std::abs(delta_rotation.dot(previous->delta_rotation)) > replay_min_half_angle_cosine_;
   if (replay) {
     // A replayed pair keeps the pose its manifolds were made at, so slow drift still ends in a fresh test.
     CachedBodyPair& entry = *input_.cache->Create(job_index, pair.a, pair.b, a.body->id(), b.body->id(),
                                                   previous->delta_position, previous->delta_rotation);
+    entry.separating_axis = previous->separating_axis;
     ++job.stats.pairs_replayed;
     ReplayManifolds(*previous, a, b, entry, job_index);
     return;
@@ -231,6 +230,14 @@ void CollisionFinder::CollidePair(BodyPair pair, BodyPairCache::PreviousPairs& p
     ++job.stats.pairs_slid;
     return;
   }
+  const bool convex_pair = keeps_apart_ && a.body->shape()->IsConvex() && b.body->shape()->IsConvex();
+  if (convex_pair && previous != nullptr && KeptApart(*previous, a, b, reach.Max())) {
+    CachedBodyPair& entry = *input_.cache->Create(job_index, pair.a, pair.b, a.body->id(), b.body->id(),
+                                                  delta_position, delta_rotation);
+    entry.separating_axis = previous->separating_axis;
+    ++job.stats.pairs_kept_apart;
+    return;
+  }
   CachedBodyPair& entry = *input_.cache->Create(job_index, pair.a, pair.b, a.body->id(), b.body->id(),
                                                 delta_position, delta_rotation);
   ContactManifold prototype;
@@ -239,6 +246,8 @@ void CollisionFinder::CollidePair(BodyPair pair, BodyPairCache::PreviousPairs& p
   job.manifolds.clear();
   CollideShapes(*a.body->shape(), a.body->pose(), *b.body->shape(), b.body->pose(), reach, prototype,
                 job.manifolds, job.scratch);
+  if (convex_pair && job.manifolds.empty() && !job.scratch.separating_axis.isZero())
+    entry.separating_axis = a.rotation_matrix.transpose() * job.scratch.separating_axis.normalized();
   for (const ContactManifold& manifold : job.manifolds) {
     const CachedManifold* match = nullptr;
     for (const CachedManifold* cached = previous ? previous->manifolds : nullptr; cached != nullptr && !match;
@@ -247,6 +256,18 @@ void CollisionFinder::CollidePair(BodyPair pair, BodyPairCache::PreviousPairs& p
         match = cached;
     AddComputedManifold(manifold, a, b, entry, match, job_index);
   }
+}
+
+bool CollisionFinder::KeptApart(const CachedBodyPair& previous, const Side& a, const Side& b,
+                                float max_separation) const {
+  if (previous.separating_axis.isZero()) return false;
+  // A margin over the contact test's own rounding, so that a pair passed over here is one it finds apart too.
+  constexpr float kMargin = 1e-4f;
+  const Pose& pose_a = a.body->pose();
+  const Pose& pose_b = b.body->pose();
+  return GapAlong(static_cast<const ConvexShape&>(*a.body->shape()), pose_a.position, a.rotation_matrix,
+                  static_cast<const ConvexShape&>(*b.body->shape()), pose_b.position, b.rotation_matrix,
+                  a.rotation_matrix * previous.separating_axis) > max_separation + kMargin;
 }
 
 void CollisionFinder::ReplayManifolds(const CachedBodyPair& previous, const Side& a, const Side& b,
@@ -473,6 +494,7 @@ CollisionStats CollisionFinder::stats() const {
     total.pairs += s.pairs;
     total.pairs_replayed += s.pairs_replayed;
     total.pairs_slid += s.pairs_slid;
+    total.pairs_kept_apart += s.pairs_kept_apart;
     total.pairs_dropped += s.pairs_dropped;
     total.bodies_skipped += s.bodies_skipped;
     total.constraints_dropped += s.constraints_dropped;

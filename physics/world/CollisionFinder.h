@@ -20,6 +20,7 @@
 #include "physics/broadphase/BroadPhase.h"
 #include "physics/constraints/ContactConstraint.h"
 #include "physics/core/BlockArena.h"
+#include "physics/core/IndexPairSet.h"
 #include "physics/narrowphase/BodyPairCache.h"
 #include "physics/narrowphase/CollideShapes.h"
 #include "physics/solver/IslandBuilder.h"
@@ -30,9 +31,10 @@ namespace strata {
 
 /// Figures of one step's collision stage.
 struct CollisionStats {
-  std::size_t pairs = 0;           ///< body pairs whose bounds overlap
-  std::size_t pairs_replayed = 0;  ///< of those, how many reused last step's manifolds
-  std::size_t pairs_slid = 0;      ///< how many carried last step's face contact along a slide
+  std::size_t pairs = 0;             ///< body pairs whose bounds overlap
+  std::size_t pairs_replayed = 0;    ///< of those, how many reused last step's manifolds
+  std::size_t pairs_slid = 0;        ///< how many carried last step's face contact along a slide
+  std::size_t pairs_kept_apart = 0;  ///< how many last step's separating axis still held apart
   std::size_t manifolds = 0;
   std::size_t contact_points = 0;
   std::size_t constraints = 0;  ///< manifolds with a body the solver moves
@@ -61,8 +63,8 @@ class CollisionFinder {
     const SolverPose* solver_poses;
     BodyPairCache* cache;
     IslandBuilder* islands;
-    /// Body pairs joined by a joint that do not collide: (lower index << 32 | higher index), sorted.
-    std::span<const std::uint64_t> jointed_pairs;
+    /// Body pairs (indices) joined by a joint that do not collide.
+    const IndexPairSet* jointed_pairs = nullptr;
     /// Asked about contacts of bodies created with validate_contacts; null: none is set.
     const ContactValidator* validator = nullptr;
     /// The step's budgets: broad-phase pairs taken and constraints built; the rest are dropped and counted.
@@ -124,8 +126,9 @@ class CollisionFinder {
   void ClaimPairs(Job& job);
   // Takes one constraint from the step's budget (claimed in small lots per job); false when it is spent.
   bool ClaimConstraint(Job& job);
-  // Whether bodies `a` and `b` (indices) are joined by a joint that keeps them from colliding.
-  bool Jointed(std::uint32_t a, std::uint32_t b) const;
+  // Whether two convex shapes are still apart beyond `max_separation` along the separating axis of last
+  // step's entry for their pair: then no contact test could find a contact.
+  bool KeptApart(const CachedBodyPair& previous, const Side& a, const Side& b, float max_separation) const;
   void CollidePair(BodyPair pair, BodyPairCache::PreviousPairs& previous_pairs, std::uint32_t job_index);
   /// Makes last step's manifolds this step's, moved with the bodies.
   void ReplayManifolds(const CachedBodyPair& previous, const Side& a, const Side& b, CachedBodyPair& entry,
@@ -160,6 +163,8 @@ class CollisionFinder {
   float replay_min_half_angle_cosine_ = 1.0f;
   float replay_max_angle_ = 0.0f;  // degrees, what the cosine above was computed from
   bool slides_ = false;
+  bool keeps_apart_ = false;  // pairs pass over on last step's separating axis
+  bool replays_ = false;
   std::atomic<std::uint32_t> next_body_{0};
   alignas(64) std::atomic<std::size_t> pairs_claimed_{0};
   alignas(64) std::atomic<std::size_t> constraints_claimed_{0};

@@ -330,7 +330,7 @@ void PhysicsSystem::PrepareStep() {
   input.solver_poses = constraint_solver_.poses().data();
   input.cache = &pair_cache_;
   input.islands = &islands_;
-  input.jointed_pairs = jointed_pairs_;
+  input.jointed_pairs = &jointed_pairs_;
   input.validator = validator_ ? &validator_ : nullptr;
   input.max_pairs = max_body_pairs_;
   input.max_constraints = max_contact_constraints_;
@@ -373,7 +373,7 @@ void PhysicsSystem::WakeConstrainedBodies() {
 void PhysicsSystem::BindConstraints() {
   step_joints_.clear();
   joint_island_body_.clear();
-  jointed_pairs_.clear();
+  jointed_pairs_.Clear();
   const float h = step_dt_ / static_cast<float>(settings_.substeps);
   constraints_.ForEachActive([&](Constraint& joint) {
     ConstraintSide sides[2];
@@ -400,14 +400,10 @@ void PhysicsSystem::BindConstraints() {
     joint.BeginStep(sides[0], sides[1], h);
     joint.LinkIslands(islands_);
     step_joints_.push_back(&joint);
-    if (!joint.collide_connected() && !ids[0].IsInvalid()) {
-      const std::uint32_t low = std::min(ids[0].index, ids[1].index),
-                          high = std::max(ids[0].index, ids[1].index);
-      jointed_pairs_.push_back((static_cast<std::uint64_t>(low) << 32) | high);
-    }
+    if (!joint.collide_connected() && !ids[0].IsInvalid()) jointed_pairs_.Add(ids[0].index, ids[1].index);
     joint_island_body_.push_back((moves[0] ? sides[0].solver_index : sides[1].solver_index) - 1);
   });
-  std::sort(jointed_pairs_.begin(), jointed_pairs_.end());
+  jointed_pairs_.Seal();
 }
 
 void PhysicsSystem::ApplyForces(std::uint32_t job, std::uint32_t width) {
@@ -571,6 +567,7 @@ void PhysicsSystem::FinishStep() {
   stats_.pairs = collision.pairs;
   stats_.pairs_replayed = collision.pairs_replayed;
   stats_.pairs_slid = collision.pairs_slid;
+  stats_.pairs_kept_apart = collision.pairs_kept_apart;
   stats_.pairs_dropped = collision.pairs_dropped;
   stats_.bodies_skipped = collision.bodies_skipped;
   stats_.constraints_dropped = collision.constraints_dropped;

@@ -27,6 +27,7 @@
 #include "physics/constraints/ConstraintManager.h"
 #include "physics/constraints/ContactConstraintKind.h"
 #include "physics/constraints/JointConstraintKind.h"
+#include "physics/core/IndexPairSet.h"
 #include "physics/core/JobGraph.h"
 #include "physics/core/JobSystem.h"
 #include "physics/narrowphase/BodyPairCache.h"
@@ -70,9 +71,10 @@ struct PhysicsSystemConfig {
 /// What the last step did, for tools and tests.
 struct StepStats {
   std::size_t active_bodies = 0;
-  std::size_t pairs = 0;           ///< body pairs whose bounds overlap (at least one dynamic body)
-  std::size_t pairs_replayed = 0;  ///< pairs that reused last step's manifolds (body-pair cache)
-  std::size_t pairs_slid = 0;      ///< pairs that carried last step's face contact along a slide
+  std::size_t pairs = 0;             ///< body pairs whose bounds overlap (at least one dynamic body)
+  std::size_t pairs_replayed = 0;    ///< pairs that reused last step's manifolds (body-pair cache)
+  std::size_t pairs_slid = 0;        ///< pairs that carried last step's face contact along a slide
+  std::size_t pairs_kept_apart = 0;  ///< pairs that last step's separating axis still held apart
   std::size_t manifolds = 0;
   std::size_t contact_points = 0;
   std::size_t islands = 0;
@@ -217,7 +219,7 @@ class PhysicsSystem {
   std::vector<ContactConstraint*> contacts_;
   std::vector<Constraint*> step_joints_;          // the joints this step solves, in slot order
   std::vector<std::uint32_t> joint_island_body_;  // per step joint: a moving body's active index
-  std::vector<std::uint64_t> jointed_pairs_;      // body index pairs a joint keeps from colliding, sorted
+  IndexPairSet jointed_pairs_;                    // body index pairs a joint keeps from colliding
   std::vector<std::uint32_t> contact_island_body_;
   std::uint32_t sleep_key_base_ = 0;  // island i falling asleep this step gets key base + i
   struct alignas(64) FinishCounters {

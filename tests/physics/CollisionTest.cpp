@@ -24,6 +24,41 @@ TEST(Collision, GjkDistanceBetweenBoxes) {
   EXPECT_NEAR(result.point_b.x(), 2.5f, 1e-4f);
 }
 
+TEST(Collision, TheGapAlongAnAxisIsTheShapesShadowsApartAndTheTestLeavesOneWhenApart) {
+  // A rounded box (half 1, radius 0.05) turned 45 degrees about z, and a capsule standing 3 m to its right:
+  // along x the box reaches its rounded corner, sqrt(2) (1 - r) + r; the capsule reaches back its radius.
+  const ShapeRef box = Box(1, 1, 1), capsule = Capsule(0.5f, 0.25f);
+  const Mat3 turned = Eigen::AngleAxisf(0.25f * kPi, Vec3::UnitZ()).toRotationMatrix();
+  const Vec3 at_a(5, -2, 1), at_b = at_a + Vec3(3, 0, 0);
+  const float corner = std::sqrt(2.0f) * (1.0f - 0.05f) + 0.05f;
+  EXPECT_NEAR(GapAlong(Convex(box), at_a, turned, Convex(capsule), at_b, Mat3::Identity(), Vec3::UnitX()),
+              3.0f - corner - 0.25f, 1e-5f);
+  // Along y their shadows overlap by the box's reach plus the capsule's half length and radius.
+  EXPECT_NEAR(GapAlong(Convex(box), at_a, turned, Convex(capsule), at_b, Mat3::Identity(), Vec3::UnitY()),
+              -(corner + 0.75f), 1e-5f);
+  // The contact test finds them apart and leaves an axis they are apart along beyond the reach (GJK stops
+  // once it knows that, so not necessarily by their whole distance).
+  CollisionScratch scratch;
+  std::vector<ContactManifold> found;
+  const Pose pose_a{at_a, Quat(Eigen::AngleAxisf(0.25f * kPi, Vec3::UnitZ()))},
+      pose_b{at_b, Quat::Identity()};
+  CollideShapes(*box, pose_a, *capsule, pose_b, ContactReach{0.1f}, ContactManifold{}, found, scratch);
+  EXPECT_TRUE(found.empty());
+  ASSERT_FALSE(scratch.separating_axis.isZero());
+  const Vec3 axis = scratch.separating_axis.normalized();
+  const float gap = GapAlong(Convex(box), at_a, turned, Convex(capsule), at_b, Mat3::Identity(), axis);
+  EXPECT_GT(gap, 0.1f);
+  EXPECT_LE(gap, 3.0f - corner - 0.25f + 1e-5f);
+  // The other way round the axis turns round with the pair.
+  CollideShapes(*capsule, pose_b, *box, pose_a, ContactReach{0.1f}, ContactManifold{}, found, scratch);
+  EXPECT_LT(scratch.separating_axis.normalized().dot(axis), -0.999f);
+  // Touching: no axis is left.
+  const Pose touching{at_a + Vec3(corner + 0.25f, 0, 0), Quat::Identity()};
+  CollideShapes(*box, pose_a, *capsule, touching, ContactReach{0.1f}, ContactManifold{}, found, scratch);
+  EXPECT_FALSE(found.empty());
+  EXPECT_TRUE(scratch.separating_axis.isZero());
+}
+
 TEST(Collision, GjkHandlesLargeAgainstSmall) {
   // A 100 m floor against a 1 m box 1 mm above it: float-only simplex math loses this.
   const ShapeRef floor = Box(50, 1, 50), box = Box(0.5f, 0.5f, 0.5f);

@@ -313,6 +313,91 @@ TEST(Simulation, RestingPairsReplayTheirManifoldsAndMovedPairsAreTestedAgain) {
   }
 }
 
+TEST(Simulation, PairsStillApartAlongLastStepsSeparatingAxisAreNotTestedAgainUntilTheyCloseIn) {
+  // Two rounded boxes turned 45 degrees about z, side by side along the diagonal with parallel faces 0.84 m
+  // apart: their bounds overlap, their shapes do not. B drifts towards A, too fast for the pair to replay.
+  PhysicsSettings settings;
+  settings.allow_sleeping = false;
+  settings.gravity = Vec3::Zero();
+  auto world = MakeWorld(settings);
+  const Quat turned(Eigen::AngleAxisf(0.25f * kPi, Vec3::UnitZ()));
+  const BodyID a = Add(*world, Dynamic(Box(0.5f, 0.5f, 0.5f), Vec3::Zero(), turned));
+  const BodyID b = Add(*world, Dynamic(Box(0.5f, 0.5f, 0.5f), Vec3(1.3f, 1.3f, 0), turned));
+  const Vec3 towards_a = Vec3(-1, -1, 0).normalized();
+  ASSERT_TRUE(world->bodies().SetLinearVelocity(b, 1.5f * towards_a).ok());
+  auto gap = [&] { return (Position(*world, b) - Position(*world, a)).dot(-towards_a) - 1.0f; };
+  int kept_apart = 0, tested = 0;
+  bool touched = false;
+  for (int step = 0; step < 60 && !touched; ++step) {
+    const float before = gap();
+    ASSERT_TRUE(world->Step(1.0f / 60.0f).ok());
+    const StepStats& stats = world->last_step_stats();
+    ASSERT_EQ(stats.pairs, 1u);
+    EXPECT_EQ(stats.pairs_replayed, 0u);
+    kept_apart += static_cast<int>(stats.pairs_kept_apart);
+    tested += static_cast<int>(stats.pairs_kept_apart == 0);
+    // Held apart only while a contact could not be near; once it is, the shapes are tested and it is found.
+    if (before < 0.04f) {  // the reach is 2 cm + 2.5 cm
+      EXPECT_EQ(stats.pairs_kept_apart, 0u) << step;
+    }
+    touched = stats.manifolds > 0;
+    if (!touched) {
+      EXPECT_GT(gap(), 0.0f) << step;
+    }
+  }
+  EXPECT_TRUE(touched);
+  EXPECT_GT(kept_apart, 20);  // 0.84 m at 1.5 m/s is 33 steps
+  EXPECT_GE(tested, 2);       // the first step (no axis yet) and the one that found the contact
+  // The contact then stops B at A's face: nothing was passed over.
+  StepFor(*world, 60);
+  EXPECT_GT(gap(), -0.02f);
+}
+
+// A heap of boxes, capsules, spheres and hulls tumbling onto a floor, with or without separating axes kept;
+// returns every body's position and rotation after each step and counts the pairs held apart.
+std::vector<float> TumblingHeap(bool separating_axis, std::size_t& kept_apart, std::size_t& replayed) {
+  PhysicsSettings settings;
+  settings.allow_sleeping = false;
+  settings.body_pair_cache_separating_axis = separating_axis;
+  auto world = MakeWorld(settings);
+  Floor(*world);
+  const std::vector<Vec3> wedge = {{-0.3f, 0, -0.2f}, {0.3f, 0, -0.2f}, {0, 0.35f, -0.2f},
+                                   {-0.3f, 0, 0.2f},  {0.3f, 0, 0.2f},  {0, 0.35f, 0.2f}};
+  const ShapeRef shapes[] = {Box(0.3f, 0.2f, 0.25f), Capsule(0.25f, 0.15f), Sphere(0.2f),
+                             *ConvexHullShape::Create(wedge)};
+  std::vector<BodyID> ids;
+  for (int i = 0; i < 32; ++i)
+    ids.push_back(
+        Add(*world, Dynamic(shapes[i % 4], Vec3(0.45f * (i % 4), 0.5f + 0.55f * (i / 4), 0.3f * (i % 3)),
+                            Quat(Eigen::AngleAxisf(0.7f * i, Vec3(1, 2, 0.5f).normalized())))));
+  std::vector<float> path;
+  kept_apart = replayed = 0;
+  for (int step = 0; step < 150; ++step) {
+    EXPECT_TRUE(world->Step(1.0f / 60.0f).ok());
+    kept_apart += world->last_step_stats().pairs_kept_apart;
+    replayed += world->last_step_stats().pairs_replayed;
+    for (const BodyID id : ids) {
+      const Vec3 p = Position(*world, id);
+      const Quat q = *world->bodies().GetRotation(id);
+      path.insert(path.end(), {p.x(), p.y(), p.z(), q.w(), q.x(), q.y(), q.z()});
+    }
+  }
+  return path;
+}
+
+TEST(Simulation, PassingPairsOverOnTheirSeparatingAxisChangesNoResult) {
+  // The axis only passes over pairs a test would find apart: the same heap, bit for bit, while the other
+  // reuse (replayed resting pairs) goes on as before.
+  std::size_t kept_apart = 0, never = 0, replayed = 0, replayed_without = 0;
+  const std::vector<float> passed_over = TumblingHeap(true, kept_apart, replayed);
+  const std::vector<float> tested = TumblingHeap(false, never, replayed_without);
+  EXPECT_EQ(never, 0u);
+  EXPECT_GT(kept_apart, 1000u);
+  EXPECT_GT(replayed, 100u);
+  EXPECT_EQ(replayed, replayed_without);
+  EXPECT_EQ(passed_over, tested);
+}
+
 // A frictionless box sent sliding across a floor box, over its edge and off. Returns the box's position and
 // rotation every step; counts the steps whose contact was carried along the slide.
 std::vector<float> SlideOffAnEdge(bool slides, float yaw, float speed, int& slid_steps) {
@@ -383,6 +468,17 @@ TEST(Simulation, PairCacheLimitsOfZeroTestEveryPairEveryStep) {
     EXPECT_EQ(world->last_step_stats().pairs, 1u);
     EXPECT_EQ(world->last_step_stats().pairs_replayed, 0u);
     EXPECT_NEAR(Position(*world, box).y(), 0.5f, 0.01f);
+    // Two boxes falling side by side, turned so that their bounds overlap and their shapes do not: a distance
+    // limit of 0 keeps no separating axis either.
+    const Quat turned(Eigen::AngleAxisf(0.25f * kPi, Vec3::UnitZ()));
+    Add(*world, Dynamic(Box(0.5f, 0.5f, 0.5f), Vec3(5, 3, 0), turned));
+    Add(*world, Dynamic(Box(0.5f, 0.5f, 0.5f), Vec3(6.3f, 4.3f, 0), turned));
+    std::size_t kept_apart = 0;
+    for (int step = 0; step < 20; ++step) {
+      StepFor(*world, 1);
+      kept_apart += world->last_step_stats().pairs_kept_apart;
+    }
+    EXPECT_EQ(kept_apart > 0, !zero_distance);
   }
 }
 

@@ -171,7 +171,7 @@ EngineResult RunStrata(const BenchScene& scene, int threads, JobSystemKind job_s
   const std::vector<BodyID>& dynamic_ids = built->dynamic_bodies;
   std::vector<double> times;
   times.reserve(scene.steps);
-  std::size_t pairs = 0, replayed = 0, events = 0;
+  std::size_t pairs = 0, replayed = 0, kept_apart = 0, events = 0;
   for (int step = 0; step < scene.steps; ++step) {
     const auto start = std::chrono::steady_clock::now();
     if (!world.Step(scene.dt).ok()) return result;
@@ -182,6 +182,7 @@ EngineResult RunStrata(const BenchScene& scene, int threads, JobSystemKind job_s
     AddProfile(world.last_step_profile(), result);
     pairs += world.last_step_stats().pairs;
     replayed += world.last_step_stats().pairs_replayed;
+    kept_apart += world.last_step_stats().pairs_kept_apart;
     if (ReadsJointGapsAfter(scene, step)) WidenJointGap(scene, StrataPoses(world, dynamic_ids), result);
   }
   for (int s = 0; s < result.stage_count; ++s) {
@@ -189,6 +190,8 @@ EngineResult RunStrata(const BenchScene& scene, int threads, JobSystemKind job_s
     result.stages[s].busy_ms /= scene.steps;
   }
   result.replayed_pair_share = pairs > 0 ? static_cast<double>(replayed) / static_cast<double>(pairs) : 0.0;
+  result.kept_apart_pair_share =
+      pairs > 0 ? static_cast<double>(kept_apart) / static_cast<double>(pairs) : 0.0;
   result.contact_events_per_step = static_cast<double>(events) / std::max(scene.steps, 1);
   result.threads = world.job_system().ThreadCount();
   SummarizeTimes(std::move(times), result);

@@ -39,6 +39,7 @@ struct EngineResult {
   int stage_count = 0;  ///< Strata only
   StageFigures stages[kMaxStages];
   double replayed_pair_share = 0.0;      ///< Strata: pairs that reused last step's manifolds / all pairs
+  double kept_apart_pair_share = 0.0;    ///< Strata: pairs last step's separating axis held apart / all pairs
   double contact_events_per_step = 0.0;  ///< Strata: contact begin + persist + end events, mean
   /// How far apart each joint's anchor is, seen from its two bodies, after the last step (mm): how much a
   /// chain stretched. 0 for a scene without joints.

@@ -94,9 +94,9 @@ void PrintStages(const std::vector<bench::EngineResult>& runs) {
   for (const bench::EngineResult& run : runs) std::printf("  %8.3f %8s", run.mean_step_ms, "");
   std::printf(
       "\n  serial stages: %.1f%% of a %d-thread step (Amdahl's limit %.1fx); pairs replayed from the "
-      "body-pair cache: %.1f%%\n",
+      "body-pair cache: %.1f%%, held apart by last step's separating axis: %.1f%%\n",
       total > 0.0 ? 100.0 * serial / total : 0.0, first.threads, serial > 0.0 ? total / serial : 0.0,
-      100.0 * first.replayed_pair_share);
+      100.0 * first.replayed_pair_share, 100.0 * first.kept_apart_pair_share);
 }
 
 nlohmann::json ToJson(const bench::EngineResult& r, double speedup) {
@@ -116,6 +116,7 @@ nlohmann::json ToJson(const bench::EngineResult& r, double speedup) {
                         {"speedup", speedup}};
   if (r.stage_count > 0) {
     run["replayed_pair_share"] = r.replayed_pair_share;
+    run["kept_apart_pair_share"] = r.kept_apart_pair_share;
     nlohmann::json stages = nlohmann::json::array();
     for (int s = 0; s < r.stage_count; ++s)
       stages.push_back({{"name", r.stages[s].name},
