@@ -38,10 +38,11 @@ inline Vec3 ClampedVelocity(const Vec3& velocity, float limit, std::size_t& clam
 /// Euler; the solver adds the others after each substep's integration), damps and limits its velocities and
 /// clears its forces.
 inline void BeginStepMotion(Body& body, const PhysicsSettings& settings, float dt, float substep_dt,
-                            SolverBody& solver, SolverPose& pose, SolverVelocityStep& step,
-                            MotionClamps& clamps) {
+                            SolverBody& solver, SolverPose& pose, Mat3& rotation_matrix,
+                            SolverVelocityStep& step, MotionClamps& clamps) {
   pose.center_of_mass = ToVec4(body.CenterOfMass());
   pose.rotation = body.rotation();
+  rotation_matrix = body.rotation().toRotationMatrix();
   solver.delta_position.setZero();
   solver.delta_rotation.setZero();
   if (!body.IsDynamic()) {
@@ -59,8 +60,7 @@ inline void BeginStepMotion(Body& body, const PhysicsSettings& settings, float d
     step.inertia = body.inertia_local();  // the substeps read it only for these bodies
     spin = SpinWithoutTorque(body.inertia_local(), body.rotation(), spin, substep_dt);
   }
-  InverseInertiaColumns(body.rotation().toRotationMatrix(), body.inverse_inertia_local(),
-                        solver.inverse_inertia);
+  InverseInertiaColumns(rotation_matrix, body.inverse_inertia_local(), solver.inverse_inertia);
   step.linear = ToVec4(substep_dt * (settings.gravity * body.gravity_factor() +
                                      body.inverse_mass() * body.accumulated_force()));
   step.angular = substep_dt * ColumnsTimes(solver.inverse_inertia, body.accumulated_torque());

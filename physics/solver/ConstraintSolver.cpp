@@ -45,9 +45,11 @@ void ConstraintSolver::ResetBodies(std::uint32_t active_count) {
   bodies_.resize(active_count + 1);
   poses_.resize(active_count + 1);
   velocity_steps_.resize(active_count + 1);
+  start_rotations_.resize(active_count + 1);
   bodies_[0] = SolverBody();
   poses_[0] = SolverPose();
   velocity_steps_[0] = SolverVelocityStep();
+  start_rotations_[0] = Mat3::Identity();
 }
 
 void ConstraintSolver::BeginStep(const Input& input, std::uint32_t job_count) {

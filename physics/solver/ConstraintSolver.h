@@ -51,6 +51,9 @@ class ConstraintSolver {
   std::span<SolverBody> bodies() { return bodies_; }
   std::span<SolverPose> poses() { return poses_; }
   std::span<SolverVelocityStep> velocity_steps() { return velocity_steps_; }
+  /// Each solver body's rotation at the step's start as a matrix (BeginStepMotion writes them; the narrow
+  /// phase reads them for every pair the body is in). Slot 0 is the identity.
+  std::span<Mat3> start_rotations() { return start_rotations_; }
 
   /// Starts a step's solve with `job_count` jobs per stage and forms the groups (the solver bodies filled).
   void BeginStep(const Input& input, std::uint32_t job_count);
@@ -136,6 +139,7 @@ class ConstraintSolver {
   std::vector<SolverBody> bodies_;
   std::vector<SolverPose> poses_;
   std::vector<SolverVelocityStep> velocity_steps_;
+  std::vector<Mat3> start_rotations_;
   float substep_dt_ = 0.0f;
   std::vector<std::uint8_t> island_exact_;  // by island
   std::vector<std::uint32_t> island_work_;  // by island: every kind's constraints in it

@@ -119,10 +119,11 @@ CollisionFinder::Side CollisionFinder::MakeSide(const Body& body) const {
     const SolverPose& pose = input_.solver_poses[side.solver_index];
     side.center_of_mass = ToVec3(pose.center_of_mass);
     side.rotation = pose.rotation;
-  } else {
-    side.center_of_mass = body.CenterOfMass();
-    side.rotation = body.rotation();
+    side.rotation_matrix = input_.solver_rotations[side.solver_index];
+    return side;
   }
+  side.center_of_mass = body.CenterOfMass();
+  side.rotation = body.rotation();
   side.rotation_matrix = side.rotation.toRotationMatrix();
   return side;
 }

@@ -61,6 +61,7 @@ class CollisionFinder {
     const SolverBody* solver_bodies;
     const SolverVelocityStep* velocity_steps;  ///< by solver index: what each substep adds
     const SolverPose* solver_poses;
+    const Mat3* solver_rotations;  ///< solver_poses' rotations as matrices
     BodyPairCache* cache;
     IslandBuilder* islands;
     /// Body pairs (indices) joined by a joint that do not collide.

@@ -328,6 +328,7 @@ void PhysicsSystem::PrepareStep() {
   input.solver_bodies = constraint_solver_.bodies().data();
   input.velocity_steps = constraint_solver_.velocity_steps().data();
   input.solver_poses = constraint_solver_.poses().data();
+  input.solver_rotations = constraint_solver_.start_rotations().data();
   input.cache = &pair_cache_;
   input.islands = &islands_;
   input.jointed_pairs = &jointed_pairs_;
@@ -414,6 +415,7 @@ void PhysicsSystem::ApplyForces(std::uint32_t job, std::uint32_t width) {
                    [&](std::uint32_t i) {
                      BeginStepMotion(body_manager_.BodyAt(active_[i].index), settings_, dt, h,
                                      constraint_solver_.bodies()[i + 1], constraint_solver_.poses()[i + 1],
+                                     constraint_solver_.start_rotations()[i + 1],
                                      constraint_solver_.velocity_steps()[i + 1], clamps);
                    });
 }
