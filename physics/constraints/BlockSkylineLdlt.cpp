@@ -1,7 +1,6 @@
 #include "physics/constraints/BlockSkylineLdlt.h"
 
 #include <algorithm>
-#include <type_traits>
 
 #include "physics/constraints/SkylineLdlt.h"
 
@@ -75,55 +74,51 @@ void InvertBlock(const double (&matrix)[BlockSkylineLdlt::kMaxBlock][BlockSkylin
     }
 }
 
-// One block of a solve: `rows` are the block's N rows, starting at row `block`, coupled from column `first`.
+// One block of a solve's first half: `rows` are the block's N rows, starting at row `block`, coupled from
+// column `first`. Takes L z = b for the block (`x` holds z for the blocks before it) and writes z into `x`
+// and y = D^-1 z into `y`: the inverted diagonal block waits only on this block's z.
 template <int N>
-void Forward(double* const* rows, double* x, std::uint32_t first, std::uint32_t block) {
-  double sum[N] = {};
-  for (std::uint32_t k = first; k < block; ++k)
-    for (int i = 0; i < N; ++i) sum[i] += rows[i][k] * x[k];
-  for (int i = 0; i < N; ++i) x[block + i] -= sum[i];
-}
-
-template <int N>
-void Diagonal(double* const* rows, double* x, std::uint32_t block) {
+void ForwardAndDiagonal(double* const* rows, double* x, double* y, std::uint32_t first, std::uint32_t block) {
   double z[N];
   for (int i = 0; i < N; ++i) z[i] = x[block + i];
+  const auto substitute = [&](std::uint32_t k) {
+    const double known = x[k];
+    for (int i = 0; i < N; ++i) z[i] -= rows[i][k] * known;
+  };
+  if (block - first == N) {  // coupled with one block of its own size (a chain's): unrolled
+    for (std::uint32_t k = 0; k < N; ++k) substitute(first + k);
+  } else {
+    for (std::uint32_t k = first; k < block; ++k) substitute(k);
+  }
+  for (int i = 0; i < N; ++i) x[block + i] = z[i];
   for (int i = 0; i < N; ++i) {
     double sum = 0.0;
     for (int j = 0; j < N; ++j) sum += rows[i][block + j] * z[j];
-    x[block + i] = sum;
+    y[block + i] = sum;
   }
 }
 
+// One block of L^T x = y, from the last block: the block's x is final, and its rows' share is taken off the
+// earlier rows' y.
 template <int N>
-void Backward(double* const* rows, double* x, std::uint32_t first, std::uint32_t block) {
+void Backward(double* const* rows, double* x, double* y, std::uint32_t first, std::uint32_t block) {
   double value[N];
-  for (int i = 0; i < N; ++i) value[i] = x[block + i];
-  for (std::uint32_t k = first; k < block; ++k) {
+  for (int i = 0; i < N; ++i) {
+    value[i] = y[block + i];
+    x[block + i] = value[i];
+  }
+  const auto substitute = [&](std::uint32_t k) {
     double sum = 0.0;
     for (int i = 0; i < N; ++i) sum += rows[i][k] * value[i];
-    x[k] -= sum;
+    y[k] -= sum;
+  };
+  if (block - first == N) {  // as in ForwardAndDiagonal
+    for (std::uint32_t k = 0; k < N; ++k) substitute(first + k);
+  } else {
+    for (std::uint32_t k = first; k < block; ++k) substitute(k);
   }
 }
 
-// Calls `run` with the block size as a compile-time constant.
-template <typename Run>
-void WithBlockSize(int rows, Run&& run) {
-  switch (rows) {
-    case 1:
-      return run(std::integral_constant<int, 1>{});
-    case 2:
-      return run(std::integral_constant<int, 2>{});
-    case 3:
-      return run(std::integral_constant<int, 3>{});
-    case 4:
-      return run(std::integral_constant<int, 4>{});
-    case 5:
-      return run(std::integral_constant<int, 5>{});
-    default:
-      return run(std::integral_constant<int, 6>{});
-  }
-}
 }  // namespace
 
 void BlockSkylineLdlt::Allocate(BlockArena& arena, std::uint32_t max_rows, std::uint32_t max_entries) {
@@ -133,6 +128,7 @@ void BlockSkylineLdlt::Allocate(BlockArena& arena, std::uint32_t max_rows, std::
   block_ = arena.AllocateArray<std::uint32_t>(max_rows);
   end_ = arena.AllocateArray<std::uint32_t>(max_rows);
   start_ = arena.AllocateArray<std::uint32_t>(max_rows + 1);
+  work_ = arena.AllocateArray<double>(max_rows);
   start_[0] = 0;
   size_ = 0;
 }
@@ -153,8 +149,9 @@ std::uint32_t BlockSkylineLdlt::AddBlock(std::uint32_t first, int rows) {
 
 void BlockSkylineLdlt::FactorLastBlock(double relative_extra, double relative_drop) {
   const std::uint32_t block = block_[size_ - 1];
-  WithBlockSize(static_cast<int>(size_ - block),
-                [&](auto size) { FactorBlock<decltype(size)::value>(block, relative_extra, relative_drop); });
+  BlockSkylineLdlt::WithBlockSize(static_cast<int>(size_ - block), [&](auto size) {
+    FactorBlock<decltype(size)::value>(block, relative_extra, relative_drop);
+  });
 }
 
 template <int N>
@@ -177,7 +174,7 @@ void BlockSkylineLdlt::FactorBlock(std::uint32_t block, double relative_extra, d
   // ...then scaled by each earlier block's inverted diagonal block, this block's diagonal block taking the
   // products off as it goes.
   for (std::uint32_t c = first; c < block; c = end_[c])
-    WithBlockSize(static_cast<int>(end_[c] - c), [&](auto size) {
+    BlockSkylineLdlt::WithBlockSize(static_cast<int>(end_[c] - c), [&](auto size) {
       constexpr int kSize = decltype(size)::value;
       double scaled[N][kSize];
       for (int i = 0; i < N; ++i)
@@ -200,18 +197,19 @@ void BlockSkylineLdlt::FactorBlock(std::uint32_t block, double relative_extra, d
 }
 
 void BlockSkylineLdlt::Solve(double* x) const {
-  // L z = b, then y = D^-1 z, a block at a time: the rows of a block do not wait on each other.
+  // L z = b and y = D^-1 z, a block at a time (the rows of a block do not wait on each other), y kept apart
+  // from z: the later blocks' substitutions need z.
+  double* const y = work_;
   for (std::uint32_t block = 0; block < size_; block = end_[block])
-    WithBlockSize(static_cast<int>(end_[block] - block),
-                  [&](auto size) { Forward<decltype(size)::value>(row_ + block, x, first_[block], block); });
-  for (std::uint32_t block = 0; block < size_; block = end_[block])
-    WithBlockSize(static_cast<int>(end_[block] - block),
-                  [&](auto size) { Diagonal<decltype(size)::value>(row_ + block, x, block); });
+    BlockSkylineLdlt::WithBlockSize(static_cast<int>(end_[block] - block), [&](auto size) {
+      ForwardAndDiagonal<decltype(size)::value>(row_ + block, x, y, first_[block], block);
+    });
   // L^T x = y, from the last block.
   for (std::uint32_t end = size_; end > 0;) {
     const std::uint32_t block = block_[end - 1];
-    WithBlockSize(static_cast<int>(end - block),
-                  [&](auto size) { Backward<decltype(size)::value>(row_ + block, x, first_[block], block); });
+    BlockSkylineLdlt::WithBlockSize(static_cast<int>(end - block), [&](auto size) {
+      Backward<decltype(size)::value>(row_ + block, x, y, first_[block], block);
+    });
     end = block;
   }
 }

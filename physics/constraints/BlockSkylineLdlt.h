@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <type_traits>
 
 #include "physics/core/BlockArena.h"
 
@@ -33,10 +34,30 @@ class BlockSkylineLdlt {
   /// `relative_drop` of its row's diagonal is dropped: that combination of the block's rows takes no part in
   /// the solve.
   void FactorLastBlock(double relative_extra, double relative_drop);
-  /// Solves the system for the rows added so far, in place (`x` holds the right-hand side on entry).
+  /// Solves the system for the rows added so far, in place (`x` holds the right-hand side on entry). Not
+  /// from two threads at once: it works in the object's own scratch.
   void Solve(double* x) const;
 
   std::uint32_t size() const { return size_; }
+
+  /// Calls `run` with `rows` (1..kMaxBlock) as a std::integral_constant, so a block's loops unroll.
+  template <typename Run>
+  static void WithBlockSize(int rows, Run&& run) {
+    switch (rows) {
+      case 1:
+        return run(std::integral_constant<int, 1>{});
+      case 2:
+        return run(std::integral_constant<int, 2>{});
+      case 3:
+        return run(std::integral_constant<int, 3>{});
+      case 4:
+        return run(std::integral_constant<int, 4>{});
+      case 5:
+        return run(std::integral_constant<int, 5>{});
+      default:
+        return run(std::integral_constant<int, 6>{});
+    }
+  }
 
  private:
   template <int N>
@@ -48,6 +69,7 @@ class BlockSkylineLdlt {
   std::uint32_t* block_ = nullptr;  // per row: its block's first row
   std::uint32_t* end_ = nullptr;    // per row: one past its block's last row
   std::uint32_t* start_ = nullptr;  // per row: where its envelope starts in lower_ (size_ + 1 of them)
+  double* work_ = nullptr;          // a solve's D^-1 z
   std::uint32_t size_ = 0;
 };
 

@@ -1,6 +1,11 @@
 #include "physics/constraints/ExactJointSolver.h"
 
 #include <algorithm>
+#include <type_traits>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 namespace strata {
 
@@ -27,6 +32,7 @@ ExactJointSolver* ExactJointSolver::Create(BlockArena& arena, std::span<Constrai
   for (const Constraint* joint : joints) rows += static_cast<std::uint32_t>(joint->RigidRowCount());
   solver->row_count_ = rows;
   solver->rows_ = arena.AllocateArray<Row>(rows);
+  solver->coupling_rows_ = arena.AllocateArray<CouplingRow>(rows);
   solver->first_ = arena.AllocateArray<std::uint32_t>(rows);
   solver->end_ = arena.AllocateArray<std::uint32_t>(rows);
   solver->scratch_ = arena.AllocateArray<double>(rows);
@@ -97,10 +103,6 @@ ExactJointSolver* ExactJointSolver::Create(BlockArena& arena, std::span<Constrai
 
 namespace {
 
-double Dot(const Vec3& a, const Vec3& b) {
-  return a.cast<double>().dot(b.cast<double>());
-}
-
 // Which sides of two rows (0 = A, 1 = B) are the same moving body, and the sign of their coupling through it
 // (negative where it is A to one and B to the other). Returns how many (two at most).
 template <class RowType>
@@ -119,14 +121,34 @@ int SharedSides(const RowType& row, const RowType& other, int (&side)[2], int (&
   return shared;
 }
 
-// One row's Jacobian on its side `side` times another row's push on its side `other_side`. Float products
-// are exact in double.
+// `v` in double, lane for lane (Eigen's cast converts one scalar at a time).
+Eigen::Vector4d Widen(const Vec4& v) {
+#if defined(__SSE2__)
+  Eigen::Vector4d wide;
+  const __m128 narrow = _mm_load_ps(v.data());
+  _mm_store_pd(wide.data(), _mm_cvtps_pd(narrow));
+  _mm_store_pd(wide.data() + 2, _mm_cvtps_pd(_mm_movehl_ps(narrow, narrow)));
+  return wide;
+#else
+  return v.cast<double>();
+#endif
+}
+
+// One row's Jacobian on its side `side` times another row's push on its side `other_side` (CouplingRow).
+template <class CouplingRowType>
+double SideCoupling(const CouplingRowType& row, int side, const CouplingRowType& other, int other_side) {
+  return (row.linear.cwiseProduct(other.push_linear[other_side]) +
+          row.angular[side].cwiseProduct(other.push_angular[other_side]))
+      .sum();
+}
+
+// A row's rate from its two bodies' velocities (`relative_linear` B's less A's): linear . (v_B - v_A) +
+// angular_b . w_B - angular_a . w_A, and what the sides that take no impulse add.
 template <class RowType>
-double SideCoupling(const RowType& row, int side, const RowType& other, int other_side) {
-  const Vec3& angular = side == 0 ? row.row.angular_a : row.row.angular_b;
-  const Vec3& push_linear = other_side == 0 ? other.push_a_linear : other.push_b_linear;
-  const Vec3& push_angular = other_side == 0 ? other.push_a_angular : other.push_b_angular;
-  return Dot(row.row.linear, push_linear) + Dot(angular, push_angular);
+float RowRate(const RowType& row, const Vec4& relative_linear, const Vec4& angular_a, const Vec4& angular_b) {
+  return row.fixed_rate + (row.linear.cwiseProduct(relative_linear) + row.angular_b.cwiseProduct(angular_b) -
+                           row.angular_a.cwiseProduct(angular_a))
+                              .sum();
 }
 
 }  // namespace
@@ -138,36 +160,61 @@ void ExactJointSolver::CoupleBlocks(std::uint32_t block_i, std::uint32_t block_j
   double sign[2] = {0.0, 0.0};
   const int terms = SharedSides(rows_[block_i], rows_[block_j], side_i, side_j, sign);
   const bool diagonal = block_i == block_j;
-  for (std::uint32_t i = block_i; i < end_[block_i]; ++i) {
-    const Row& row = rows_[i];
-    double* const entries = ldlt_.Row(i);
-    const std::uint32_t last = diagonal ? i + 1 : end_[block_j];
-    for (std::uint32_t j = block_j; j < last; ++j) {
-      double sum = 0.0;
-      for (int t = 0; t < terms; ++t) sum += sign[t] * SideCoupling(row, side_i[t], rows_[j], side_j[t]);
-      entries[j] = sum;
+  const std::uint32_t end_i = end_[block_i], end_j = end_[block_j];
+  // The number of terms fixed at compile time, so an entry is straight-line code: 0 + sign * coupling
+  // through the first shared body (+ through the second), summed in that order.
+  const auto couple = [&](auto term_count) {
+    constexpr int kTerms = decltype(term_count)::value;
+    for (std::uint32_t i = block_i; i < end_i; ++i) {
+      const CouplingRow& row = coupling_rows_[i];
+      double* const entries = ldlt_.Row(i);
+      const std::uint32_t last = diagonal ? i + 1 : end_j;
+      for (std::uint32_t j = block_j; j < last; ++j) {
+        const CouplingRow& other = coupling_rows_[j];
+        double sum = 0.0;
+        for (int t = 0; t < kTerms; ++t) sum += sign[t] * SideCoupling(row, side_i[t], other, side_j[t]);
+        entries[j] = sum;
+      }
     }
-  }
+  };
+  if (terms == 2)
+    couple(std::integral_constant<int, 2>{});
+  else if (terms == 1)
+    couple(std::integral_constant<int, 1>{});
+  else
+    couple(std::integral_constant<int, 0>{});
 }
 
 ExactJointSolver::Row ExactJointSolver::MakeRow(const ConstraintBodies& view, const JointRow& joint_row,
                                                 std::uint32_t body_a, std::uint32_t body_b) {
   Row r;
-  r.row = joint_row;
+  r.linear = ToVec4(joint_row.linear);
+  r.angular_a = ToVec4(joint_row.angular_a);
+  r.angular_b = ToVec4(joint_row.angular_b);
+  r.impulse = joint_row.impulse;
+  r.error = joint_row.error;
   r.body_a = body_a;
   r.body_b = body_b;
   r.fixed_rate = 0.0f;
   if (body_a == 0)
-    r.fixed_rate -= r.row.linear.dot(ToVec3(view.a->linear_velocity)) +
-                    r.row.angular_a.dot(ToVec3(view.a->angular_velocity));
+    r.fixed_rate -= r.linear.dot(view.a->linear_velocity) + r.angular_a.dot(view.a->angular_velocity);
   if (body_b == 0)
-    r.fixed_rate += r.row.linear.dot(ToVec3(view.b->linear_velocity)) +
-                    r.row.angular_b.dot(ToVec3(view.b->angular_velocity));
-  r.push_a_linear = body_a != 0 ? Vec3(view.a->inverse_mass * r.row.linear) : Vec3::Zero();
-  r.push_a_angular = body_a != 0 ? InverseInertiaTimes(*view.a, r.row.angular_a) : Vec3::Zero();
-  r.push_b_linear = body_b != 0 ? Vec3(view.b->inverse_mass * r.row.linear) : Vec3::Zero();
-  r.push_b_angular = body_b != 0 ? InverseInertiaTimes(*view.b, r.row.angular_b) : Vec3::Zero();
+    r.fixed_rate += r.linear.dot(view.b->linear_velocity) + r.angular_b.dot(view.b->angular_velocity);
+  r.push_a_linear = body_a != 0 ? Vec4(view.a->inverse_mass * r.linear) : Vec4::Zero();
+  r.push_a_angular = body_a != 0 ? view.a->InverseInertiaTimes(r.angular_a) : Vec4::Zero();
+  r.push_b_linear = body_b != 0 ? Vec4(view.b->inverse_mass * r.linear) : Vec4::Zero();
+  r.push_b_angular = body_b != 0 ? view.b->InverseInertiaTimes(r.angular_b) : Vec4::Zero();
   return r;
+}
+
+void ExactJointSolver::MakeCouplingRow(const Row& row, CouplingRow& coupling) {
+  coupling.linear = Widen(row.linear);
+  coupling.angular[0] = Widen(row.angular_a);
+  coupling.angular[1] = Widen(row.angular_b);
+  coupling.push_linear[0] = Widen(row.push_a_linear);
+  coupling.push_linear[1] = Widen(row.push_b_linear);
+  coupling.push_angular[0] = Widen(row.push_a_angular);
+  coupling.push_angular[1] = Widen(row.push_b_angular);
 }
 
 bool ExactJointSolver::Build(SolverBody* bodies, const SolverPose* poses, float elapsed, int pose_version) {
@@ -186,8 +233,11 @@ bool ExactJointSolver::Build(SolverBody* bodies, const SolverPose* poses, float 
     joint->RigidRows(view, joint_rows);
     const std::uint32_t body_a = joint->side_a().solver_index, body_b = joint->side_b().solver_index;
     const std::uint32_t block = ldlt_.AddBlock(first_[ldlt_.size()], count);
-    for (int k = 0; k < count; ++k)
-      rows_[block + static_cast<std::uint32_t>(k)] = MakeRow(view, joint_rows[k], body_a, body_b);
+    for (int k = 0; k < count; ++k) {
+      const std::uint32_t row = block + static_cast<std::uint32_t>(k);
+      rows_[row] = MakeRow(view, joint_rows[k], body_a, body_b);
+      MakeCouplingRow(rows_[row], coupling_rows_[row]);
+    }
     for (std::uint32_t other = first_[block]; other <= block; other = end_[other]) CoupleBlocks(block, other);
     ldlt_.FactorLastBlock(kRegularization, kTinyPivot);
   }
@@ -208,19 +258,22 @@ void ExactJointSolver::ReduceFreeRows(SolverBody* bodies, const SolverPose* pose
     const int count = joint.FreeRows(view, pass, joint_rows);
     for (int k = 0; k < count; ++k, ++direction) {
       const Row free = MakeRow(view, joint_rows[k], joint.side_a().solver_index, joint.side_b().solver_index);
-      directions_[direction] = Reduce(
-          free, local_body_[2 * j], local_body_[2 * j + 1], responses_ + std::size_t{direction} * row_count_,
-          body_responses_ + std::size_t{direction} * kBodyResponseSize * body_count_);
+      CouplingRow free_coupling;
+      MakeCouplingRow(free, free_coupling);
+      directions_[direction] =
+          Reduce(free, free_coupling, local_body_[2 * j], local_body_[2 * j + 1],
+                 responses_ + std::size_t{direction} * row_count_,
+                 body_responses_ + std::size_t{direction} * kBodyResponseSize * body_count_);
     }
   }
   free_begin_[joints_.size()] = direction;
 }
 
-ExactJointSolver::FreeDirection ExactJointSolver::Reduce(const Row& free, std::uint32_t local_a,
-                                                         std::uint32_t local_b, float* response,
-                                                         float* body_response) {
-  const double alone = (free.body_a != 0 ? SideCoupling(free, 0, free, 0) : 0.0) +
-                       (free.body_b != 0 ? SideCoupling(free, 1, free, 1) : 0.0);
+ExactJointSolver::FreeDirection ExactJointSolver::Reduce(const Row& free, const CouplingRow& free_coupling,
+                                                         std::uint32_t local_a, std::uint32_t local_b,
+                                                         float* response, float* body_response) {
+  const double alone = (free.body_a != 0 ? SideCoupling(free_coupling, 0, free_coupling, 0) : 0.0) +
+                       (free.body_b != 0 ? SideCoupling(free_coupling, 1, free_coupling, 1) : 0.0);
   // b: only the rows of joints that share a body with this one couple with it.
   for (std::uint32_t block = 0; block < row_count_; block = end_[block]) {
     int side[2] = {0, 0}, free_side[2] = {0, 0};
@@ -228,7 +281,8 @@ ExactJointSolver::FreeDirection ExactJointSolver::Reduce(const Row& free, std::u
     const int terms = SharedSides(rows_[block], free, side, free_side, sign);
     for (std::uint32_t i = block; i < end_[block]; ++i) {
       double sum = 0.0;
-      for (int t = 0; t < terms; ++t) sum += sign[t] * SideCoupling(rows_[i], side[t], free, free_side[t]);
+      for (int t = 0; t < terms; ++t)
+        sum += sign[t] * SideCoupling(coupling_rows_[i], side[t], free_coupling, free_side[t]);
       coupling_[i] = sum;
       scratch_[i] = sum;
     }
@@ -270,7 +324,7 @@ ExactJointSolver::FreeDirection ExactJointSolver::Reduce(const Row& free, std::u
 }
 
 void ExactJointSolver::AddPush(const Row& row, std::uint32_t local_a, std::uint32_t local_b, double scale) {
-  auto add = [&](std::uint32_t body, const Vec3& linear, const Vec3& angular, double sign) {
+  auto add = [&](std::uint32_t body, const Vec4& linear, const Vec4& angular, double sign) {
     double* const to = body_scratch_ + std::size_t{kBodyResponseSize} * body;
     for (int k = 0; k < 3; ++k) {
       to[k] += sign * scale * linear[k];
@@ -297,7 +351,7 @@ void ExactJointSolver::SolveFreeRows(SolverBody* bodies, const ConstraintPassCon
       // The rigid rows answer at once, so the next row sees velocities they hold.
       const float along = row.sign * change;
       const float* const response = responses_ + std::size_t{direction} * row_count_;
-      for (std::uint32_t i = 0; i < row_count_; ++i) *rows_[i].row.impulse -= along * response[i];
+      for (std::uint32_t i = 0; i < row_count_; ++i) *rows_[i].impulse -= along * response[i];
       const float* const moves = body_responses_ + std::size_t{direction} * kBodyResponseSize * body_count_;
       for (std::uint32_t body = free.body_begin; body < free.body_end; ++body) {
         const float* const move = moves + std::size_t{kBodyResponseSize} * body;
@@ -315,31 +369,31 @@ void ExactJointSolver::SolvePositions(SolverBody* bodies, SolverPose* poses, flo
   Build(bodies, poses, elapsed, pose_version);
   built_version_ = -1;  // the bodies move: the rows no longer hold for any version
   for (std::uint32_t i = 0; i < row_count_; ++i)
-    scratch_[i] = -kPositionFraction * static_cast<double>(rows_[i].row.error);
+    scratch_[i] = -kPositionFraction * static_cast<double>(rows_[i].error);
   ldlt_.Solve(scratch_);
-  for (std::uint32_t i = 0; i < row_count_; ++i) {
-    const Row& row = rows_[i];
-    const auto change = static_cast<float>(scratch_[i]);
-    if (row.body_a != 0)
-      MoveSolverBody(bodies[row.body_a], poses[row.body_a], -change * row.push_a_linear,
-                     -change * row.push_a_angular);
-    if (row.body_b != 0)
-      MoveSolverBody(bodies[row.body_b], poses[row.body_b], change * row.push_b_linear,
-                     change * row.push_b_angular);
+  // A joint's rows share its two bodies: each side moves once by the sum of its rows' pushes.
+  for (std::uint32_t block = 0; block < row_count_; block = end_[block]) {
+    Vec4 move_a = Vec4::Zero(), turn_a = Vec4::Zero(), move_b = Vec4::Zero(), turn_b = Vec4::Zero();
+    for (std::uint32_t i = block; i < end_[block]; ++i) {
+      const Row& row = rows_[i];
+      const auto change = static_cast<float>(scratch_[i]);
+      move_a += change * row.push_a_linear;
+      turn_a += change * row.push_a_angular;
+      move_b += change * row.push_b_linear;
+      turn_b += change * row.push_b_angular;
+    }
+    const Row& first = rows_[block];
+    if (first.body_a != 0)
+      MoveSolverBody(bodies[first.body_a], poses[first.body_a], -ToVec3(move_a), -ToVec3(turn_a));
+    if (first.body_b != 0)
+      MoveSolverBody(bodies[first.body_b], poses[first.body_b], ToVec3(move_b), ToVec3(turn_b));
   }
 }
 
-float ExactJointSolver::Rate(const SolverBody* bodies, const Row& row) const {
-  float rate = row.fixed_rate;
-  if (row.body_a != 0) {
-    const SolverBody& a = bodies[row.body_a];
-    rate -= row.row.linear.dot(ToVec3(a.linear_velocity)) + row.row.angular_a.dot(ToVec3(a.angular_velocity));
-  }
-  if (row.body_b != 0) {
-    const SolverBody& b = bodies[row.body_b];
-    rate += row.row.linear.dot(ToVec3(b.linear_velocity)) + row.row.angular_b.dot(ToVec3(b.angular_velocity));
-  }
-  return rate;
+float ExactJointSolver::Rate(const SolverBody* bodies, const Row& row) {
+  const SolverBody& a = bodies[row.body_a];  // the fixed body (no velocity) for a side that takes no impulse
+  const SolverBody& b = bodies[row.body_b];
+  return RowRate(row, b.linear_velocity - a.linear_velocity, a.angular_velocity, b.angular_velocity);
 }
 
 void ExactJointSolver::Solve(SolverBody* bodies, const ConstraintPassContext& pass) {
@@ -348,29 +402,49 @@ void ExactJointSolver::Solve(SolverBody* bodies, const ConstraintPassContext& pa
   // mass_scale * A^-1 (-(rate + bias)) - impulse_scale * impulse; a relax pass is the rigid A^-1 (-rate).
   RowTarget soft = EqualityTarget(1.0f, pass);
   if (solves_free_rows() && free_begin_[joints_.size()] > 0) soft = {soft.bias, 1.0f, 0.0f};
-  for (std::uint32_t i = 0; i < row_count_; ++i)
-    scratch_[i] = -static_cast<double>(Rate(bodies, rows_[i]) + soft.bias * rows_[i].row.error);
+  // A joint's rows share its two bodies (the fixed body, with no velocity, for a side that takes no
+  // impulse): their velocities are read once per joint, and each side is written once with the sum of its
+  // rows' pushes. A joint's row count is a compile-time constant in each, so the loops unroll.
+  for (std::uint32_t block = 0; block < row_count_; block = end_[block])
+    BlockSkylineLdlt::WithBlockSize(static_cast<int>(end_[block] - block), [&](auto size) {
+      constexpr int kRows = decltype(size)::value;
+      const Row* const rows = rows_ + block;
+      const SolverBody& a = bodies[rows[0].body_a];
+      const SolverBody& b = bodies[rows[0].body_b];
+      const Vec4 relative_linear = b.linear_velocity - a.linear_velocity;
+      for (int i = 0; i < kRows; ++i)
+        scratch_[block + i] =
+            -static_cast<double>(RowRate(rows[i], relative_linear, a.angular_velocity, b.angular_velocity) +
+                                 soft.bias * rows[i].error);
+    });
   ldlt_.Solve(scratch_);
-  for (std::uint32_t i = 0; i < row_count_; ++i) {
-    const Row& row = rows_[i];
-    const float change =
-        soft.mass_scale * static_cast<float>(scratch_[i]) - soft.impulse_scale * *row.row.impulse;
-    *row.row.impulse += change;
-    ApplyRow(bodies, row, change);
-  }
-}
-
-void ExactJointSolver::ApplyRow(SolverBody* bodies, const Row& row, float change) {
-  if (row.body_a != 0) {
-    SolverBody& a = bodies[row.body_a];
-    a.linear_velocity -= ToVec4(change * row.push_a_linear);
-    a.angular_velocity -= ToVec4(change * row.push_a_angular);
-  }
-  if (row.body_b != 0) {
-    SolverBody& b = bodies[row.body_b];
-    b.linear_velocity += ToVec4(change * row.push_b_linear);
-    b.angular_velocity += ToVec4(change * row.push_b_angular);
-  }
+  for (std::uint32_t block = 0; block < row_count_; block = end_[block])
+    BlockSkylineLdlt::WithBlockSize(static_cast<int>(end_[block] - block), [&](auto size) {
+      constexpr int kRows = decltype(size)::value;
+      const Row* const rows = rows_ + block;
+      Vec4 linear_a = Vec4::Zero(), angular_a = Vec4::Zero(), linear_b = Vec4::Zero(),
+           angular_b = Vec4::Zero();
+      for (int i = 0; i < kRows; ++i) {
+        const Row& row = rows[i];
+        const float change =
+            soft.mass_scale * static_cast<float>(scratch_[block + i]) - soft.impulse_scale * *row.impulse;
+        linear_a += change * row.push_a_linear;
+        angular_a += change * row.push_a_angular;
+        linear_b += change * row.push_b_linear;
+        angular_b += change * row.push_b_angular;
+        *row.impulse += change;
+      }
+      if (rows[0].body_a != 0) {
+        SolverBody& a = bodies[rows[0].body_a];
+        a.linear_velocity -= linear_a;
+        a.angular_velocity -= angular_a;
+      }
+      if (rows[0].body_b != 0) {
+        SolverBody& b = bodies[rows[0].body_b];
+        b.linear_velocity += linear_b;
+        b.angular_velocity += angular_b;
+      }
+    });
 }
 
 }  // namespace strata

@@ -64,28 +64,43 @@ class ExactJointSolver {
   std::uint32_t row_count() const { return row_count_; }
 
  private:
-  struct Row {
-    JointRow row;
+  // A row as the passes read it, 4-wide (w = 0): its rate and its push on a body are a few SIMD operations,
+  // and a joint's rows share their two bodies, so a pass reads and writes each body once per joint.
+  struct alignas(16) Row {
+    Vec4 linear;
+    Vec4 angular_a;
+    Vec4 angular_b;
+    Vec4 push_a_linear;  // M^-1 J^T of each side: how an impulse of 1 changes its velocities
+    Vec4 push_a_angular;
+    Vec4 push_b_linear;
+    Vec4 push_b_angular;
+    float* impulse;
+    float error;
+    float fixed_rate;      // the rate the sides that take no impulse (a kinematic body) give the row
     std::uint32_t body_a;  // solver index, 0 when the side takes no impulse
     std::uint32_t body_b;
-    float fixed_rate;    // the rate the sides that take no impulse (a kinematic body) give the row
-    Vec3 push_a_linear;  // M^-1 J^T of each side: how an impulse of 1 changes its velocities
-    Vec3 push_a_angular;
-    Vec3 push_b_linear;
-    Vec3 push_b_angular;
+  };
+  // The same row in double, for the coupling matrix: products of floats are exact in double, so an entry
+  // is rounded once, when its terms are summed. By side (0 = A, 1 = B).
+  struct alignas(16) CouplingRow {
+    Eigen::Vector4d linear;
+    Eigen::Vector4d angular[2];
+    Eigen::Vector4d push_linear[2];
+    Eigen::Vector4d push_angular[2];
   };
   // The row for `joint_row` of a joint whose sides are `body_a` and `body_b` (solver indices), seen as
-  // `view`.
+  // `view`, and its double copy.
   static Row MakeRow(const ConstraintBodies& view, const JointRow& joint_row, std::uint32_t body_a,
                      std::uint32_t body_b);
+  static void MakeCouplingRow(const Row& row, CouplingRow& coupling);
   // Writes the coupling of joint `block_i`'s rows with joint `block_j`'s (each named by its first row; j no
   // later than i) into the factorization's rows.
   void CoupleBlocks(std::uint32_t block_i, std::uint32_t block_j);
-  float Rate(const SolverBody* bodies, const Row& row) const;
-  static void ApplyRow(SolverBody* bodies, const Row& row, float change);
+  static float Rate(const SolverBody* bodies, const Row& row);
 
   std::span<Constraint* const> joints_;
   Row* rows_ = nullptr;
+  CouplingRow* coupling_rows_ = nullptr;
   std::uint32_t* first_ = nullptr;  // per row: the first row it couples with (its skyline's start)
   std::uint32_t* end_ = nullptr;    // per row: one past its joint's last row
   BlockSkylineLdlt ldlt_;           // J M^-1 J^T, factored a joint's rows at a time
@@ -102,8 +117,8 @@ class ExactJointSolver {
   static constexpr int kBodyResponseSize = 6;
   // The response of the rigid rows to an impulse of 1 along `free` (A^-1 b, into `response`) and of the
   // island's bodies (into `body_response`), and its effective mass; `local_a`/`local_b` number its bodies.
-  FreeDirection Reduce(const Row& free, std::uint32_t local_a, std::uint32_t local_b, float* response,
-                       float* body_response);
+  FreeDirection Reduce(const Row& free, const CouplingRow& free_coupling, std::uint32_t local_a,
+                       std::uint32_t local_b, float* response, float* body_response);
   // Adds `scale` times `row`'s pushes on its bodies (island numbers `local_a`, `local_b`) to body_scratch_.
   void AddPush(const Row& row, std::uint32_t local_a, std::uint32_t local_b, double scale);
 
