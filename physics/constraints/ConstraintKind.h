@@ -34,6 +34,9 @@ struct SolverGroup {
   std::uint32_t end_island = 0;
   /// Every island in it is solved exactly (each kind with constraints in it asked for that).
   bool exact = false;
+  /// Every island in it holds constraints of one kind at most: no other kind's passes move the bodies of a
+  /// kind's constraints here.
+  bool one_kind_per_island = false;
 };
 
 /// How a kind laid out its constraints of one group.

@@ -77,6 +77,8 @@ void JointConstraintKind::BeginGroups(std::span<const SolverGroup> groups) {
     group.joint_count = island_begin_[g.end_island] - first;
     group.exact = exact_.data() + first;
     group.exact_solver = nullptr;
+    group.exact_alone = false;
+    group.solved_substep = -1;
   }
 }
 
@@ -96,6 +98,9 @@ GroupLayout JointConstraintKind::PrepareGroup(const SolverGroup& solver_group, B
       if (group.exact[j] != kPassesSolve) rows_of[n++] = group.joints[j];
     group.exact_solver = ExactJointSolver::Create(arena, std::span<Constraint* const>(rows_of, exact),
                                                   jobs_[job].first_row_of_body.data());
+    group.exact_alone =
+        solver_group.one_kind_per_island && std::all_of(group.exact, group.exact + group.joint_count,
+                                                        [](std::uint8_t e) { return e == kExactOnly; });
   }
   layout.positions = true;
   return layout;
@@ -108,7 +113,7 @@ std::uint32_t JointConstraintKind::Items(std::uint32_t, const SolverPass& pass) 
 
 void JointConstraintKind::Run(std::uint32_t group_index, const SolverPass& pass, std::uint32_t, std::uint32_t,
                               std::uint32_t) {
-  const Group& group = groups_[group_index];
+  Group& group = groups_[group_index];
   ExactJointSolver* const exact_solver = group.exact_solver;
   if (pass.kind == SolverPassKind::kPositions) {
     // One joint at a time for those the passes solve, then the exact rows all at once.
@@ -131,8 +136,20 @@ void JointConstraintKind::Run(std::uint32_t group_index, const SolverPass& pass,
   // they see its poses. Built before the joints' own rows, so their limits and drives solve against the
   // masses the rigid rows leave them from the first pass that sees the poses.
   if (exact_solver != nullptr &&
-      exact_solver->Build(step_.bodies, step_.poses, pass.elapsed, pass.pose_version))
+      exact_solver->Build(step_.bodies, step_.poses, pass.elapsed, pass.pose_version)) {
     exact_solver->ReduceFreeRows(step_.bodies, step_.poses, context, pass.elapsed);
+    group.solved_substep = -1;
+  }
+  if (pass.kind == SolverPassKind::kWarmStart) group.solved_substep = -1;
+  // A second velocity (or relax) pass of a substep over joints the exact solve holds alone changes nothing:
+  // with A = J M^-1 J^T, u = A^-1 (rate + bias) and the accumulated impulse l, a pass maps (u, l) by
+  // [[s, -s], [-m, m]] (m and s the mass and impulse scales, m + s = 1; rigid: m = 1, s = 0), and that map
+  // applied twice is itself. Passes of other kinds or joints would move the bodies in between; here none do.
+  if (group.exact_alone && pass.kind != SolverPassKind::kWarmStart) {
+    if (group.solved_substep == pass.substep && group.solved_kind == pass.kind) return;
+    group.solved_substep = pass.substep;
+    group.solved_kind = pass.kind;
+  }
   // Alternating the order from pass to pass carries a load along a chain both ways.
   for (std::uint32_t k = 0; k < group.joint_count; ++k) {
     const std::uint32_t index = pass.reverse ? group.joint_count - 1 - k : k;

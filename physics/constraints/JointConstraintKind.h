@@ -45,6 +45,13 @@ class JointConstraintKind final : public ConstraintKind {
     std::uint32_t joint_count = 0;
     const std::uint8_t* exact = nullptr;  // per joint: kPassesSolve, kExactRigidRows or kExactOnly
     ExactJointSolver* exact_solver = nullptr;
+    // The exact solve holds all the group's joints and nothing else moves their bodies within a substep's
+    // passes: a velocity or relax pass after one of the same kind finds nothing left to do (see Run).
+    bool exact_alone = false;
+    // The substep and kind of the pass whose exact solve left the bodies as they are (-1: none since the
+    // last warm start or build).
+    int solved_substep = -1;
+    SolverPassKind solved_kind = SolverPassKind::kWarmStart;
   };
   struct alignas(64) JobScratch {
     std::vector<std::uint32_t> first_row_of_body;  // ExactJointSolver scratch, by solver index

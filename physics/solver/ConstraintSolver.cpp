@@ -68,16 +68,20 @@ void ConstraintSolver::BeginStep(const Input& input, std::uint32_t job_count) {
   const std::uint32_t island_count = input.islands->island_count();
   island_exact_.resize(island_count);
   island_work_.resize(island_count);
+  island_kinds_.resize(island_count);
   for (std::uint32_t island = 0; island < island_count; ++island) {
     std::uint32_t work = 0;
+    std::uint8_t kinds = 0;
     bool exact = false;
     for (std::uint32_t u = 0; u < kind_count_; ++u) {
       const std::uint32_t kind_work = kinds_[u]->IslandWork(island);
       if (kind_work == 0) continue;
       exact = (work == 0 || exact) && kinds_[u]->WantsExactIsland(island);
       work += kind_work;
+      ++kinds;
     }
     island_work_[island] = work;
+    island_kinds_[island] = kinds;
     island_exact_[island] = exact ? 1 : 0;
   }
   FormGroups();
@@ -135,7 +139,10 @@ void ConstraintSolver::AddGroup(std::uint32_t first_island, std::uint32_t end_is
   Group& group = groups_[group_count_];
   // Both copies from the value in registers: re-reading group.islands whole right after its fields were
   // stored one by one stalls on the stores.
-  const SolverGroup islands{group_count_, first_island, end_island, exact};
+  const bool one_kind_per_island =
+      std::all_of(island_kinds_.begin() + first_island, island_kinds_.begin() + end_island,
+                  [](std::uint8_t kinds) { return kinds <= 1; });
+  const SolverGroup islands{group_count_, first_island, end_island, exact, one_kind_per_island};
   group.islands = islands;
   group.work = 0;
   group_islands_.push_back(islands);

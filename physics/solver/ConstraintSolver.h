@@ -143,6 +143,7 @@ class ConstraintSolver {
   float substep_dt_ = 0.0f;
   std::vector<std::uint8_t> island_exact_;  // by island
   std::vector<std::uint32_t> island_work_;  // by island: every kind's constraints in it
+  std::vector<std::uint8_t> island_kinds_;  // by island: how many kinds have constraints in it
   std::vector<SolverGroup> group_islands_;  // what the kinds are told of the groups
   std::unique_ptr<Group[]> groups_;
   std::uint32_t group_capacity_ = 0;
