@@ -299,6 +299,32 @@ TEST(Constraint, LimitsAndAMotorActAgainstTheRigidRowsOfAnIslandTheExactSolveTak
   }
 }
 
+// A chain of `links` capsule links (1 kg, 0.2 m long, spinning at most `link_max_spin`) with a ball of
+// `ball_radius` and `ball_mass` at its end, laid out straight from the anchor `top` along `along` (a unit
+// vector), each joined to the one before by a point joint (the first to the world). Returns the bodies.
+std::vector<BodyID> HangChain(PhysicsSystem& world, const Vec3& top, const Vec3& along, int links,
+                              float ball_radius, float ball_mass, float link_max_spin) {
+  constexpr float kHalf = 0.1f;
+  const Quat laid = Quat::FromTwoVectors(Vec3(0.0f, -1.0f, 0.0f), along);  // a capsule's length is its y
+  std::vector<BodyID> bodies;
+  BodyID previous;  // the world first
+  for (int i = 0; i <= links; ++i) {
+    const bool ball = i == links;
+    const Vec3 center = top + (ball ? 2 * links * kHalf + ball_radius : (2 * i + 1) * kHalf) * along;
+    BodyCreationSettings body =
+        ball ? Bob(Sphere(ball_radius), center, ball_mass) : Bob(Capsule(kHalf, 0.03f), center, 1.0f, laid);
+    if (!ball) body.max_angular_velocity = link_max_spin;
+    bodies.push_back(Add(world, body));
+    PointJointSettings joint;
+    joint.body_a = previous;
+    joint.body_b = bodies.back();
+    joint.anchor = top + (2 * i * kHalf) * along;
+    Join(world, joint);
+    previous = bodies.back();
+  }
+  return bodies;
+}
+
 // The widest gap between joined ends over `seconds` of a 100-link chain (1 kg links 0.2 m long) with a
 // 100 kg ball at its end, laid out straight from an anchor 30 m up at `angle` from straight down.
 float WidestChainGap(const PhysicsSettings& settings, float dt, float angle, float link_max_spin,
@@ -308,23 +334,8 @@ float WidestChainGap(const PhysicsSettings& settings, float dt, float angle, flo
   constexpr float kHalf = 0.1f, kBallRadius = 0.3f;
   const Vec3 top(0.0f, 30.0f, 0.0f);
   const Vec3 along(std::sin(angle), -std::cos(angle), 0.0f);
-  const Quat laid = Quat::FromTwoVectors(Vec3(0.0f, -1.0f, 0.0f), along);  // a capsule's length is its y
-  std::vector<BodyID> bodies;
-  BodyID previous;  // the world first
-  for (int i = 0; i <= kLinks; ++i) {
-    const bool ball = i == kLinks;
-    const Vec3 center = top + (ball ? 2 * kLinks * kHalf + kBallRadius : (2 * i + 1) * kHalf) * along;
-    BodyCreationSettings body =
-        ball ? Bob(Sphere(kBallRadius), center, 100.0f) : Bob(Capsule(kHalf, 0.03f), center, 1.0f, laid);
-    if (!ball) body.max_angular_velocity = link_max_spin;
-    bodies.push_back(Add(*world, body));
-    PointJointSettings joint;
-    joint.body_a = previous;
-    joint.body_b = bodies.back();
-    joint.anchor = top + (2 * i * kHalf) * along;
-    Join(*world, joint);
-    previous = bodies.back();
-  }
+  const std::vector<BodyID> bodies =
+      HangChain(*world, top, along, kLinks, kBallRadius, 100.0f, link_max_spin);
   float widest = 0.0f;
   for (int step = 0; step < static_cast<int>(seconds / dt); ++step) {
     EXPECT_TRUE(world->Step(dt).ok());
@@ -372,25 +383,12 @@ std::vector<float> SwungChainPoses(float height, int velocity_passes, int relax_
   auto world = MakeWorld(settings);
   Add(*world, Static(Box(10.0f, 0.5f, 10.0f), Vec3(0.0f, -0.5f, 0.0f)));
   constexpr int kLinks = 20;
-  constexpr float kHalf = 0.1f, kBallRadius = 0.25f;
+  constexpr float kBallRadius = 0.25f;
   const Vec3 top(0.0f, height, 0.0f);
   const float angle = 60.0f * kDegree;
   const Vec3 along(std::sin(angle), -std::cos(angle), 0.0f);
-  const Quat laid = Quat::FromTwoVectors(Vec3(0.0f, -1.0f, 0.0f), along);
-  std::vector<BodyID> bodies;
-  BodyID previous;
-  for (int i = 0; i <= kLinks; ++i) {
-    const bool ball = i == kLinks;
-    const Vec3 center = top + (ball ? 2 * kLinks * kHalf + kBallRadius : (2 * i + 1) * kHalf) * along;
-    bodies.push_back(Add(*world, ball ? Bob(Sphere(kBallRadius), center, 10.0f)
-                                      : Bob(Capsule(kHalf, 0.03f), center, 1.0f, laid)));
-    PointJointSettings joint;
-    joint.body_a = previous;
-    joint.body_b = bodies.back();
-    joint.anchor = top + (2 * i * kHalf) * along;
-    Join(*world, joint);
-    previous = bodies.back();
-  }
+  const std::vector<BodyID> bodies =
+      HangChain(*world, top, along, kLinks, kBallRadius, 10.0f, BodyCreationSettings().max_angular_velocity);
   StepFor(*world, steps, 1.0f / 60.0f);
   std::vector<float> poses;
   for (const BodyID body : bodies) {
